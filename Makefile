@@ -1,0 +1,97 @@
+# mica — build, run, test.
+#
+#   make run        install missing Debian packages, build, run input/quickstart.cfg
+#   make test       install, build, run the unit and verification tests
+#   make test SAN=1 the same under AddressSanitizer + UndefinedBehaviorSanitizer
+#   make bench      benchmarks (rates and ratios; never pass/fail on time)
+#
+# Normal builds go to bin/ lib/ build/; sanitizer builds to build-san/ so both can coexist.
+
+DEB_PKGS := libsuitesparse-dev liblapacke-dev libopenblas-dev libopenmpi-dev openmpi-bin libmetis-dev \
+            libconfig-dev libcmocka-dev gnuplot-nox libmatheval-dev
+
+CC := mpicc
+CSTD := -std=c11 -D_POSIX_C_SOURCE=200809L
+WARN := -Wall -Wextra
+OPT ?= -O2 -g
+CPPFLAGS := -Iinclude
+LDLIBS := -lconfig -lmatheval -llapacke -llapack -lblas -lm
+
+ifeq ($(SAN),1)
+  OUT := build-san
+  OPT := -O1 -g -fno-omit-frame-pointer
+  SANFLAGS := -fsanitize=address,undefined -fno-sanitize-recover=undefined
+  BIN := $(OUT)/bin
+  LIB := $(OUT)/lib
+else
+  OUT := build
+  SANFLAGS :=
+  BIN := bin
+  LIB := lib
+endif
+
+CFLAGS := $(CSTD) $(WARN) $(OPT) $(SANFLAGS) -MMD -MP
+LDFLAGS := $(SANFLAGS)
+OBJ := $(OUT)/obj
+
+LIB_SRC := $(wildcard src/util/*.c src/mls/*.c src/io/*.c src/study/*.c)
+CLI_SRC := $(wildcard src/cli/*.c)
+LIB_OBJ := $(LIB_SRC:%.c=$(OBJ)/%.o)
+CLI_OBJ := $(CLI_SRC:%.c=$(OBJ)/%.o)
+TEST_SRC := $(wildcard tests/unit/test_*.c)
+TEST_BIN := $(TEST_SRC:tests/unit/%.c=$(OUT)/tests/%)
+BENCH_SRC := $(wildcard bench/bench_*.c)
+BENCH_BIN := $(BENCH_SRC:bench/%.c=$(OUT)/bench/%)
+
+.PHONY: all deps run test bench clean help
+.DEFAULT_GOAL := all
+
+all: $(BIN)/mica | deps
+
+help:
+	@sed -n '3,8p' Makefile
+
+# Installs whatever Debian package is missing (as root; sudo otherwise). Cheap when nothing is.
+deps:
+	@missing=$$(for p in $(DEB_PKGS); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "make deps: installing" $$missing; \
+	  sudo=""; [ "$$(id -u)" = 0 ] || sudo=sudo; \
+	  $$sudo apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing \
+	    || { echo "make deps: apt-get failed; install these packages: $$missing" >&2; exit 1; }; \
+	fi
+
+$(OBJ)/%.o: %.c | deps
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+
+$(LIB)/libmica.a: $(LIB_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+
+$(BIN)/mica: $(CLI_OBJ) $(LIB)/libmica.a
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $(CLI_OBJ) $(LIB)/libmica.a $(LDLIBS) -o $@
+
+$(OUT)/tests/%: tests/unit/%.c $(LIB)/libmica.a | deps
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -Itests/unit $< $(LIB)/libmica.a $(LDFLAGS) -lcmocka $(LDLIBS) -o $@
+
+$(OUT)/bench/%: bench/%.c $(LIB)/libmica.a | deps
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $< $(LIB)/libmica.a $(LDFLAGS) $(LDLIBS) -o $@
+
+run: all
+	$(BIN)/mica mls input/quickstart.cfg
+
+test: $(BIN)/mica $(TEST_BIN) | deps
+	@MICA_BIN=$(BIN)/mica TEST_DIR=$(OUT)/tests OUT_DIR=$(OUT)/test-out SAN=$(SAN) bash tests/run.sh
+
+bench: $(BENCH_BIN) | deps
+	@for b in $(BENCH_BIN); do echo "== $$b"; $$b || exit 1; done
+
+clean:
+	rm -rf build build-san bin lib out
+
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d)

@@ -1,0 +1,23 @@
+/* Commands of the `mica` program (ops table): each names its deck schema and runs one study or solve
+ * on a checked deck, writing into outdir and adding its results to the summary. Adding a command is one
+ * new file that fills one MicaCommand and one line in src/cli/commands.c. */
+#ifndef MICA_COMMAND_H
+#define MICA_COMMAND_H
+
+#include "mica/deck.h"
+#include "mica/json.h"
+
+typedef struct MicaCommand {
+  const char *name;        /* "mls" */
+  const char *summary;     /* one line for `mica --help` */
+  const char *description; /* a paragraph for `mica help <command>` */
+  const MicaDeckKey *schema;
+  int (*run)(const MicaDeck *deck, const char *outdir, MicaJson *summary);
+} MicaCommand;
+
+extern const MicaCommand mica_command_mls;
+
+const MicaCommand *const *mica_commands(void); /* NULL-terminated */
+const MicaCommand *mica_command_find(const char *name);
+
+#endif

@@ -1,0 +1,84 @@
+/* Decks: libconfig files checked strictly against a schema, with --set overrides, parameters and
+ * expressions (design.md §8, docs/input.md).
+ *
+ * Every problem with a deck is a MICA_ERR_INPUT error whose message starts with "deck.cfg:LINE: " (or
+ * "--set path=value: " for an override) and says what to do. Numeric settings may be numbers or string
+ * expressions of the deck's parameters (`size = ["L", "D"]`). */
+#ifndef MICA_DECK_H
+#define MICA_DECK_H
+
+#include <stdio.h>
+
+#include "mica/error.h"
+#include "mica/expr.h"
+
+typedef enum {
+  MICA_KEY_INT,      /* integer (or an expression of the parameters that evaluates to an integer) */
+  MICA_KEY_FLOAT,    /* number (or expression of the parameters) */
+  MICA_KEY_BOOL,
+  MICA_KEY_STRING,
+  MICA_KEY_CHOICE,   /* one of the words in `choices`, "a|b|c" */
+  MICA_KEY_INTS,     /* array of len_min..len_max integers */
+  MICA_KEY_FLOATS,   /* array of len_min..len_max numbers; a single number is accepted when len_min <= 1 */
+  MICA_KEY_FUNCTION, /* string expression of x, y, z, t and the parameters */
+  MICA_KEY_GROUP,    /* a group whose members are listed in the schema as "path.member" */
+  MICA_KEY_LIST,     /* a list of groups; members of each element are listed as "path.[].member" */
+  MICA_KEY_OVERLAY,  /* a list of groups, each holding any settings of the schema (study variants) and an
+                        optional `name` */
+  MICA_KEY_PARAMETERS /* the `parameters` group: any names, each a number or an expression of earlier ones */
+} MicaKeyType;
+
+typedef struct MicaDeckKey {
+  const char *path;    /* "mls.order", "output.probes.[].name" */
+  MicaKeyType type;
+  const char *def;     /* default in libconfig syntax ("2", "\"pascal\"", "[1.0, 1.0]"), NULL: none */
+  double min, max;     /* inclusive range for numbers and array elements (min > max: unchecked) */
+  const char *choices; /* MICA_KEY_CHOICE */
+  int len_min, len_max;
+  const char *help;    /* one line for `mica help <command>` and docs/input.md */
+} MicaDeckKey;
+
+/* A schema is an array of keys ending with a {NULL} entry. */
+
+typedef struct MicaDeck MicaDeck;
+
+/* Reads path, applies the overrides ("path=value", value in libconfig syntax, a bare word taken as a
+ * string), fills defaults, and checks every setting against the schema: unknown keys (with "did you
+ * mean"), types, ranges, array lengths, choices, expressions. */
+int mica_deck_load(const char *path, const MicaDeckKey *schema, int noverrides,
+                   const char *const *overrides, MicaDeck **deck);
+int mica_deck_destroy(MicaDeck **deck);
+
+/* The deck as seen by variant i of the overlay list at list_path: the element's settings replace the
+ * base deck's. The variant shares the base deck's storage and must be destroyed before it. */
+int mica_deck_variant(const MicaDeck *base, const char *list_path, int i, MicaDeck **variant);
+/* Number of elements of a list or overlay setting (0 if absent). */
+int mica_deck_list_length(const MicaDeck *deck, const char *path);
+/* The variant's name (the element's `name`, or "variant <i+1>"); the base deck's name is its file stem. */
+const char *mica_deck_name(const MicaDeck *deck);
+const char *mica_deck_path(const MicaDeck *deck);
+
+/* Getters: the setting at path (defaults filled in). A missing setting without default is an error
+ * naming the setting. Schema types are already checked, so a getter fails only for a caller's bug or
+ * a value that needs the parameters to be checked (an expression out of range). */
+int mica_deck_has(const MicaDeck *deck, const char *path);
+int mica_deck_int(const MicaDeck *deck, const char *path, long *value);
+int mica_deck_float(const MicaDeck *deck, const char *path, double *value);
+int mica_deck_bool(const MicaDeck *deck, const char *path, int *value);
+int mica_deck_string(const MicaDeck *deck, const char *path, const char **value);
+/* Arrays: up to max values; *count is set to the number read. A scalar reads as one value. */
+int mica_deck_ints(const MicaDeck *deck, const char *path, long *values, int max, int *count);
+int mica_deck_floats(const MicaDeck *deck, const char *path, double *values, int max, int *count);
+int mica_deck_function(const MicaDeck *deck, const char *path, MicaFunction **f);
+
+/* "deck.cfg:12" for a setting (or "--set mls.order=3" for an override), for messages that concern
+ * a value the checks could not see (a radius too small for the basis, say). */
+int mica_deck_where(const MicaDeck *deck, const char *path, char *buf, int size);
+
+/* Writes the resolved deck (overrides applied, defaults filled) to path, atomically. */
+int mica_deck_write_resolved(const MicaDeck *deck, const char *path);
+
+/* Prints the schema, one line per setting: path, type, default, range or choices, help. */
+void mica_deck_print_schema(const MicaDeckKey *schema, FILE *stream);
+
+#endif

@@ -1,0 +1,155 @@
+/* The MLS approximation library: moving-least-squares shape functions and their derivatives.
+ *
+ * Standalone: depends on libc, LAPACK and mica/error.h only (src/util/error.c), so it can be used and
+ * tested without the solver. Formulas: docs/theory.md §MLS (seed 001, eqs 3.1-3.18, 3.26-3.40).
+ *
+ *   N_I(x) = P(0)ᵀ M(x)⁻¹ P((x − x_I)/s) Φ_I(x),   M(x) = Σ_I P((x − x_I)/s) P((x − x_I)/s)ᵀ Φ_I(x)
+ *
+ * with the basis shifted to the evaluation point and scaled per axis by s (twice the weighted spread of the
+ * supporting particles, so the particles that carry weight have scaled coordinates in about [−1, 1]). For
+ * bases whose span is invariant under per-axis affine maps (all of ours), N does not depend on s: the
+ * scaling only keeps M well conditioned. M is equilibrated (Jacobi scaling, so that the condition estimate does not depend on how
+ * a basis is scaled) and factored once per point (Cholesky); the derivatives of
+ * b = M⁻¹P(0) follow from the same factor (eqs 3.17, 3.18). M⁻¹ is never formed.
+ *
+ * Typical use:
+ *   MlsOptions opt; mls_options_default(&opt); opt.order = 2; opt.dilation = 2.5;
+ *   MlsApprox *mls; MICA_CALL(mls_create(3, n, xyz, &opt, &mls));
+ *   MlsShape *sh;   MICA_CALL(mls_shape_create(mls, &sh));
+ *   MICA_CALL(mls_eval(mls, point, MLS_HESSIAN, sh));   // sh->n, sh->index, sh->N, sh->dN, sh->ddN
+ */
+#ifndef MICA_MLS_H
+#define MICA_MLS_H
+
+#include "mica/error.h"
+
+#define MLS_MAX_DIM 3
+#define MLS_MAX_HESS 6 /* packed symmetric second derivatives in 3-D */
+
+/* Number of packed second derivatives in dim dimensions, and their order (Voigt):
+ * 1-D: xx;  2-D: xx, yy, xy;  3-D: xx, yy, zz, yz, xz, xy. */
+static inline int mls_num_hess(int dim) { return dim * (dim + 1) / 2; }
+static inline int mls_hess_index(int dim, int i, int j) {
+  if (i == j) return i;
+  if (dim == 2) return 2;
+  return 6 - i - j; /* 3-D: (1,2)->3, (0,2)->4, (0,1)->5 */
+}
+
+/* ---- Bases (ops table) ----------------------------------------------------------------------------
+ * A basis is evaluated at the scaled, shifted coordinate s = (x − x_I)/scale, mostly in [−1, 1]^dim. Pascal:
+ * complete polynomials of total degree ≤ order (order 0-3). Lagrange, Bernstein: tensor products of 1-D
+ * polynomials of degree ≤ order per axis (order 1-3); Lagrange on equally spaced nodes in [−1, 1],
+ * Bernstein in t = (s + 1)/2 ∈ [0, 1] (eq 3.40 with x^I for the misprinted x). */
+typedef struct MlsBasisOps {
+  const char *name;
+  int min_order, max_order;
+  int (*size)(int dim, int order); /* number of terms m */
+  /* p[a] = P_a(s); if dp: dp[d*m + a] = ∂P_a/∂s_d; if ddp: ddp[h*m + a] = ∂²P_a/∂s_i∂s_j, h packed. */
+  void (*eval)(int dim, int order, const double *s, double *p, double *dp, double *ddp);
+} MlsBasisOps;
+
+extern const MlsBasisOps mls_basis_pascal, mls_basis_lagrange, mls_basis_bernstein;
+/* The registered bases, NULL-terminated; and lookup by name (NULL if unknown). */
+const MlsBasisOps *const *mls_basis_all(void);
+const MlsBasisOps *mls_basis_find(const char *name);
+
+/* ---- Weights (ops table) --------------------------------------------------------------------------
+ * A 1-D kernel w(r) of the normalized distance r = |x − x_I|/ρ ≥ 0, zero for r ≥ 1. Box supports use
+ * Φ = Π_d w(r_d) (eq 3.29), ball supports Φ = w(|x − x_I|/ρ). */
+typedef struct MlsWeightOps {
+  const char *name;
+  int continuity; /* C^k; −1 for the truncated Gaussian, which does not vanish at r = 1 */
+  int adaptive;   /* 1 if the kernel uses the per-particle shape parameter (exponential) */
+  /* w[0] = w(r), w[1] = dw/dr, w[2] = d²w/dr², for r ≥ 0. param: the particle's ρ/c (exponential). */
+  void (*eval)(double r, double param, double w[3]);
+} MlsWeightOps;
+
+extern const MlsWeightOps mls_weight_cubic, mls_weight_quartic, mls_weight_quartic_c3, mls_weight_gauss,
+    mls_weight_exponential;
+const MlsWeightOps *const *mls_weight_all(void);
+const MlsWeightOps *mls_weight_find(const char *name);
+
+/* ---- Neighbor search ------------------------------------------------------------------------------
+ * Which particles' supports contain a point, with a radius per particle (and per axis for boxes). */
+typedef enum { MLS_SUPPORT_BOX = 0, MLS_SUPPORT_BALL = 1 } MlsSupportKind;
+typedef enum { MLS_SEARCH_KDTREE = 0, MLS_SEARCH_CELLS = 1 } MlsSearchKind;
+
+typedef struct MlsSearch MlsSearch;
+
+/* Builds the search structure over n particles x[n*dim] (copied). */
+int mls_search_create(int dim, long n, const double *x, MlsSearchKind kind, MlsSearch **search);
+int mls_search_destroy(MlsSearch **search);
+/* Sets the supports: radii[i*dim + d] is particle i's radius along axis d (ball: radii[i*dim] is used).
+ * Particle i supports x when max_d |x_d − x_id|/ρ_id < 1 (box) or |x − x_i|/ρ_i0 < 1 (ball). */
+int mls_search_set_supports(MlsSearch *search, MlsSupportKind support, const double *radii);
+/* Appends to *index (capacity *cap, grown with realloc when needed) the particles whose supports contain
+ * x, in ascending order; *count is set to their number. */
+int mls_search_query(const MlsSearch *search, const double *x, long **index, long *count, long *cap);
+/* The k nearest other particles of particle i (k ≤ n − 1), nearest first; dist2 may be NULL. */
+int mls_search_knn(const MlsSearch *search, long i, int k, long *index, double *dist2);
+/* Local spacing h[i*dim + d] per particle and axis: the distance along d to the nearest particle whose
+ * offset points mainly along d (|Δx_d| ≥ |Δx_e| for all e). Regular grids give their spacing everywhere,
+ * boundaries and corners included. An axis with no such neighbor takes the largest of the other axes. */
+int mls_search_local_spacing(const MlsSearch *search, double *h);
+
+/* ---- The approximation ----------------------------------------------------------------------------- */
+typedef struct MlsOptions {
+  const MlsBasisOps *basis;   /* default pascal */
+  int order;                  /* default 1 */
+  const MlsWeightOps *weight; /* default quartic-c3 */
+  MlsSupportKind support;     /* default box */
+  double radius[MLS_MAX_DIM]; /* absolute radius per axis (ball: radius[0]); used when dilation <= 0 */
+  double dilation;            /* > 0: ρ_id = dilation × h_id (box), ρ_i = dilation × max_d h_id (ball) */
+  double alpha;               /* exponential weight: c_I = alpha × (largest distance from x_I to the
+                                 particles whose supports contain x_I), eqs 3.34-3.36; default 1 */
+  double rcond_min;           /* reciprocal condition of M below this is an error; default 1e-13 */
+  MlsSearchKind search;       /* default kdtree */
+} MlsOptions;
+
+void mls_options_default(MlsOptions *opt);
+
+typedef struct MlsApprox MlsApprox;
+
+/* Copies the particles x[n*dim], builds the search, and sets the radii from opt (absolute or dilation ×
+ * local spacing). Checks the options (basis order range, positive radii, 1 ≤ dim ≤ 3). */
+int mls_create(int dim, long n, const double *x, const MlsOptions *opt, MlsApprox **mls);
+int mls_destroy(MlsApprox **mls);
+/* Replaces the radii: radii[i*dim + d] (ball: radii[i*dim]). */
+int mls_set_radii(MlsApprox *mls, const double *radii);
+
+int mls_dim(const MlsApprox *mls);
+long mls_num_particles(const MlsApprox *mls);
+int mls_num_terms(const MlsApprox *mls);
+const double *mls_particles(const MlsApprox *mls); /* [n*dim] */
+const double *mls_radii(const MlsApprox *mls);     /* [n*dim] */
+const double *mls_spacing(const MlsApprox *mls);   /* [n*dim], local spacing h */
+
+/* What to compute at a point: values only, with gradients, or with gradients and Hessians. */
+enum { MLS_VALUES = 0, MLS_GRADIENT = 1, MLS_HESSIAN = 2 };
+
+/* Shape functions at one point. The arrays are owned by the shape and grow when a point has more
+ * supporting particles than any before it; index, N, dN, ddN stay valid until the next mls_eval. */
+typedef struct MlsShape {
+  int dim, nderiv;
+  long n;        /* supporting particles */
+  long *index;   /* [n] particle indices, ascending */
+  double *N;     /* [n] */
+  double *dN;    /* [dim][n]: dN[d*n + k] = ∂N_k/∂x_d            (nderiv ≥ 1) */
+  double *ddN;   /* [nhess][n]: ddN[h*n + k], h = mls_hess_index (nderiv = 2) */
+  double rcond;  /* reciprocal 1-norm condition estimate of M at this point */
+  long cap;      /* capacity of the per-particle arrays */
+  void *work;    /* private workspace */
+} MlsShape;
+
+int mls_shape_create(const MlsApprox *mls, MlsShape **shape);
+int mls_shape_destroy(MlsShape **shape);
+
+/* Evaluates N (and ∇N, ∇∇N for nderiv = MLS_GRADIENT, MLS_HESSIAN) at x[dim]. A point with no support,
+ * or whose moment matrix is singular or has rcond < opt.rcond_min, is a MICA_ERR_NUMERIC error naming the
+ * point, its number of supporting particles, the condition estimate and the remedy. */
+int mls_eval(const MlsApprox *mls, const double *x, int nderiv, MlsShape *shape);
+
+/* u_h = Σ N_k u[index_k] and, when asked, its gradient and Hessian, for one scalar field u[n]. */
+void mls_shape_apply(const MlsShape *shape, const double *u, double *uh, double *grad, double *hess);
+
+#endif

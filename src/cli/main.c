@@ -1,0 +1,211 @@
+/* The `mica` program: a thin layer over libmica.
+ *
+ *   mica <command> DECK [-o DIR] [--set path=value]...
+ *   mica --help | mica help <command> | mica --version
+ *
+ * A run writes into a staging directory inside DIR and moves its files into DIR only when it succeeds,
+ * so a failed run leaves the results of an earlier one complete and untouched. Exit status: 0 success,
+ * 2 bad input (deck or command line), 3 numerical failure, 1 anything else.
+ */
+#include <dirent.h>
+#include <mpi.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "mica/command.h"
+#include "mica/files.h"
+#include "mica/timer.h"
+
+#define MICA_VERSION "0.1.0"
+enum { MAX_OVERRIDES = 256 };
+
+typedef struct {
+  const MicaCommand *command;
+  const char *deck_path;
+  const char *outdir; /* NULL: out/<deck name> */
+  const char *overrides[MAX_OVERRIDES];
+  int noverrides;
+} Invocation;
+
+static void print_usage(FILE *out) {
+  fprintf(out,
+          "mica " MICA_VERSION " — meshfree MLS/EFG solver for solids and generalized continua\n\n"
+          "usage: mica <command> DECK [-o DIR] [--set path=value]...\n"
+          "       mica help <command>      settings of a command's deck\n"
+          "       mica --version\n\n"
+          "commands:\n");
+  for (const MicaCommand *const *c = mica_commands(); *c; c++) fprintf(out, "  %-8s %s\n", (*c)->name, (*c)->summary);
+  fprintf(out,
+          "\noptions:\n"
+          "  -o DIR              write results to DIR (default out/<deck name>)\n"
+          "  --set path=value    override a deck setting; value in libconfig syntax, a bare word is a\n"
+          "                      string: --set mls.order=2 --set particles.count=[21,21,21]\n"
+          "                      --set function.f=\"x^2\" --set parameters.L=10\n\n"
+          "exit status: 0 success, 2 bad input, 3 numerical failure, 1 other errors\n"
+          "documentation: README.md, docs/input.md\n");
+}
+
+static int print_command_help(const char *name) {
+  const MicaCommand *command = mica_command_find(name);
+  if (!command) {
+    fprintf(stderr, "mica: no command '%s'; `mica --help` lists them\n", name);
+    return 2;
+  }
+  printf("mica %s DECK [-o DIR] [--set path=value]...\n\n%s\n\n%s\n\nsettings:\n", command->name,
+         command->summary, command->description);
+  mica_deck_print_schema(command->schema, stdout);
+  return 0;
+}
+
+/* Fills inv from argv; returns 0, or an exit status to stop with (after printing why). */
+static int parse_arguments(int argc, char **argv, Invocation *inv, int *done) {
+  *done = 0;
+  if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+    print_usage(argc < 2 ? stderr : stdout);
+    *done = 1;
+    return argc < 2 ? 2 : 0;
+  }
+  if (!strcmp(argv[1], "--version")) {
+    printf("mica %s\n", MICA_VERSION);
+    *done = 1;
+    return 0;
+  }
+  if (!strcmp(argv[1], "help")) {
+    *done = 1;
+    if (argc < 3) {
+      print_usage(stdout);
+      return 0;
+    }
+    return print_command_help(argv[2]);
+  }
+  inv->command = mica_command_find(argv[1]);
+  if (!inv->command) {
+    fprintf(stderr, "mica: unknown command '%s'; `mica --help` lists the commands\n", argv[1]);
+    return 2;
+  }
+  for (int i = 2; i < argc; i++) {
+    const char *arg = argv[i];
+    if (!strcmp(arg, "-o") || !strcmp(arg, "--set")) {
+      if (i + 1 >= argc) {
+        fprintf(stderr, "mica: %s needs a value\n", arg);
+        return 2;
+      }
+      if (arg[1] == 'o') inv->outdir = argv[++i];
+      else if (inv->noverrides < MAX_OVERRIDES) inv->overrides[inv->noverrides++] = argv[++i];
+    } else if (!strncmp(arg, "--set=", 6)) {
+      if (inv->noverrides < MAX_OVERRIDES) inv->overrides[inv->noverrides++] = arg + 6;
+    } else if (arg[0] == '-' && arg[1]) {
+      fprintf(stderr, "mica: unknown option '%s'; `mica --help` lists the options\n", arg);
+      return 2;
+    } else if (!inv->deck_path) {
+      inv->deck_path = arg;
+    } else {
+      fprintf(stderr, "mica: one deck at a time: '%s' and '%s'\n", inv->deck_path, arg);
+      return 2;
+    }
+  }
+  if (!inv->deck_path) {
+    fprintf(stderr, "mica %s: which deck? usage: mica %s DECK [-o DIR] [--set path=value]...\n",
+            inv->command->name, inv->command->name);
+    return 2;
+  }
+  return 0;
+}
+
+/* Removes the staging directory and the files in it (it holds no subdirectories). */
+static void remove_staging(const char *staging) {
+  DIR *dir = opendir(staging);
+  if (!dir) return;
+  struct dirent *entry;
+  while ((entry = readdir(dir))) {
+    if (!strcmp(entry->d_name, ".") || !strcmp(entry->d_name, "..")) continue;
+    char *path = NULL;
+    if (mica_path_join(staging, entry->d_name, &path) == MICA_SUCCESS) unlink(path);
+    free(path);
+  }
+  closedir(dir);
+  rmdir(staging);
+}
+
+/* Moves every file of the staging directory into outdir (each rename is atomic). */
+static int publish_staging(const char *staging, const char *outdir) {
+  DIR *dir = opendir(staging);
+  MICA_CHECK(dir, MICA_ERR_IO, "cannot read the staging directory %s", staging);
+  struct dirent *entry;
+  int ierr = MICA_SUCCESS;
+  while ((entry = readdir(dir)) && ierr == MICA_SUCCESS) {
+    if (!strcmp(entry->d_name, ".") || !strcmp(entry->d_name, "..")) continue;
+    char *from = NULL, *to = NULL;
+    ierr = mica_path_join(staging, entry->d_name, &from);
+    if (!ierr) ierr = mica_path_join(outdir, entry->d_name, &to);
+    if (!ierr && rename(from, to) != 0)
+      ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_IO, "cannot move %s to %s", from, to);
+    free(from);
+    free(to);
+  }
+  closedir(dir);
+  rmdir(staging);
+  return ierr;
+}
+
+static int default_outdir(const MicaDeck *deck, char **outdir) {
+  return mica_path_join("out", mica_deck_name(deck), outdir);
+}
+
+/* Loads the deck, runs the command into a staging directory, publishes on success. */
+static int run_command(const Invocation *inv) {
+  MicaDeck *deck = NULL;
+  MicaJson *summary = NULL;
+  char *outdir = NULL, *staging = NULL, *path = NULL;
+  int ierr = MICA_SUCCESS;
+  const double start = mica_wtime();
+  MICA_CALL_CLEANUP(mica_deck_load(inv->deck_path, inv->command->schema, inv->noverrides,
+                                   inv->overrides, &deck));
+  if (inv->outdir) {
+    MICA_CALL_CLEANUP(MICA_MALLOC(outdir, strlen(inv->outdir) + 1));
+    strcpy(outdir, inv->outdir);
+  } else {
+    MICA_CALL_CLEANUP(default_outdir(deck, &outdir));
+  }
+  char name[64];
+  snprintf(name, sizeof name, ".staging-%ld", (long)getpid());
+  MICA_CALL_CLEANUP(mica_path_join(outdir, name, &staging));
+  MICA_CALL_CLEANUP(mica_make_dir(staging));
+  MICA_CALL_CLEANUP(mica_path_join(staging, "resolved.cfg", &path));
+  MICA_CALL_CLEANUP(mica_deck_write_resolved(deck, path));
+  MICA_CALL_CLEANUP(mica_json_create(&summary));
+  MICA_CALL_CLEANUP(mica_json_string(summary, "status", "ok"));
+  MICA_CALL_CLEANUP(mica_json_string(summary, "command", inv->command->name));
+  MICA_CALL_CLEANUP(mica_json_string(summary, "deck", inv->deck_path));
+  MICA_CALL_CLEANUP(inv->command->run(deck, staging, summary));
+  MICA_CALL_CLEANUP(mica_json_number(summary, "time_total", mica_wtime() - start));
+  free(path);
+  path = NULL;
+  MICA_CALL_CLEANUP(mica_path_join(staging, "summary.json", &path));
+  MICA_CALL_CLEANUP(mica_json_write(summary, path));
+  MICA_CALL_CLEANUP(publish_staging(staging, outdir));
+  printf("results in %s/ (summary.json, resolved.cfg)\n", outdir);
+cleanup:
+  if (ierr && staging) remove_staging(staging);
+  free(path);
+  free(staging);
+  free(outdir);
+  mica_json_destroy(&summary);
+  mica_deck_destroy(&deck);
+  return ierr;
+}
+
+int main(int argc, char **argv) {
+  Invocation inv = {0};
+  int done, status = parse_arguments(argc, argv, &inv, &done);
+  if (done || status) return status;
+  /* MPI is initialized for every run so that the same binary works with and without mpirun. */
+  MPI_Init(&argc, &argv);
+  int ierr = run_command(&inv);
+  if (ierr) mica_error_report("mica");
+  MPI_Finalize();
+  return mica_exit_status(ierr);
+}

@@ -1,0 +1,370 @@
+/* Expressions over GNU libmatheval (expr.h).
+ *
+ * mica checks the text with its own small scanner before libmatheval sees it, for three reasons:
+ * libmatheval's parser leaks its partial tree on some syntax errors, its lexer echoes characters it does
+ * not know to stdout, and it accepts any name as a variable. The scanner also binds the parameters: each
+ * parameter name is replaced by its value in parentheses, so libmatheval differentiates them as constants
+ * (x^P would otherwise go through log(x)). */
+#include "mica/expr.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <matheval.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct MicaFunction {
+  void *evaluator; /* libmatheval's compiled tree */
+  char *text;      /* as written by the user (or "d(...)/dx" for a derivative) */
+};
+
+/* libmatheval takes char *, not const char *. */
+static char name_x[] = "x", name_y[] = "y", name_z[] = "z", name_t[] = "t";
+static char *const variable_names[4] = {name_x, name_y, name_z, name_t};
+
+/* The functions and constants libmatheval 1.1 knows. */
+static const char *const known_functions[] = {
+    "exp",  "log",   "sqrt",  "sin",   "cos",   "tan",   "cot",   "sec",   "csc",   "asin",     "acos",
+    "atan", "acot",  "asec",  "acsc",  "sinh",  "cosh",  "tanh",  "coth",  "sech",  "csch",     "asinh",
+    "acosh", "atanh", "acoth", "asech", "acsch", "abs",  "step",  "delta", "nandelta", "erf", NULL};
+static const char *const known_constants[] = {"e",  "log2e", "log10e", "ln2",   "ln10",    "pi",     "pi_2",
+                                              "pi_4", "sqrt2", "sqrt1_2", "2_pi", "2_sqrtpi", "1_pi", NULL};
+
+/* ---- scanning ---- */
+
+typedef enum { TOKEN_END, TOKEN_NUMBER, TOKEN_NAME, TOKEN_OPERATOR, TOKEN_OPEN, TOKEN_CLOSE, TOKEN_BAD } TokenKind;
+
+typedef struct {
+  TokenKind kind;
+  const char *start;
+  size_t length;
+} Token;
+
+/* Parameters as given to mica_function_create / mica_constant_eval. */
+typedef struct {
+  int count;
+  const char *const *names;
+  const double *values;
+  int allow_variables; /* x, y, z, t are names of a function, unknown in a constant */
+} Bindings;
+
+/* What the syntax check found wrong, for the message. */
+typedef struct {
+  const char *text;
+  const char *position;
+  Token token;
+  char problem[160];
+} Scanner;
+
+static const char *skip_digits(const char *c) {
+  while (isdigit((unsigned char)*c)) c++;
+  return c;
+}
+
+/* A number as libmatheval reads it: 12, 1.5, .5, 3., 2e5, 1.5E-3. */
+static const char *scan_number(const char *c) {
+  c = skip_digits(c);
+  if (*c == '.') c = skip_digits(c + 1);
+  if (*c == 'e' || *c == 'E') {
+    const char *exponent = c + 1;
+    if (*exponent == '+' || *exponent == '-') exponent++;
+    if (isdigit((unsigned char)*exponent)) c = skip_digits(exponent);
+  }
+  return c;
+}
+
+static int is_name_char(char c) { return isalnum((unsigned char)c) || c == '_'; }
+
+static Token next_token(const char *c) {
+  while (isspace((unsigned char)*c)) c++;
+  Token token = {TOKEN_BAD, c, 1};
+  if (!*c) {
+    token.kind = TOKEN_END;
+    token.length = 0;
+  } else if (isdigit((unsigned char)*c) && *skip_digits(c) == '_') {
+    token.kind = TOKEN_NAME; /* libmatheval's constants 1_pi, 2_pi, 2_sqrtpi */
+    const char *end = c;
+    while (is_name_char(*end)) end++;
+    token.length = (size_t)(end - c);
+  } else if (isdigit((unsigned char)*c) || (*c == '.' && isdigit((unsigned char)c[1]))) {
+    token.kind = TOKEN_NUMBER;
+    token.length = (size_t)(scan_number(c) - c);
+  } else if (isalpha((unsigned char)*c) || *c == '_') {
+    const char *end = c;
+    while (is_name_char(*end)) end++;
+    token.kind = TOKEN_NAME;
+    token.length = (size_t)(end - c);
+  } else if (strchr("+-*/^", *c)) {
+    token.kind = TOKEN_OPERATOR;
+  } else if (*c == '(') {
+    token.kind = TOKEN_OPEN;
+  } else if (*c == ')') {
+    token.kind = TOKEN_CLOSE;
+  }
+  return token;
+}
+
+static void advance(Scanner *scanner) {
+  scanner->position = scanner->token.start + scanner->token.length;
+  scanner->token = next_token(scanner->position);
+}
+
+static int token_is(const Token *token, const char *word) {
+  return token->length == strlen(word) && strncmp(token->start, word, token->length) == 0;
+}
+
+static int in_list(const Token *token, const char *const *list) {
+  for (int i = 0; list[i]; i++)
+    if (token_is(token, list[i])) return 1;
+  return 0;
+}
+
+static int syntax_problem(Scanner *scanner, const char *what) {
+  if (scanner->token.kind == TOKEN_END)
+    snprintf(scanner->problem, sizeof scanner->problem, "%s at the end", what);
+  else
+    snprintf(scanner->problem, sizeof scanner->problem, "%s at '%.*s' (column %d)", what,
+             (int)scanner->token.length, scanner->token.start, (int)(scanner->token.start - scanner->text) + 1);
+  return -1;
+}
+
+static int parse_sum(Scanner *scanner);
+
+/* operand := '-' operand | number | name | function '(' sum ')' | '(' sum ')' */
+static int parse_operand(Scanner *scanner) {
+  Token token = scanner->token;
+  if (token.kind == TOKEN_OPERATOR && *token.start == '-') {
+    advance(scanner);
+    return parse_operand(scanner);
+  }
+  if (token.kind == TOKEN_NUMBER) {
+    advance(scanner);
+    return 0;
+  }
+  if (token.kind == TOKEN_NAME) {
+    advance(scanner);
+    int called = scanner->token.kind == TOKEN_OPEN;
+    if (!called && !in_list(&token, known_functions)) return 0;
+    if (!called) return syntax_problem(scanner, "expected '(' after a function name");
+    if (!in_list(&token, known_functions)) {
+      scanner->token = token;
+      return syntax_problem(scanner, "unknown function");
+    }
+  } else if (token.kind != TOKEN_OPEN) {
+    return syntax_problem(scanner, "expected a number, a name or '('");
+  }
+  advance(scanner); /* past '(' */
+  if (parse_sum(scanner)) return -1;
+  if (scanner->token.kind != TOKEN_CLOSE) return syntax_problem(scanner, "expected ')'");
+  advance(scanner);
+  return 0;
+}
+
+/* sum := operand { operator operand }; precedence does not matter for a syntax check. */
+static int parse_sum(Scanner *scanner) {
+  if (parse_operand(scanner)) return -1;
+  while (scanner->token.kind == TOKEN_OPERATOR) {
+    advance(scanner);
+    if (parse_operand(scanner)) return -1;
+  }
+  return 0;
+}
+
+static int check_syntax(const char *text) {
+  Scanner scanner = {text, text, next_token(text), ""};
+  int bad = parse_sum(&scanner);
+  if (!bad && scanner.token.kind != TOKEN_END) bad = syntax_problem(&scanner, "unexpected text");
+  if (bad) MICA_ERROR(MICA_ERR_INPUT, "cannot parse expression \"%s\": %s", text, scanner.problem);
+  return MICA_SUCCESS;
+}
+
+/* ---- names ---- */
+
+static int find_parameter(const Bindings *bindings, const Token *token) {
+  for (int i = bindings->count - 1; i >= 0; i--) /* a later definition shadows an earlier one */
+    if (token_is(token, bindings->names[i])) return i;
+  return -1;
+}
+
+static int is_variable_name(const char *name) {
+  return !strcmp(name, "x") || !strcmp(name, "y") || !strcmp(name, "z") || !strcmp(name, "t");
+}
+
+static int unknown_name(const char *text, const char *name, int length, const Bindings *bindings) {
+  char allowed[512] = "";
+  size_t used = 0;
+  for (int i = 0; i < bindings->count && used < sizeof allowed; i++)
+    used += (size_t)snprintf(allowed + used, sizeof allowed - used, "%s%s", i ? ", " : "", bindings->names[i]);
+  const char *subject = bindings->allow_variables ? "an expression may use x, y, z, t"
+                                                  : "a constant expression may use numbers";
+  if (bindings->count)
+    MICA_ERROR(MICA_ERR_INPUT, "unknown name '%.*s' in \"%s\"; %s and the parameters (%s)", length, name, text,
+               subject, allowed);
+  MICA_ERROR(MICA_ERR_INPUT, "unknown name '%.*s' in \"%s\"; %s (no parameters are defined)", length, name,
+             text, subject);
+}
+
+/* Every name must be a function (checked by the syntax pass), a constant, a parameter or a variable. */
+static int check_names(const char *text, const Bindings *bindings) {
+  for (Token token = next_token(text); token.kind != TOKEN_END; token = next_token(token.start + token.length)) {
+    if (token.kind != TOKEN_NAME || in_list(&token, known_functions) || in_list(&token, known_constants) ||
+        find_parameter(bindings, &token) >= 0)
+      continue;
+    int is_variable = token.length == 1 && strchr("xyzt", *token.start);
+    if (!is_variable || !bindings->allow_variables)
+      MICA_CALL(unknown_name(text, token.start, (int)token.length, bindings));
+  }
+  return MICA_SUCCESS;
+}
+
+static int check_bindings(const Bindings *bindings) {
+  for (int i = 0; i < bindings->count; i++) {
+    MICA_CHECK(bindings->names && bindings->names[i] && bindings->values, MICA_ERR_ARGUMENT,
+               "parameter %d has no name or value", i);
+    MICA_CHECK(!is_variable_name(bindings->names[i]), MICA_ERR_INPUT,
+               "parameter '%s' has the name of a coordinate; x, y, z and t are reserved", bindings->names[i]);
+    MICA_CHECK(isfinite(bindings->values[i]), MICA_ERR_INPUT, "parameter '%s' is %g, not a finite number",
+               bindings->names[i], bindings->values[i]);
+  }
+  return MICA_SUCCESS;
+}
+
+/* ---- substitution and compilation ---- */
+
+static int append(char **out, size_t *length, size_t *capacity, const char *piece, size_t piece_length) {
+  if (*length + piece_length + 1 > *capacity) {
+    size_t grown = 2 * (*length + piece_length + 1);
+    MICA_CALL(MICA_REALLOC(*out, grown));
+    *capacity = grown;
+  }
+  memcpy(*out + *length, piece, piece_length);
+  *length += piece_length;
+  (*out)[*length] = '\0';
+  return MICA_SUCCESS;
+}
+
+/* Copies text with each parameter name (not followed by '(') replaced by "(value)". */
+static int substitute(const char *text, const Bindings *bindings, char **out) {
+  size_t length = 0, capacity = strlen(text) + 1;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL(MICA_MALLOC(*out, capacity));
+  (*out)[0] = '\0';
+  const char *copied = text;
+  for (Token token = next_token(text); token.kind != TOKEN_END; token = next_token(token.start + token.length)) {
+    int index = token.kind == TOKEN_NAME ? find_parameter(bindings, &token) : -1;
+    if (index < 0 || next_token(token.start + token.length).kind == TOKEN_OPEN) continue;
+    char value[40];
+    int value_length = snprintf(value, sizeof value, "(%.17g)", bindings->values[index]);
+    MICA_CALL_CLEANUP(append(out, &length, &capacity, copied, (size_t)(token.start - copied)));
+    MICA_CALL_CLEANUP(append(out, &length, &capacity, value, (size_t)value_length));
+    copied = token.start + token.length;
+  }
+  MICA_CALL_CLEANUP(append(out, &length, &capacity, copied, strlen(copied)));
+  return MICA_SUCCESS;
+cleanup:
+  MICA_FREE(*out);
+  return ierr;
+}
+
+/* libmatheval reports the variables left after simplification: a second line of defence. */
+static int check_evaluator_variables(void *evaluator, const char *text, const Bindings *bindings) {
+  char **names;
+  int count;
+  evaluator_get_variables(evaluator, &names, &count);
+  for (int i = 0; i < count; i++)
+    if (!bindings->allow_variables || !is_variable_name(names[i]))
+      MICA_CALL(unknown_name(text, names[i], (int)strlen(names[i]), bindings));
+  return MICA_SUCCESS;
+}
+
+static int compile(const char *text, const Bindings *bindings, void **evaluator) {
+  *evaluator = NULL;
+  MICA_CHECK(text, MICA_ERR_ARGUMENT, "expression text is NULL");
+  MICA_CALL(check_bindings(bindings));
+  MICA_CALL(check_syntax(text));
+  MICA_CALL(check_names(text, bindings));
+  char *substituted = NULL;
+  MICA_CALL(substitute(text, bindings, &substituted));
+  *evaluator = evaluator_create(substituted);
+  free(substituted);
+  MICA_CHECK(*evaluator, MICA_ERR_INPUT, "cannot parse expression \"%s\"", text);
+  int ierr = check_evaluator_variables(*evaluator, text, bindings);
+  if (ierr) {
+    evaluator_destroy(*evaluator);
+    *evaluator = NULL;
+    return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  }
+  return MICA_SUCCESS;
+}
+
+static int function_wrap(void *evaluator, const char *text, MicaFunction **f) {
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(MICA_CALLOC(*f, 1));
+  MICA_CALL_CLEANUP(MICA_MALLOC((*f)->text, strlen(text) + 1));
+  memcpy((*f)->text, text, strlen(text) + 1);
+  (*f)->evaluator = evaluator;
+  return MICA_SUCCESS;
+cleanup:
+  if (*f) MICA_FREE(*f);
+  evaluator_destroy(evaluator);
+  return ierr;
+}
+
+int mica_function_create(const char *text, int nparams, const char *const *param_names,
+                         const double *param_values, MicaFunction **f) {
+  MICA_CHECK(f && nparams >= 0, MICA_ERR_ARGUMENT, "mica_function_create: bad argument");
+  *f = NULL;
+  Bindings bindings = {nparams, param_names, param_values, 1};
+  void *evaluator;
+  MICA_CALL(compile(text, &bindings, &evaluator));
+  MICA_CALL(function_wrap(evaluator, text, f));
+  return MICA_SUCCESS;
+}
+
+int mica_function_derivative(const MicaFunction *f, int var, MicaFunction **df) {
+  MICA_CHECK(f && df, MICA_ERR_ARGUMENT, "mica_function_derivative: NULL argument");
+  MICA_CHECK(var >= 0 && var < 4, MICA_ERR_ARGUMENT, "mica_function_derivative: var %d is not 0..3", var);
+  *df = NULL;
+  void *derivative = evaluator_derivative(f->evaluator, variable_names[var]);
+  MICA_CHECK(derivative, MICA_ERR_LIBRARY, "libmatheval could not differentiate \"%s\"", f->text);
+  size_t size = strlen(f->text) + 16;
+  char *text;
+  int ierr = MICA_MALLOC(text, size);
+  if (ierr) {
+    evaluator_destroy(derivative);
+    return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  }
+  snprintf(text, size, "d(%s)/d%s", f->text, variable_names[var]);
+  ierr = function_wrap(derivative, text, df);
+  free(text);
+  if (ierr) return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  return MICA_SUCCESS;
+}
+
+double mica_function_eval(const MicaFunction *f, const double x[3], double t) {
+  double values[4] = {x[0], x[1], x[2], t};
+  return evaluator_evaluate(f->evaluator, 4, (char **)variable_names, values);
+}
+
+const char *mica_function_text(const MicaFunction *f) { return f ? f->text : NULL; }
+
+int mica_function_destroy(MicaFunction **f) {
+  if (!f || !*f) return MICA_SUCCESS;
+  evaluator_destroy((*f)->evaluator);
+  free((*f)->text);
+  MICA_FREE(*f);
+  return MICA_SUCCESS;
+}
+
+int mica_constant_eval(const char *text, int nparams, const char *const *param_names,
+                       const double *param_values, double *value) {
+  MICA_CHECK(value && nparams >= 0, MICA_ERR_ARGUMENT, "mica_constant_eval: bad argument");
+  Bindings bindings = {nparams, param_names, param_values, 0};
+  void *evaluator;
+  MICA_CALL(compile(text, &bindings, &evaluator));
+  *value = evaluator_evaluate(evaluator, 0, NULL, NULL);
+  evaluator_destroy(evaluator);
+  MICA_CHECK(isfinite(*value), MICA_ERR_INPUT, "\"%s\" evaluates to %g, not a finite number", text, *value);
+  return MICA_SUCCESS;
+}

@@ -1,0 +1,145 @@
+/* Outputs of `mica mls`: the sample table (mls.csv) and the error chart drawn by gnuplot. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "mica/files.h"
+#include "mls_study.h"
+
+static double relative(double approx, double exact, double scale) {
+  return fabs(approx - exact) / (scale > 0 ? scale : 1.0);
+}
+
+static void write_rows(FILE *fp, const MlsVariantResult *r, const char *set, const MlsSample *s, long n,
+                       const MlsErrors *e) {
+  for (long i = 0; i < n; i++)
+    fprintf(fp, "\"%s\",%s,%ld,%.17g,%.17g,%.17g,%.17g,%ld,%.17g,%.17g,%.6e,%.17g,%.17g,%.6e,%.17g,%.17g,%.6e\n",
+            r->name, set, i, s[i].param, s[i].x[0], s[i].x[1], s[i].x[2], s[i].support, s[i].f, s[i].fh,
+            relative(s[i].fh, s[i].f, e->scale_f), s[i].df, s[i].dfh, relative(s[i].dfh, s[i].df, e->scale_df),
+            s[i].ddf, s[i].ddfh, relative(s[i].ddfh, s[i].ddf, e->scale_ddf));
+}
+
+int mls_study_write_csv(const MlsVariantResult *results, int nvariants, const char *outdir) {
+  char *path = NULL;
+  MicaOutFile out = {0};
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(mica_path_join(outdir, "mls.csv", &path));
+  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  /* err_* are relative to the largest |exact| value of the same variant and sample set */
+  fprintf(out.fp, "variant,set,sample,s,x,y,z,support,f,f_h,err_f,df,df_h,err_df,ddf,ddf_h,err_ddf\n");
+  for (int v = 0; v < nvariants; v++) {
+    const MlsVariantResult *r = &results[v];
+    write_rows(out.fp, r, "line", r->line, r->nline, &r->line_err);
+    write_rows(out.fp, r, "volume", r->volume, r->nvolume, &r->volume_err);
+  }
+  MICA_CALL_CLEANUP(mica_out_commit(&out));
+cleanup:
+  mica_out_abort(&out);
+  free(path);
+  return ierr;
+}
+
+/* gnuplot data: one block per variant (separated by two blank lines, so `index v` selects it). */
+static int write_chart_data(const MlsVariantResult *results, int nvariants, const char *outdir) {
+  char *path = NULL;
+  MicaOutFile out = {0};
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(mica_path_join(outdir, "mls_line.dat", &path));
+  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  for (int v = 0; v < nvariants; v++) {
+    const MlsVariantResult *r = &results[v];
+    const MlsErrors *e = &r->line_err;
+    fprintf(out.fp, "# variant \"%s\": position along the axis, relative errors of f, df, ddf\n", r->name);
+    for (long i = 0; i < r->nline; i++) {
+      const MlsSample *s = &r->line[i];
+      fprintf(out.fp, "%.10g %.6e %.6e %.6e\n", s->x[r->axis], relative(s->fh, s->f, e->scale_f),
+              relative(s->dfh, s->df, e->scale_df), relative(s->ddfh, s->ddf, e->scale_ddf));
+    }
+    fprintf(out.fp, "\n\n");
+  }
+  MICA_CALL_CLEANUP(mica_out_commit(&out));
+cleanup:
+  mica_out_abort(&out);
+  free(path);
+  return ierr;
+}
+
+/* Variant names go into gnuplot strings: keep them printable and free of quotes. */
+static void gnuplot_safe(const char *in, char *out, size_t size) {
+  size_t j = 0;
+  for (size_t i = 0; in[i] && j + 1 < size; i++) out[j++] = (in[i] == '"' || in[i] == '\\' || in[i] == '\'') ? ' ' : in[i];
+  out[j] = '\0';
+}
+
+static void write_panel(FILE *fp, int nvariants, int column, const char *ylabel, const MlsVariantResult *r) {
+  fprintf(fp, "set ylabel '%s'\nplot ", ylabel);
+  for (int v = 0; v < nvariants; v++) {
+    char name[160];
+    gnuplot_safe(r[v].name, name, sizeof name);
+    fprintf(fp, "%s'mls_line.dat' index %d using 1:($%d > 0 ? $%d : 1/0) with lines lw 1.5 title \"%s\"",
+            v ? ", " : "", v, column, column, name);
+  }
+  fprintf(fp, "\n");
+}
+
+static int write_chart_script(const MlsVariantResult *r, int nvariants, const char *title, const char *outdir) {
+  char *path = NULL, safe_title[256];
+  MicaOutFile out = {0};
+  int ierr = MICA_SUCCESS;
+  const char axis = (char)('x' + r[0].axis);
+  gnuplot_safe(title && title[0] ? title : "MLS approximation error along the sample line", safe_title,
+               sizeof safe_title);
+  MICA_CALL_CLEANUP(mica_path_join(outdir, "mls_chart.gp", &path));
+  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  FILE *fp = out.fp;
+  for (int pass = 0; pass < 2; pass++) {
+    if (pass == 0) fprintf(fp, "set terminal pngcairo size 900,1100 noenhanced\nset output 'mls_error.png'\n");
+    else fprintf(fp, "set terminal svg size 900,1100 noenhanced\nset output 'mls_error.svg'\n");
+    fprintf(fp, "set multiplot layout 3,1 title '%s'\nset logscale y\nset format y '%%.0e'\nset grid\n"
+                "set key outside right\nset xlabel '%c'\n", safe_title, axis);
+    char label[64];
+    write_panel(fp, nvariants, 2, "relative error of f", r);
+    snprintf(label, sizeof label, "relative error of df/d%c", axis);
+    write_panel(fp, nvariants, 3, label, r);
+    snprintf(label, sizeof label, "relative error of d2f/d%c2", axis);
+    write_panel(fp, nvariants, 4, label, r);
+    fprintf(fp, "unset multiplot\nset output\n");
+  }
+  MICA_CALL_CLEANUP(mica_out_commit(&out));
+cleanup:
+  mica_out_abort(&out);
+  free(path);
+  return ierr;
+}
+
+/* Runs gnuplot on the script inside outdir; its messages go to outdir/gnuplot.log. */
+static int run_gnuplot(const char *outdir) {
+  pid_t pid = fork();
+  MICA_CHECK(pid >= 0, MICA_ERR_LIBRARY, "cannot start gnuplot: %s", strerror(errno));
+  if (pid == 0) {
+    if (chdir(outdir) != 0) _exit(126);
+    FILE *log = freopen("gnuplot.log", "w", stderr);
+    (void)log;
+    execlp("gnuplot", "gnuplot", "mls_chart.gp", (char *)NULL);
+    _exit(127);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+  MICA_CHECK(WIFEXITED(status) && WEXITSTATUS(status) != 127, MICA_ERR_LIBRARY,
+             "gnuplot is not installed: run `make deps` (package gnuplot-nox), or set output.chart = false");
+  MICA_CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0, MICA_ERR_LIBRARY,
+             "gnuplot failed drawing the chart (exit %d); see gnuplot.log in the output directory",
+             WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  return MICA_SUCCESS;
+}
+
+int mls_study_write_chart(const MlsVariantResult *results, int nvariants, const char *title, const char *outdir) {
+  MICA_CALL(write_chart_data(results, nvariants, outdir));
+  MICA_CALL(write_chart_script(results, nvariants, title, outdir));
+  MICA_CALL(run_gnuplot(outdir));
+  return MICA_SUCCESS;
+}
