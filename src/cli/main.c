@@ -160,7 +160,7 @@ static int run_command(const Invocation *inv) {
   MicaDeck *deck = NULL;
   MicaJson *summary = NULL;
   char *outdir = NULL, *staging = NULL, *path = NULL;
-  int ierr = MICA_SUCCESS;
+  int ierr = MICA_SUCCESS, outdir_existed = 1;
   const double start = mica_wtime();
   MICA_CALL_CLEANUP(mica_deck_load(inv->deck_path, inv->command->schema, inv->noverrides,
                                    inv->overrides, &deck));
@@ -170,6 +170,8 @@ static int run_command(const Invocation *inv) {
   } else {
     MICA_CALL_CLEANUP(default_outdir(deck, &outdir));
   }
+  struct stat info;
+  outdir_existed = stat(outdir, &info) == 0;
   char name[64];
   snprintf(name, sizeof name, ".staging-%ld", (long)getpid());
   MICA_CALL_CLEANUP(mica_path_join(outdir, name, &staging));
@@ -190,6 +192,7 @@ static int run_command(const Invocation *inv) {
   printf("results in %s/ (summary.json, resolved.cfg)\n", outdir);
 cleanup:
   if (ierr && staging) remove_staging(staging);
+  if (ierr && !outdir_existed) rmdir(outdir); /* only if empty: never removes results */
   free(path);
   free(staging);
   free(outdir);
@@ -202,10 +205,12 @@ int main(int argc, char **argv) {
   Invocation inv = {0};
   int done, status = parse_arguments(argc, argv, &inv, &done);
   if (done || status) return status;
-  /* MPI is initialized for every run so that the same binary works with and without mpirun. */
-  MPI_Init(&argc, &argv);
+  /* MPI starts only under a launcher (mpirun sets these): a plain `mica` run is one serial process and
+   * pays neither MPI's start-up time nor its one-time allocations. */
+  const int launched = getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK") || getenv("PMI_RANK");
+  if (launched) MPI_Init(&argc, &argv);
   int ierr = run_command(&inv);
   if (ierr) mica_error_report("mica");
-  MPI_Finalize();
+  if (launched) MPI_Finalize();
   return mica_exit_status(ierr);
 }

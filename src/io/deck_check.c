@@ -62,9 +62,15 @@ static const char *child_name(const char *key_path, const char *prefix, char *bu
   return buf;
 }
 
+/* A suggestion: the first prefix_length characters of the unknown setting's path, then name. */
+typedef struct {
+  int prefix_length;
+  char name[DECK_PATH_MAX];
+} Suggestion;
+
 /* A sibling of the unknown name in the same group, else any key whose path or last name is close. */
 static int suggest_key(const MicaDeckKey *schema, const char *schema_path, const char *display_path,
-                       char *suggestion, size_t size) {
+                       Suggestion *suggestion) {
   char prefix[DECK_PATH_MAX], name[DECK_PATH_MAX];
   snprintf(prefix, sizeof prefix, "%s", schema_path);
   char *dot = strrchr(prefix, '.');
@@ -76,8 +82,8 @@ static int suggest_key(const MicaDeckKey *schema, const char *schema_path, const
     int distance = sibling ? edit_distance(unknown, sibling) : INT_MAX;
     if (distance < best && close_enough(distance, unknown)) {
       best = distance;
-      int parent_length = (int)(last_segment(display_path) - display_path);
-      snprintf(suggestion, size, "%.*s%s", parent_length, display_path, sibling);
+      suggestion->prefix_length = (int)(last_segment(display_path) - display_path);
+      snprintf(suggestion->name, sizeof suggestion->name, "%s", sibling);
     }
   }
   if (best < INT_MAX) return 1;
@@ -87,17 +93,20 @@ static int suggest_key(const MicaDeckKey *schema, const char *schema_path, const
     int distance = close_enough(whole, schema_path) ? whole : close_enough(tail, unknown) ? tail : INT_MAX;
     if (distance < best) {
       best = distance;
-      snprintf(suggestion, size, "%s", key->path);
+      suggestion->prefix_length = 0;
+      snprintf(suggestion->name, sizeof suggestion->name, "%s", key->path);
     }
   }
   return best < INT_MAX;
 }
 
 static int unknown_setting(const CheckContext *context, const config_setting_t *setting, const char *schema_path) {
-  char path[DECK_PATH_MAX], suggestion[DECK_PATH_MAX];
+  char path[DECK_PATH_MAX];
+  Suggestion suggestion;
   deck_setting_path(setting, path, sizeof path);
-  if (suggest_key(context->deck->schema, schema_path, path, suggestion, sizeof suggestion))
-    return DECK_FAIL(context->deck, setting, "unknown setting '%s'; did you mean '%s'?", path, suggestion);
+  if (suggest_key(context->deck->schema, schema_path, path, &suggestion))
+    return DECK_FAIL(context->deck, setting, "unknown setting '%s'; did you mean '%.*s%s'?", path,
+                     suggestion.prefix_length, path, suggestion.name);
   return DECK_FAIL(context->deck, setting, "unknown setting '%s'", path);
 }
 
@@ -141,7 +150,8 @@ static int check_length(const CheckContext *context, const MicaDeckKey *key, con
 static int check_numbers(const CheckContext *context, const MicaDeckKey *key, const config_setting_t *setting) {
   int integer = key->type == MICA_KEY_INTS;
   const char *kind = integer ? "integers" : "numbers";
-  if (config_setting_is_scalar(setting) && key->len_min <= 1)
+  int single = deck_is_number(setting) || config_setting_type(setting) == CONFIG_TYPE_STRING;
+  if (single && key->len_min <= 1)
     return check_number(context, key, setting, integer);
   if (!config_setting_is_array(setting) && !config_setting_is_list(setting)) {
     char path[DECK_PATH_MAX], needed[64];

@@ -56,6 +56,10 @@ void deck_prefix_error(const MicaDeck *deck, const config_setting_t *setting) {
 }
 
 void deck_format_number(double value, char *buf, size_t size) {
+  if (value == nearbyint(value) && fabs(value) < 1e15) { /* 100000, not 1e+05 */
+    snprintf(buf, size, "%.0f", value);
+    return;
+  }
   for (int digits = 1; digits <= 17; digits++) {
     snprintf(buf, size, "%.*g", digits, value);
     if (strtod(buf, NULL) == value) return;
@@ -82,7 +86,7 @@ static void describe_value(const config_setting_t *setting, double value, char *
 
 static int check_range(const MicaDeck *deck, const MicaDeckKey *key, const config_setting_t *setting, double value) {
   if (!key || key->min > key->max || (value >= key->min && value <= key->max)) return MICA_SUCCESS;
-  char described[DECK_MESSAGE_MAX / 2], range[80];
+  char described[DECK_MESSAGE_MAX], range[80];
   describe_value(setting, value, described, sizeof described);
   format_range(key, range, sizeof range);
   return DECK_FAIL(deck, setting, "%s is out of range %s", described, range);
@@ -125,7 +129,7 @@ int deck_eval_number(const MicaDeck *deck, const DeckParams *params, const MicaD
   else
     return DECK_FAIL(deck, setting, "%s must be %s, not %s", path, expected, deck_type_name(setting));
   if (integer && *value != nearbyint(*value)) {
-    char described[DECK_MESSAGE_MAX / 2];
+    char described[DECK_MESSAGE_MAX];
     describe_value(setting, *value, described, sizeof described);
     return DECK_FAIL(deck, setting, "%s is not an integer", described);
   }

@@ -1,9 +1,9 @@
-/* MLS polynomial bases P(s) at the scaled, shifted coordinate s ∈ [−1, 1]^dim, with their first and
- * second derivatives (docs/theory.md §MLS, seed 001):
- *   pascal     complete monomials of total degree ≤ order (eqs 3.26-3.28), ordered by total degree with
+/* MLS polynomial bases P(s) at the scaled, shifted coordinate s (mostly in [−1, 1]^dim; any s is valid),
+ * with their first and second derivatives (docs/theory.md §MLS, seed 001):
+ *   pascal     complete monomials of total degree ≤ order (eq 3.37), ordered by total degree with
  *              the constant first, so that P(0) = e₁ (used by N = P(0)ᵀ M⁻¹ P Φ);
  *   lagrange   tensor products of the 1-D Lagrange polynomials on the order + 1 equally spaced nodes
- *              −1 + 2k/order;
+ *              −1 + 2k/order (eqs 3.38, 3.39);
  *   bernstein  tensor products of the 1-D Bernstein polynomials C(n,k) tᵏ (1 − t)ⁿ⁻ᵏ in t = (s + 1)/2
  *              (eq 3.40, reading x^I for the misprinted x).
  * Every basis term is a product over the axes of a 1-D polynomial in s_d, so each basis first tabulates

@@ -3,17 +3,19 @@
  *
  * Data structures (built by mls_search_create in O(n log n) time and O(n) memory):
  *   - The particles are kept twice: in the caller's order (x, so knn can look up particle i) and in k-d
- *     tree order padded to 3 coordinates (xt, with perm[position] = particle number). Missing axes get
- *     coordinate 0 and radius +inf, so every loop runs over 3 axes: 1-D and 2-D need no special cases,
- *     and the compiler unrolls the fixed-length loops.
+ *     tree order padded to 3 coordinates (xt, with perm[position] = particle number; the radii rt too,
+ *     for the k-d tree kind). Missing axes get coordinate 0 and radius +inf, so every loop runs over 3
+ *     axes: 1-D and 2-D need no special cases, and the compiler unrolls the fixed-length loops.
  *   - A k-d tree with leaves of at most LEAF_SIZE particles, split at the median *position* (not value)
  *     along the widest axis, so its depth is about log2(n / LEAF_SIZE) for any cloud, duplicates included.
  *     A left child directly follows its parent and the right child comes after the whole left subtree,
- *     so a reverse sweep over the node array sees children before parents. Each node keeps two boxes:
- *       * the bounding box of its particles, which kNN uses to skip nodes farther than the k-th best;
- *       * the bounding box of its particles' supports x_i ± ρ_i, refit in O(n) by set_supports, which
- *         support queries use: a point outside it is in none of the node's supports. This stays tight
- *         when radii vary per particle, unlike searching within the largest radius.
+ *     so a reverse sweep over the node array sees children before parents. Each node has two boxes:
+ *       * the bounding box of its particles (bounds[node]), which kNN uses to skip nodes farther than
+ *         the k-th best;
+ *       * the bounding box of its particles' supports x_i ± ρ_i (node[].support, next to the topology
+ *         that queries read), refit in O(n) by set_supports, which support queries use: a point outside
+ *         it is in none of the node's supports. This stays tight when radii vary per particle, unlike
+ *         searching within the largest radius.
  *   - For kind MLS_SEARCH_CELLS, set_supports also builds a uniform grid (O(n + cells)): cell width
  *     = (largest radius along the axis) / CELL_SPLIT, particles binned by position with a counting sort,
  *     ascending particle number within a cell, and each cell's support box. A query visits the at most
@@ -21,9 +23,11 @@
  *     cells whose support box contains it. Exact for any radii; efficient when they are of similar size
  *     (the k-d tree adapts better to radii that vary a lot).
  *
- * A support query costs O(log n + c) for c candidates (a small multiple of the s supporting particles)
- * plus O(s log s) to return them in ascending order. It allocates only when the caller's index array
- * must grow and changes no shared state, so queries may run concurrently on one MlsSearch.
+ * A support query costs O(log n + c) for c candidates (about twice the s supporting particles on
+ * jittered grids) plus an O(s) radix sort (quicksort above RADIX_MAX) to return them in ascending
+ * order. It allocates only when the caller's index array must grow and changes no shared state, so
+ * queries may run concurrently on one MlsSearch. kNN costs about O(log n + k log k); the local spacing
+ * runs it once per particle (k = 2 dim + 2, doubled only where an axis has no candidate yet).
  *
  * Rounding: membership is tested as |x_d − x_id| < ρ_id (box) and sqrt(|x − x_i|²) < ρ_i (ball). If a
  * weight sees r = |Δ|/ρ < 1 in floating point, these tests hold too, so no particle with a nonzero weight
@@ -43,14 +47,20 @@ enum {
   STACK_MAX = 128,   /* traversal stack; exceeds the tree depth + 1 for any n that fits in a long */
   CELL_SPLIT = 2,    /* cells per largest radius along an axis */
   CELLS_PER_PARTICLE = 2, /* at most this many cells per particle (tiny radii would make too many) */
-  SORT_SMALL = 16    /* insertion sort below this many elements */
+  SORT_SMALL = 16,   /* insertion sort below this many elements */
+  RADIX_BITS = 8,    /* radix sort digit */
+  RADIX_MAX = 1024   /* radix sort up to this many results, with scratch on the stack */
 };
 
 typedef double Vec[PAD];
 
 typedef struct {
-  Vec lo, hi;      /* bounding box of the node's particles */
-  Vec slo, shi;    /* bounding box of their supports */
+  Vec lo, hi;
+} Box;
+
+/* What a support query reads, in one 72-byte record; kNN reads the particle boxes (bounds) instead. */
+typedef struct {
+  Box support;     /* bounding box of the supports of the node's particles */
   long begin, end; /* the node's particles: tree positions [begin, end) */
   long right;      /* the right child (the left one is this node + 1); -1 for a leaf */
 } KdNode;
@@ -61,7 +71,7 @@ typedef struct {
   long *start;              /* [total + 1]: cell c holds cell-order positions start[c] .. start[c+1]-1 */
   Vec *x, *rho;             /* [n] particles and radii in cell order */
   long *index;              /* [n] particle number at each cell-order position */
-  Vec *slo, *shi;           /* [total] support box of each cell */
+  Box *support;             /* [total] support box of each cell */
 } CellGrid;
 
 struct MlsSearch {
@@ -72,6 +82,7 @@ struct MlsSearch {
   Vec *xt, *rt; /* [n] particles and radii in tree order, padded */
   long *perm;   /* [n] particle number at each tree position */
   KdNode *node;
+  Box *bounds; /* [nnode] bounding box of each node's particles */
   long nnode;
   int has_supports;
   MlsSupportKind support;
@@ -79,6 +90,11 @@ struct MlsSearch {
 };
 
 /* ---- small helpers ------------------------------------------------------------------------------- */
+
+/* min and max without fmin/fmax's NaN rules, which keep compilers from inlining them (every value here
+ * is finite or infinite, never NaN: coordinates and radii are checked). */
+static inline double min_of(double a, double b) { return b < a ? b : a; }
+static inline double max_of(double a, double b) { return b > a ? b : a; }
 
 static void pad_point(int dim, const double *x, Vec p) {
   for (int d = 0; d < PAD; d++) p[d] = d < dim ? x[d] : 0.0;
@@ -90,11 +106,30 @@ static double dist2(const Vec a, const Vec b) {
   return s;
 }
 
-/* Whether p lies in the closed box [lo, hi]: outside means no support in the box holds p. */
-static inline int box_holds(const Vec lo, const Vec hi, const Vec p) {
+/* Whether p lies in the closed box: outside means no support inside the box holds p. */
+static inline int box_holds(const Box *b, const Vec p) {
   int in = 1;
-  for (int d = 0; d < PAD; d++) in &= (p[d] >= lo[d]) & (p[d] <= hi[d]);
+  for (int d = 0; d < PAD; d++) in &= (p[d] >= b->lo[d]) & (p[d] <= b->hi[d]);
   return in;
+}
+
+static void box_empty(Box *b) {
+  for (int d = 0; d < PAD; d++) b->lo[d] = INFINITY, b->hi[d] = -INFINITY;
+}
+
+/* Grows b to hold [x − r, x + r]. */
+static void box_include(Box *b, const Vec x, const Vec r) {
+  for (int d = 0; d < PAD; d++) {
+    b->lo[d] = min_of(b->lo[d], x[d] - r[d]);
+    b->hi[d] = max_of(b->hi[d], x[d] + r[d]);
+  }
+}
+
+static void box_union(Box *b, const Box *a, const Box *c) {
+  for (int d = 0; d < PAD; d++) {
+    b->lo[d] = min_of(a->lo[d], c->lo[d]);
+    b->hi[d] = max_of(a->hi[d], c->hi[d]);
+  }
 }
 
 static inline int is_supported(MlsSupportKind support, const Vec xi, const Vec rho, const Vec p) {
@@ -117,9 +152,9 @@ static long median3(long a, long b, long c) {
   return c < a ? a : c > b ? b : c;
 }
 
-/* Ascending sort of query results in place (no workspace: queries must not allocate). Quicksort on the
- * median of three, recursing into the smaller part so the stack stays O(log n). */
-static void sort_longs(long *a, long n) {
+/* Ascending quicksort in place on the median of three, recursing into the smaller part so the stack
+ * stays O(log n). */
+static void quicksort_longs(long *a, long n) {
   while (n > SORT_SMALL) {
     long pivot = median3(a[0], a[n / 2], a[n - 1]), i = 0, j = n - 1;
     while (i <= j) {
@@ -131,14 +166,49 @@ static void sort_longs(long *a, long n) {
       }
     }
     if (j + 1 < n - i) {
-      sort_longs(a, j + 1);
+      quicksort_longs(a, j + 1);
       a += i, n -= i;
     } else {
-      sort_longs(a + i, n - i);
+      quicksort_longs(a + i, n - i);
       n = j + 1;
     }
   }
   insertion_sort(a, n);
+}
+
+/* Least-significant-digit radix sort of a[n] (n <= RADIX_MAX) on a − min, ping-ponging with tmp. Its
+ * passes are branch free, which matters here: comparison sorts of ~100 scattered particle numbers
+ * mispredict about every other branch and took half the time of a query. */
+static void radix_sort_longs(long *a, long n, long *tmp) {
+  long lo = a[0], hi = a[0];
+  for (long i = 1; i < n; i++) lo = a[i] < lo ? a[i] : lo, hi = a[i] > hi ? a[i] : hi;
+  const unsigned long range = (unsigned long)(hi - lo);
+  long *src = a, *dst = tmp;
+  for (int shift = 0; shift < (int)(8 * sizeof range) && (range >> shift) != 0; shift += RADIX_BITS) {
+    int start[1 << RADIX_BITS] = {0};
+    const unsigned long mask = (1ul << RADIX_BITS) - 1;
+    for (long i = 0; i < n; i++) start[((unsigned long)(src[i] - lo) >> shift) & mask]++;
+    for (int b = 0, sum = 0; b < (1 << RADIX_BITS); b++) {
+      int c = start[b];
+      start[b] = sum, sum += c;
+    }
+    for (long i = 0; i < n; i++) dst[start[((unsigned long)(src[i] - lo) >> shift) & mask]++] = src[i];
+    long *t = src; src = dst, dst = t;
+  }
+  if (src != a) memcpy(a, src, (size_t)n * sizeof *a);
+}
+
+/* Ascending sort of query results in place: queries must not allocate, so the radix sort's scratch is
+ * on the stack and larger results fall back to quicksort. */
+static void sort_results(long *a, long n) {
+  if (n <= SORT_SMALL) {
+    insertion_sort(a, n);
+  } else if (n <= RADIX_MAX) {
+    long tmp[RADIX_MAX];
+    radix_sort_longs(a, n, tmp);
+  } else {
+    quicksort_longs(a, n);
+  }
 }
 
 /* ---- k-d tree construction ----------------------------------------------------------------------- */
@@ -176,19 +246,16 @@ static void select_nth(MlsSearch *s, long lo, long hi, long nth, int axis) {
   }
 }
 
-static void bound_particles(const MlsSearch *s, KdNode *nd) {
-  for (int d = 0; d < PAD; d++) nd->lo[d] = INFINITY, nd->hi[d] = -INFINITY;
-  for (long p = nd->begin; p < nd->end; p++)
-    for (int d = 0; d < PAD; d++) {
-      nd->lo[d] = fmin(nd->lo[d], s->xt[p][d]);
-      nd->hi[d] = fmax(nd->hi[d], s->xt[p][d]);
-    }
+static void bound_particles(const MlsSearch *s, long begin, long end, Box *b) {
+  static const Vec zero = {0.0, 0.0, 0.0};
+  box_empty(b);
+  for (long p = begin; p < end; p++) box_include(b, s->xt[p], zero);
 }
 
-static int widest_axis(const KdNode *nd) {
+static int widest_axis(const Box *b) {
   int axis = 0;
   for (int d = 1; d < PAD; d++)
-    if (nd->hi[d] - nd->lo[d] > nd->hi[axis] - nd->lo[axis]) axis = d;
+    if (b->hi[d] - b->lo[d] > b->hi[axis] - b->lo[axis]) axis = d;
   return axis;
 }
 
@@ -197,10 +264,10 @@ static long build_subtree(MlsSearch *s, long begin, long end) {
   long id = s->nnode++;
   KdNode *nd = &s->node[id];
   nd->begin = begin, nd->end = end, nd->right = -1;
-  bound_particles(s, nd);
+  bound_particles(s, begin, end, &s->bounds[id]);
   if (end - begin <= LEAF_SIZE) return id;
   long mid = begin + (end - begin) / 2;
-  select_nth(s, begin, end - 1, mid, widest_axis(nd));
+  select_nth(s, begin, end - 1, mid, widest_axis(&s->bounds[id]));
   build_subtree(s, begin, mid);
   nd->right = build_subtree(s, mid, end);
   return id;
@@ -210,6 +277,7 @@ static int build_tree(MlsSearch *s) {
   MICA_CALL(MICA_MALLOC(s->xt, s->n));
   MICA_CALL(MICA_MALLOC(s->perm, s->n));
   MICA_CALL(MICA_MALLOC(s->node, count_nodes(s->n)));
+  MICA_CALL(MICA_MALLOC(s->bounds, count_nodes(s->n)));
   for (long i = 0; i < s->n; i++) {
     pad_point(s->dim, s->x + i * s->dim, s->xt[i]);
     s->perm[i] = i;
@@ -224,18 +292,10 @@ static void refit_supports(MlsSearch *s) {
   for (long id = s->nnode - 1; id >= 0; id--) {
     KdNode *nd = &s->node[id];
     if (nd->right < 0) {
-      for (int d = 0; d < PAD; d++) nd->slo[d] = INFINITY, nd->shi[d] = -INFINITY;
-      for (long p = nd->begin; p < nd->end; p++)
-        for (int d = 0; d < PAD; d++) {
-          nd->slo[d] = fmin(nd->slo[d], s->xt[p][d] - s->rt[p][d]);
-          nd->shi[d] = fmax(nd->shi[d], s->xt[p][d] + s->rt[p][d]);
-        }
+      box_empty(&nd->support);
+      for (long p = nd->begin; p < nd->end; p++) box_include(&nd->support, s->xt[p], s->rt[p]);
     } else {
-      const KdNode *a = &s->node[id + 1], *b = &s->node[nd->right];
-      for (int d = 0; d < PAD; d++) {
-        nd->slo[d] = fmin(a->slo[d], b->slo[d]);
-        nd->shi[d] = fmax(a->shi[d], b->shi[d]);
-      }
+      box_union(&nd->support, &s->node[id + 1].support, &s->node[nd->right].support);
     }
   }
 }
@@ -247,8 +307,7 @@ static void cells_free(CellGrid *g) {
   MICA_FREE(g->x);
   MICA_FREE(g->rho);
   MICA_FREE(g->index);
-  MICA_FREE(g->slo);
-  MICA_FREE(g->shi);
+  MICA_FREE(g->support);
 }
 
 /* Cell coordinate of v along axis, clamped to the grid. Monotone in v, so every particle within the
@@ -269,7 +328,7 @@ static long cell_of(const CellGrid *g, const Vec p) {
 /* Cell widths of reach / CELL_SPLIT, widened (all alike) until there are at most
  * CELLS_PER_PARTICLE × n cells: tiny radii must not make the grid outgrow the cloud. */
 static void choose_cell_widths(const MlsSearch *s, CellGrid *g) {
-  const KdNode *root = &s->node[0];
+  const Box *root = &s->bounds[0];
   double scale = 1.0 / CELL_SPLIT, limit = (double)CELLS_PER_PARTICLE * (double)s->n + 8.0;
   for (;;) {
     double total = 1.0;
@@ -289,17 +348,31 @@ static void choose_cell_widths(const MlsSearch *s, CellGrid *g) {
   }
 }
 
-static void largest_radii(const MlsSearch *s, Vec reach) {
+/* The radii of particle i, padded with +inf (box: one per axis; ball: the one radius on every axis). */
+static void particle_radii(const MlsSearch *s, MlsSupportKind support, const double *radii, long i,
+                           Vec rho) {
+  for (int d = 0; d < PAD; d++)
+    rho[d] = d >= s->dim ? INFINITY : radii[i * s->dim + (support == MLS_SUPPORT_BALL ? 0 : d)];
+}
+
+static void largest_radii(const MlsSearch *s, MlsSupportKind support, const double *radii, Vec reach) {
   for (int d = 0; d < PAD; d++) reach[d] = 0.0;
-  for (long p = 0; p < s->n; p++)
-    for (int d = 0; d < s->dim; d++) reach[d] = fmax(reach[d], s->rt[p][d]);
+  for (long i = 0; i < s->n; i++) {
+    Vec rho;
+    particle_radii(s, support, radii, i, rho);
+    for (int d = 0; d < s->dim; d++) reach[d] = max_of(reach[d], rho[d]);
+  }
 }
 
 /* Counting sort of the particles into cells, by ascending particle number inside each cell. */
 static int cells_fill(const MlsSearch *s, CellGrid *g) {
   long *cell_at = NULL; /* cell of each particle, by particle number */
   MICA_CALL(MICA_MALLOC(cell_at, s->n));
-  for (long p = 0; p < s->n; p++) cell_at[s->perm[p]] = cell_of(g, s->xt[p]);
+  for (long i = 0; i < s->n; i++) {
+    Vec p;
+    pad_point(s->dim, s->x + i * s->dim, p);
+    cell_at[i] = cell_of(g, p);
+  }
   for (long c = 0; c <= g->total; c++) g->start[c] = 0;
   for (long i = 0; i < s->n; i++) g->start[cell_at[i] + 1]++;
   for (long c = 0; c < g->total; c++) g->start[c + 1] += g->start[c];
@@ -310,25 +383,15 @@ static int cells_fill(const MlsSearch *s, CellGrid *g) {
   return MICA_SUCCESS;
 }
 
-/* The radii of particle i, padded with +inf (box: one per axis; ball: the one radius on every axis). */
-static void particle_radii(const MlsSearch *s, MlsSupportKind support, const double *radii, long i,
-                           Vec rho) {
-  for (int d = 0; d < PAD; d++)
-    rho[d] = d >= s->dim ? INFINITY : radii[i * s->dim + (support == MLS_SUPPORT_BALL ? 0 : d)];
-}
-
 /* Coordinates, radii and support box of every cell, in cell order. */
 static void cells_copy_particles(const MlsSearch *s, const double *radii, CellGrid *g) {
   for (long c = 0; c < g->total; c++) {
-    for (int d = 0; d < PAD; d++) g->slo[c][d] = INFINITY, g->shi[c][d] = -INFINITY;
+    box_empty(&g->support[c]);
     for (long q = g->start[c]; q < g->start[c + 1]; q++) {
       long i = g->index[q];
       pad_point(s->dim, s->x + i * s->dim, g->x[q]);
       particle_radii(s, s->support, radii, i, g->rho[q]);
-      for (int d = 0; d < PAD; d++) {
-        g->slo[c][d] = fmin(g->slo[c][d], g->x[q][d] - g->rho[q][d]);
-        g->shi[c][d] = fmax(g->shi[c][d], g->x[q][d] + g->rho[q][d]);
-      }
+      box_include(&g->support[c], g->x[q], g->rho[q]);
     }
   }
 }
@@ -336,14 +399,13 @@ static void cells_copy_particles(const MlsSearch *s, const double *radii, CellGr
 static int cells_build(MlsSearch *s, const double *radii) {
   CellGrid *g = &s->cells;
   cells_free(g);
-  largest_radii(s, g->reach);
+  largest_radii(s, s->support, radii, g->reach);
   choose_cell_widths(s, g);
   MICA_CALL(MICA_MALLOC(g->start, g->total + 1));
   MICA_CALL(MICA_MALLOC(g->x, s->n));
   MICA_CALL(MICA_MALLOC(g->rho, s->n));
   MICA_CALL(MICA_MALLOC(g->index, s->n));
-  MICA_CALL(MICA_MALLOC(g->slo, g->total));
-  MICA_CALL(MICA_MALLOC(g->shi, g->total));
+  MICA_CALL(MICA_MALLOC(g->support, g->total));
   MICA_CALL(cells_fill(s, g));
   cells_copy_particles(s, radii, g);
   return MICA_SUCCESS;
@@ -367,17 +429,17 @@ static inline int hits_push(Hits *h, long value) {
   return MICA_SUCCESS;
 }
 
+/* Depth first over the nodes whose support box holds p; a child is tested before it is stacked. */
 static int tree_query(const MlsSearch *s, const Vec p, Hits *hits) {
   long stack[STACK_MAX];
   int top = 0;
-  stack[top++] = 0;
+  if (box_holds(&s->node[0].support, p)) stack[top++] = 0;
   while (top > 0) {
     long id = stack[--top];
     const KdNode *nd = &s->node[id];
-    if (!box_holds(nd->slo, nd->shi, p)) continue;
     if (nd->right >= 0) {
-      stack[top++] = nd->right;
-      stack[top++] = id + 1;
+      if (box_holds(&s->node[nd->right].support, p)) stack[top++] = nd->right;
+      if (box_holds(&s->node[id + 1].support, p)) stack[top++] = id + 1;
       continue;
     }
     for (long q = nd->begin; q < nd->end; q++)
@@ -397,7 +459,7 @@ static int cells_query(const MlsSearch *s, const Vec p, Hits *hits) {
     for (long k1 = lo[1]; k1 <= hi[1]; k1++)
       for (long k0 = lo[0]; k0 <= hi[0]; k0++) {
         long c = (k2 * g->ncell[1] + k1) * g->ncell[0] + k0;
-        if (!box_holds(g->slo[c], g->shi[c], p)) continue;
+        if (!box_holds(&g->support[c], p)) continue;
         for (long q = g->start[c]; q < g->start[c + 1]; q++)
           if (is_supported(s->support, g->x[q], g->rho[q], p)) MICA_CALL(hits_push(hits, g->index[q]));
       }
@@ -452,10 +514,10 @@ static void heap_sort_ascending(KnnHeap *h) {
   }
 }
 
-static double box_dist2(const KdNode *nd, const Vec p) {
+static double box_dist2(const Box *b, const Vec p) {
   double s = 0.0;
   for (int d = 0; d < PAD; d++) {
-    double gap = fmax(fmax(nd->lo[d] - p[d], p[d] - nd->hi[d]), 0.0);
+    double gap = max_of(max_of(b->lo[d] - p[d], p[d] - b->hi[d]), 0.0);
     s += gap * gap;
   }
   return s;
@@ -470,7 +532,7 @@ static void knn_visit(const MlsSearch *s, long id, const Vec p, KnnHeap *h) {
     return;
   }
   long near = id + 1, far = nd->right;
-  double dnear = box_dist2(&s->node[near], p), dfar = box_dist2(&s->node[far], p);
+  double dnear = box_dist2(&s->bounds[near], p), dfar = box_dist2(&s->bounds[far], p);
   if (dfar < dnear) {
     long t = near; near = far; far = t;
     double td = dnear; dnear = dfar; dfar = td;
@@ -500,7 +562,7 @@ static unsigned spacing_from_neighbors(const MlsSearch *s, long i, int k, const 
     double delta[PAD], largest = 0.0;
     for (int d = 0; d < dim; d++) {
       delta[d] = fabs(s->x[index[j] * dim + d] - s->x[i * dim + d]);
-      largest = fmax(largest, delta[d]);
+      largest = max_of(largest, delta[d]);
     }
     if (largest == 0.0) continue; /* a coincident particle points nowhere */
     for (int d = 0; d < dim; d++) {
@@ -518,12 +580,13 @@ static unsigned spacing_from_neighbors(const MlsSearch *s, long i, int k, const 
 
 /* Whether a particle farther than the k-th neighbor (squared distance dk2) could still point mainly along
  * an axis of missing: that needs |Δx_d|² ≥ dk2 / dim, so the cloud must reach that far from p along d.
- * This stops the search at once for a layer one particle thick instead of growing k up to n − 1. */
+ * This stops the search at once for a layer one particle thick instead of growing k up to n − 1. The
+ * relative margin keeps rounding from stopping it when the bound is met exactly. */
 static int farther_could_qualify(const MlsSearch *s, const Vec p, unsigned missing, double dk2) {
-  const KdNode *root = &s->node[0];
+  const Box *root = &s->bounds[0];
   for (int d = 0; d < s->dim; d++) {
     if (!(missing & (1u << d))) continue;
-    double reach = fmax(p[d] - root->lo[d], root->hi[d] - p[d]);
+    double reach = max_of(p[d] - root->lo[d], root->hi[d] - p[d]);
     if (reach * reach * s->dim * (1.0 + 1e-12) >= dk2) return 1;
   }
   return 0;
@@ -553,7 +616,7 @@ static int spacing_one(const MlsSearch *s, long q, int *kmax, long **index, doub
                i, s->n);
   double largest = 0.0;
   for (int d = 0; d < s->dim; d++)
-    if (found & (1u << d)) largest = fmax(largest, h[d]);
+    if (found & (1u << d)) largest = max_of(largest, h[d]);
   for (int d = 0; d < s->dim; d++)
     if (!(found & (1u << d))) h[d] = largest;
   return MICA_SUCCESS;
@@ -596,6 +659,7 @@ int mls_search_destroy(MlsSearch **search) {
   free(s->rt);
   free(s->perm);
   free(s->node);
+  free(s->bounds);
   free(s);
   *search = NULL;
   return MICA_SUCCESS;
@@ -621,10 +685,13 @@ int mls_search_set_supports(MlsSearch *search, MlsSupportKind support, const dou
   MlsSearch *s = search;
   s->has_supports = 0; /* until the structures below are consistent with the new radii */
   s->support = support;
-  if (!s->rt) MICA_CALL(MICA_MALLOC(s->rt, s->n));
-  for (long q = 0; q < s->n; q++) particle_radii(s, support, radii, s->perm[q], s->rt[q]);
-  if (s->kind == MLS_SEARCH_KDTREE) refit_supports(s);
-  else MICA_CALL(cells_build(s, radii));
+  if (s->kind == MLS_SEARCH_CELLS) {
+    MICA_CALL(cells_build(s, radii));
+  } else {
+    if (!s->rt) MICA_CALL(MICA_MALLOC(s->rt, s->n));
+    for (long q = 0; q < s->n; q++) particle_radii(s, support, radii, s->perm[q], s->rt[q]);
+    refit_supports(s);
+  }
   s->has_supports = 1;
   return MICA_SUCCESS;
 }
@@ -635,7 +702,8 @@ int mls_search_query(const MlsSearch *search, const double *x, long **index, lon
   MICA_CHECK(search->has_supports, MICA_ERR_ARGUMENT,
              "mls_search_query: no supports yet; call mls_search_set_supports first");
   MICA_CHECK(*cap >= 0 && (*cap == 0 || *index), MICA_ERR_ARGUMENT,
-             "mls_search_query: capacity %ld with index array %p", *cap, (void *)*index);
+             "mls_search_query: capacity %ld needs a non-negative value and, if positive, an index array",
+             *cap);
   Vec p;
   pad_point(search->dim, x, p);
   Hits hits = {*index, 0, *cap};
@@ -643,7 +711,7 @@ int mls_search_query(const MlsSearch *search, const double *x, long **index, lon
                                                 : cells_query(search, p, &hits);
   *index = hits.index, *cap = hits.cap, *count = hits.count;
   MICA_CALL(ierr);
-  sort_longs(*index, *count);
+  sort_results(*index, *count);
   return MICA_SUCCESS;
 }
 

@@ -1,5 +1,5 @@
 # The command line: help, overrides of scalars and arrays, the resolved deck, the default output directory.
-source "$(dirname "$0")/lib.sh"
+source "$(dirname "$0")/common.bash"
 D=tests/decks/cli
 work="$OUT_DIR/cli_basics"
 rm -rf "$work" && mkdir -p "$work"

@@ -1,6 +1,6 @@
 # Bad input: every deck error gives exit status 2 and names the file and line; a failed run (bad deck,
 # bad override, singular moment matrix) leaves an earlier run's results complete and untouched.
-source "$(dirname "$0")/lib.sh"
+source "$(dirname "$0")/common.bash"
 D=tests/decks/cli
 work="$OUT_DIR/deck_errors"
 rm -rf "$work" && mkdir -p "$work"

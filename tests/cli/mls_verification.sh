@@ -4,7 +4,7 @@
 #  - exact reproduction: a quadratic is reproduced by a second-order basis, with its derivatives, to
 #    rounding (relative error < 1e-10), on regular and jittered particles, through the whole pipeline
 #    (deck, libmatheval's symbolic derivatives, MLS, summary).
-source "$(dirname "$0")/lib.sh"
+source "$(dirname "$0")/common.bash"
 work="$OUT_DIR/mls_verification"
 rm -rf "$work" && mkdir -p "$work"
 

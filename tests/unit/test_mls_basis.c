@@ -128,7 +128,8 @@ static void test_sizes(void **state) {
 
 /* ---- derivatives, for every basis, dimension and order ---- */
 
-/* Central differences with step h along axis j: of p into fd_p[m], of the analytic ∂p/∂s_i into fd_dp[i*m]. */
+/* Central differences with step h along axis j: of p into fd_p[m], of the analytic ∂p/∂s_i into
+ * fd_dp[i*m + a]. */
 static void central_differences(const MlsBasisOps *b, int dim, int order, const double *s, int j, double h,
                                 double *fd_p, double *fd_dp) {
   int m = b->size(dim, order);
@@ -154,7 +155,8 @@ static void check_derivatives_at(const MlsBasisOps *b, int dim, int order, const
   Eval e;
   eval_basis(b, dim, order, s, &e);
   for (int j = 0; j < dim; j++) {
-    double fd_p[MAX_TERMS], fd_dp[MLS_MAX_DIM * MAX_TERMS], half_p[MAX_TERMS], half_dp[MLS_MAX_DIM * MAX_TERMS];
+    double fd_p[MAX_TERMS], fd_dp[MLS_MAX_DIM * MAX_TERMS];
+    double half_p[MAX_TERMS], half_dp[MLS_MAX_DIM * MAX_TERMS];
     central_differences(b, dim, order, s, j, h, fd_p, fd_dp);
     if (richardson) {
       central_differences(b, dim, order, s, j, 0.5 * h, half_p, half_dp);

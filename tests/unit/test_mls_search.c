@@ -259,6 +259,13 @@ static void test_capacity_growth(void **state) {
     check_ok(mls_search_query(search, center, &index, &count, &cap));
     expect_same_lists(want, brute_query(3, c.n, c.x, MLS_SUPPORT_BOX, c.radii[0], center, want), index,
                       count, center, 3);
+    /* supports spanning the cloud: more results than the radix sort's stack scratch holds */
+    for (long j = 0; j < c.n * 3; j++) c.radii[1][j] = uniform(0.6, 1.2);
+    check_ok(mls_search_set_supports(search, MLS_SUPPORT_BOX, c.radii[1]));
+    check_ok(mls_search_query(search, center, &index, &count, &cap));
+    assert_true(count > 2000);
+    expect_same_lists(want, brute_query(3, c.n, c.x, MLS_SUPPORT_BOX, c.radii[1], center, want), index,
+                      count, center, 3);
     free(index);
     mls_search_destroy(&search);
   }

@@ -1,0 +1,152 @@
+/* Expressions: evaluation, parameters bound as constants, exact derivatives against hand-computed
+ * values, and the errors for unknown names and bad syntax. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "mica/expr.h"
+
+static MicaFunction *compile_ok(const char *text, int nparams, const char *const *names, const double *values) {
+  MicaFunction *f = NULL;
+  if (mica_function_create(text, nparams, names, values, &f)) fail_msg("\"%s\": %s", text, mica_error_message());
+  return f;
+}
+
+static double at(const MicaFunction *f, double x, double y, double z, double t) {
+  return mica_function_eval(f, (double[3]){x, y, z}, t);
+}
+
+static void assert_close(double got, double want) {
+  if (!(fabs(got - want) <= 1e-12 * fmax(1.0, fabs(want)))) fail_msg("got %.17g, want %.17g", got, want);
+}
+
+static void expect_error(const char *text, int nparams, const char *const *names, const double *values,
+                         const char *what) {
+  MicaFunction *f = NULL;
+  int ierr = mica_function_create(text, nparams, names, values, &f);
+  assert_int_equal(ierr, MICA_ERR_INPUT);
+  assert_null(f);
+  if (!strstr(mica_error_message(), what)) fail_msg("message \"%s\" lacks \"%s\"", mica_error_message(), what);
+  mica_error_clear();
+}
+
+static void test_evaluate_variables(void **state) {
+  (void)state;
+  MicaFunction *f = compile_ok("x + 2*y - z/4 + t^2 + sin(pi/2)", 0, NULL, NULL);
+  assert_close(at(f, 1, 2, 4, 3), 1 + 4 - 1 + 9 + 1);
+  assert_string_equal(mica_function_text(f), "x + 2*y - z/4 + t^2 + sin(pi/2)");
+  mica_function_destroy(&f);
+  assert_null(f);
+  f = compile_ok("2.5e-1*x + .5 + 3. + exp(-x^2)", 0, NULL, NULL);
+  assert_close(at(f, 2, 0, 0, 0), 0.5 + 0.5 + 3 + exp(-4.0));
+  mica_function_destroy(&f);
+}
+
+static void test_parameters(void **state) {
+  (void)state;
+  const char *names[] = {"L", "P", "n"};
+  const double values[] = {35.0, 100.0, 5.0};
+  MicaFunction *f = compile_ok("P*(1-(x/L)^2)^n", 3, names, values);
+  assert_close(at(f, 2, 0, 0, 0), 100.0 * pow(1 - 4.0 / 1225.0, 5));
+  assert_string_equal(mica_function_text(f), "P*(1-(x/L)^2)^n"); /* as written */
+  mica_function_destroy(&f);
+}
+
+/* d/dx 100*(1-(x/35)^2)^5 = 100*5*(1-(x/35)^2)^4 * (-2x/35^2); d2/dx2 by hand as well. */
+static void test_derivatives(void **state) {
+  (void)state;
+  MicaFunction *f = compile_ok("100*(1-(x/35)^2)^5", 0, NULL, NULL), *df = NULL, *d2f = NULL;
+  assert_int_equal(mica_function_derivative(f, 0, &df), MICA_SUCCESS);
+  assert_int_equal(mica_function_derivative(df, 0, &d2f), MICA_SUCCESS);
+  double x = 2.0, u = 1 - x * x / 1225.0, du = -2 * x / 1225.0, d2u = -2 / 1225.0;
+  assert_close(at(df, x, 0, 0, 0), 500 * pow(u, 4) * du);
+  assert_close(at(d2f, x, 0, 0, 0), 500 * (4 * pow(u, 3) * du * du + pow(u, 4) * d2u));
+  mica_function_destroy(&d2f);
+  mica_function_destroy(&df);
+  assert_int_equal(mica_function_derivative(f, 1, &df), MICA_SUCCESS); /* no y in it */
+  assert_close(at(df, x, 3, 0, 0), 0.0);
+  mica_function_destroy(&df);
+  mica_function_destroy(&f);
+}
+
+/* x^P with P a parameter is differentiated as a constant power: P*x^(P-1), finite at x = 0. */
+static void test_parameter_power_derivative(void **state) {
+  (void)state;
+  const char *names[] = {"P"};
+  const double values[] = {3.0};
+  MicaFunction *f = compile_ok("x^P * y + t*z", 1, names, values), *dfdx = NULL, *dfdy = NULL, *dfdt = NULL;
+  assert_int_equal(mica_function_derivative(f, 0, &dfdx), MICA_SUCCESS);
+  assert_int_equal(mica_function_derivative(f, 1, &dfdy), MICA_SUCCESS);
+  assert_int_equal(mica_function_derivative(f, 3, &dfdt), MICA_SUCCESS);
+  assert_close(at(dfdx, 2, 5, 0, 0), 3 * 4 * 5.0);
+  assert_close(at(dfdx, 0, 5, 0, 0), 0.0);
+  assert_close(at(dfdy, 2, 5, 0, 0), 8.0);
+  assert_close(at(dfdt, 2, 5, 7, 0), 7.0);
+  MicaFunction *bad = NULL;
+  assert_int_equal(mica_function_derivative(f, 4, &bad), MICA_ERR_ARGUMENT);
+  mica_error_clear();
+  mica_function_destroy(&dfdx);
+  mica_function_destroy(&dfdy);
+  mica_function_destroy(&dfdt);
+  mica_function_destroy(&f);
+}
+
+static void test_unknown_names(void **state) {
+  (void)state;
+  const char *names[] = {"L", "D", "P"};
+  const double values[] = {1, 2, 3};
+  expect_error("x^2+q", 3, names, values,
+               "unknown name 'q' in \"x^2+q\"; an expression may use x, y, z, t and the parameters (L, D, P)");
+  expect_error("x*0 + w", 0, NULL, NULL, "unknown name 'w' in \"x*0 + w\"; an expression may use x, y, z, t");
+  double value;
+  assert_int_equal(mica_constant_eval("2*x", 3, names, values, &value), MICA_ERR_INPUT);
+  if (!strstr(mica_error_message(), "unknown name 'x' in \"2*x\"; a constant expression may use numbers and the "
+                                    "parameters (L, D, P)"))
+    fail_msg("%s", mica_error_message());
+  mica_error_clear();
+}
+
+static void test_syntax_errors(void **state) {
+  (void)state;
+  const char *bad[] = {"x^^2", "sin(x", "x y", "2x", "ln(x)", "x % 2", "", "()", "sin x", "pi(x)", "1.2.3", "+x"};
+  for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+    char expected[64];
+    snprintf(expected, sizeof expected, "cannot parse expression \"%s\"", bad[i]);
+    expect_error(bad[i], 0, NULL, NULL, expected);
+  }
+  const char *reserved[] = {"t"};
+  const double one[] = {1.0};
+  expect_error("x", 1, reserved, one, "parameter 't' has the name of a coordinate");
+}
+
+static void test_constant_eval(void **state) {
+  (void)state;
+  const char *names[] = {"L", "D"};
+  const double values[] = {48.0, 12.0};
+  double value = 0;
+  assert_int_equal(mica_constant_eval("L / 4 + D^2", 2, names, values, &value), MICA_SUCCESS);
+  assert_close(value, 12.0 + 144.0);
+  assert_int_equal(mica_constant_eval("-D/2", 2, names, values, &value), MICA_SUCCESS);
+  assert_close(value, -6.0);
+  assert_int_equal(mica_constant_eval("2e3", 0, NULL, NULL, &value), MICA_SUCCESS);
+  assert_close(value, 2000.0);
+  assert_int_equal(mica_constant_eval("1/0", 0, NULL, NULL, &value), MICA_ERR_INPUT);
+  if (!strstr(mica_error_message(), "not a finite number")) fail_msg("%s", mica_error_message());
+  mica_error_clear();
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_evaluate_variables), cmocka_unit_test(test_parameters),
+      cmocka_unit_test(test_derivatives),        cmocka_unit_test(test_parameter_power_derivative),
+      cmocka_unit_test(test_unknown_names),      cmocka_unit_test(test_syntax_errors),
+      cmocka_unit_test(test_constant_eval),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
