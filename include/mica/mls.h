@@ -82,7 +82,7 @@ int mls_search_destroy(MlsSearch **search);
 /* Sets the supports: radii[i*dim + d] is particle i's radius along axis d (ball: radii[i*dim] is used).
  * Particle i supports x when max_d |x_d − x_id|/ρ_id < 1 (box) or |x − x_i|/ρ_i0 < 1 (ball). */
 int mls_search_set_supports(MlsSearch *search, MlsSupportKind support, const double *radii);
-/* Appends to *index (capacity *cap, grown with realloc when needed) the particles whose supports contain
+/* Fills *index (capacity *cap, grown with realloc when needed) with the particles whose supports contain
  * x, in ascending order; *count is set to their number. */
 int mls_search_query(const MlsSearch *search, const double *x, long **index, long *count, long *cap);
 /* The k nearest other particles of particle i (k ≤ n − 1), nearest first; dist2 may be NULL. */
