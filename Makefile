@@ -83,7 +83,8 @@ $(OUT)/bench/%: bench/%.c $(LIB)/libmica.a | deps
 	$(CC) $(CPPFLAGS) $(CFLAGS) $< $(LIB)/libmica.a $(LDFLAGS) $(LDLIBS) -o $@
 
 run: all
-	$(BIN)/mica mls input/quickstart.cfg
+	$(BIN)/mica mls input/quickstart.cfg -o out/quickstart
+	@echo "--- out/quickstart/summary.json"; cat out/quickstart/summary.json
 
 test: $(BIN)/mica $(TEST_BIN) | deps
 	@MICA_BIN=$(BIN)/mica TEST_DIR=$(OUT)/tests OUT_DIR=$(OUT)/test-out SAN=$(SAN) bash tests/run.sh

@@ -24,7 +24,7 @@ const MicaDeckKey mica_mls_schema[] = {
      0, "weight function (docs/theory.md §weights)"},
     {"mls.support", MICA_KEY_CHOICE, "\"box\"", NOLIMIT, "box|ball", 0, 0,
      "support shape: box (radius per axis) or ball"},
-    {"mls.radius", MICA_KEY_FLOATS, NULL, 1e-300, 1e300, NULL, 1, 3,
+    {"mls.radius", MICA_KEY_FLOATS, NULL, 1e-12, 1e12, NULL, 1, 3,
      "absolute support radius (one value, or one per axis for box supports)"},
     {"mls.dilation", MICA_KEY_FLOAT, NULL, 1e-3, 1e3, NULL, 0, 0,
      "support radius as a multiple of the local particle spacing (default: order + 1)"},

@@ -1,0 +1,10 @@
+# The docs stay true to the code: every setting that `mica help <command>` lists is in docs/input.md.
+source "$(dirname "$0")/common.bash"
+for command in mls; do
+  settings=$("$MICA" help $command | awk 'f && NF {print $1} /^setting / {f=1}')
+  [ -n "$settings" ] || fail "mica help $command lists no settings"
+  for s in $settings; do
+    grep -qF "\`$s\`" docs/input.md || fail "docs/input.md does not document $s (mica help $command lists it)"
+  done
+  ok "$command: $(wc -w <<<"$settings") settings documented"
+done
