@@ -1,18 +1,20 @@
 #!/usr/bin/env bash
 # The MLS accuracy study of seed 001 §3.2 (Figs 3.41-3.61, Table 3.1): runs every deck of this
-# directory, copies each error chart to figures/, prints one table per deck and writes them to
-# results.md.
+# directory with bin/mica, copies each error chart to figures/, prints one table per deck and
+# writes the tables to results.md. Takes a few seconds.
 #
 #   bash examples/mls-accuracy/run.sh              # the decks as shipped (c = 35, as printed)
-#   bash examples/mls-accuracy/run.sh --c 5.5      # the same decks with parameters.c = 5.5
-#   bash examples/mls-accuracy/run.sh order2_radii # only some decks
+#   bash examples/mls-accuracy/run.sh --c 5.5      # the same decks with --set parameters.c=5.5
+#   bash examples/mls-accuracy/run.sh order2_radii # only some decks (tables to out/results.md)
 #
-# Outputs (paths relative to this directory; <s> is empty, or _c<value> with --c):
-#   out/<deck><s>/            mica's output: summary.json, mls.csv, mls_error.png/.svg ... (gitignored)
-#   figures/<deck><s>.png/.svg the error chart, re-drawn smaller (libgd PNG), each error axis starting
-#                             at the decade of the 3rd percentile of its errors
-#   results<s>.md             the tables
-# Needs bin/mica (make), awk, sed, gnuplot.
+# Outputs, relative to this directory (<s> is empty, or _c<value> with --c):
+#   out/<deck><s>/       mica's output (summary.json, mls.csv, mls_error.png/.svg, ...), gitignored
+#   figures/<deck><s>.png  the error chart re-drawn smaller (libgd PNG); each error axis starts at
+#                        the decade of the 3rd percentile of its errors (the deep dips where an
+#                        error changes sign carry no information)
+#   figures/<deck>.svg   the same chart as SVG (as-printed c only, to keep the figures small)
+#   results<s>.md        the tables (all decks only; a subset goes to out/results<s>.md)
+# Needs bin/mica (built by make if missing), awk, sed, gnuplot.
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
@@ -31,7 +33,9 @@ while [ $# -gt 0 ]; do
         *) decks+=("${1%.cfg}"); shift ;;
     esac
 done
+subset=1
 if [ ${#decks[@]} -eq 0 ]; then
+    subset=0
     decks=(order0_radii order1_radii order2_radii order3_radii
            weights_order1 weights_order2 weights_order3 support_table)
 fi
@@ -48,6 +52,7 @@ command -v gnuplot >/dev/null || { echo "run.sh: gnuplot not found" >&2; exit 1;
 mkdir -p "$rel/out" "$rel/figures"
 
 results="$rel/results$suffix.md"
+[ "$subset" = 1 ] && results="$rel/out/results$suffix.md"
 
 # One markdown table from summary.json (pretty-printed, one member per line).
 summary_table() {
@@ -152,7 +157,7 @@ for d in "${decks[@]}"; do
         "$out/mls_chart.gp" > "$out/figure.gp"
     (cd "$out" && gnuplot figure.gp)
     cp "$out/figure.png" "$rel/figures/$d$suffix.png"
-    cp "$out/figure.svg" "$rel/figures/$d$suffix.svg"
+    [ -n "$c" ] || cp "$out/figure.svg" "$rel/figures/$d.svg"
 
     {
         echo

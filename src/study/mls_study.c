@@ -114,7 +114,22 @@ static int make_particles(const MicaDeck *deck, const GridSpec *g, double **xout
   return MICA_SUCCESS;
 }
 
-static int make_line_samples(const MicaDeck *deck, int dim, MlsSample **out, long *nout) {
+/* A sample point outside the box has no meaning for the study (and would have no support): a deck error. */
+static int check_inside(const MicaDeck *deck, const char *path, const GridSpec *g, const double *p) {
+  for (int d = 0; d < g->dim; d++) {
+    const double tol = 1e-12 * (g->upper[d] - g->lower[d]);
+    if (p[d] < g->lower[d] - tol || p[d] > g->upper[d] + tol) {
+      char where[256];
+      mica_deck_where(deck, path, where, sizeof where);
+      MICA_ERROR(MICA_ERR_INPUT, "%s: %s lies outside the box along axis %d (%g not in [%g, %g]); move it inside",
+                 where, path, d, p[d], g->lower[d], g->upper[d]);
+    }
+  }
+  return MICA_SUCCESS;
+}
+
+static int make_line_samples(const MicaDeck *deck, const GridSpec *g, MlsSample **out, long *nout) {
+  const int dim = g->dim;
   double from[3] = {0}, to[3] = {0};
   int nf, nt;
   long n;
@@ -125,6 +140,8 @@ static int make_line_samples(const MicaDeck *deck, int dim, MlsSample **out, lon
   mica_deck_where(deck, nf != dim ? "sample.line.from" : "sample.line.to", where, sizeof where);
   MICA_CHECK(nf == dim && nt == dim, MICA_ERR_INPUT,
              "%s: sample.line.from and .to need %d coordinates for a %d-D box", where, dim, dim);
+  MICA_CALL(check_inside(deck, "sample.line.from", g, from));
+  MICA_CALL(check_inside(deck, "sample.line.to", g, to));
   MlsSample *s;
   MICA_CALL(MICA_CALLOC(s, n));
   for (long i = 0; i < n; i++) {
@@ -250,8 +267,9 @@ static int axis_of(const MicaDeck *deck, int dim, int *axis) {
   return MICA_SUCCESS;
 }
 
-/* One variant: particles, MLS, samples, errors, timing. */
-static int run_variant(const MicaDeck *deck, MlsVariantResult *r) {
+/* One variant: particles, MLS, samples, errors, timing. listed: a variant of study.variants (its name goes
+ * in front of error messages). */
+static int run_variant(const MicaDeck *deck, int listed, MlsVariantResult *r) {
   GridSpec grid;
   MlsOptions opt;
   TargetFunction target = {0};
@@ -268,7 +286,7 @@ static int run_variant(const MicaDeck *deck, MlsVariantResult *r) {
   MICA_CALL_CLEANUP(mica_deck_int(deck, "study.repeat", &repeat));
   MICA_CALL_CLEANUP(target_create(deck, r->axis, &target));
   MICA_CALL_CLEANUP(make_particles(deck, &grid, &x, &r->nparticles));
-  MICA_CALL_CLEANUP(make_line_samples(deck, grid.dim, &r->line, &r->nline));
+  MICA_CALL_CLEANUP(make_line_samples(deck, &grid, &r->line, &r->nline));
   MICA_CALL_CLEANUP(make_volume_samples(deck, &grid, &r->volume, &r->nvolume));
   MICA_CALL_CLEANUP(MICA_MALLOC(u, r->nparticles));
   for (long i = 0; i < r->nparticles; i++) {
@@ -288,7 +306,7 @@ static int run_variant(const MicaDeck *deck, MlsVariantResult *r) {
   mls_study_errors(r->line, r->nline, &r->line_err);
   mls_study_errors(r->volume, r->nvolume, &r->volume_err);
 cleanup:
-  if (ierr) mica_error_prefix("variant '%s'", r->name);
+  if (ierr && listed) mica_error_prefix("variant '%s'", r->name);
   target_destroy(&target);
   mls_shape_destroy(&sh);
   mls_destroy(&mls);
@@ -372,7 +390,7 @@ static int run_mls_study(const MicaDeck *deck, const char *outdir, MicaJson *sum
   MICA_CALL(MICA_CALLOC(results, nvariants));
   for (int v = 0; v < nvariants; v++) {
     if (nlisted > 0) MICA_CALL_CLEANUP(mica_deck_variant(deck, "study.variants", v, &variant));
-    MICA_CALL_CLEANUP(run_variant(variant ? variant : deck, &results[v]));
+    MICA_CALL_CLEANUP(run_variant(variant ? variant : deck, variant != NULL, &results[v]));
     mica_deck_destroy(&variant);
     print_variant(&results[v], v, nvariants);
   }

@@ -32,3 +32,6 @@ after=$(cat "$work/keep/summary.json" "$work/keep/mls.csv" | cksum)
 [ "$before" = "$after" ] || fail "a failed run changed the earlier results"
 [ -z "$(ls -A "$work/keep" | grep staging)" ] || fail "a failed run left its staging directory"
 ok "earlier results intact after failed runs"
+
+# a sample line outside the box is a deck error (2), not a numerical failure
+expect_failure 2 '--set sample.line.to=["3","1"]: sample.line.to lies outside the box' -- "$MICA" mls $D/small.cfg -o "$work/y" --set 'sample.line.to=["3","1"]'
