@@ -9,6 +9,7 @@
 #define MICA_ERROR_H
 
 #include <stddef.h>
+#include <stdlib.h> /* free, for MICA_FREE */
 
 typedef enum {
   MICA_SUCCESS = 0,

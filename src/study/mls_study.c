@@ -14,6 +14,7 @@
 #include "mica/random.h"
 #include "mica/timer.h"
 #include "mls_study.h"
+#include "study_common.h"
 
 typedef struct {
   int dim;
@@ -41,47 +42,6 @@ static int read_grid(const MicaDeck *deck, GridSpec *grid) {
   MICA_CHECK(ncount == nlow, MICA_ERR_INPUT,
              "%s: particles.count needs %d entries, one per axis of the %d-D box, not %d", where, nlow,
              nlow, ncount);
-  return MICA_SUCCESS;
-}
-
-static int read_options(const MicaDeck *deck, int dim, MlsOptions *opt) {
-  const char *name;
-  mls_options_default(opt);
-  MICA_CALL(mica_deck_string(deck, "mls.basis", &name));
-  opt->basis = mls_basis_find(name);
-  MICA_CALL(mica_deck_string(deck, "mls.weight", &name));
-  opt->weight = mls_weight_find(name);
-  MICA_CHECK(opt->basis && opt->weight, MICA_ERR_ARGUMENT, "schema and registry disagree on mls names");
-  long order;
-  MICA_CALL(mica_deck_int(deck, "mls.order", &order));
-  opt->order = (int)order;
-  char where[256];
-  mica_deck_where(deck, "mls.order", where, sizeof where);
-  MICA_CHECK(order >= opt->basis->min_order && order <= opt->basis->max_order, MICA_ERR_INPUT,
-             "%s: the %s basis has orders %d to %d, not %ld", where, opt->basis->name,
-             opt->basis->min_order, opt->basis->max_order, order);
-  MICA_CALL(mica_deck_string(deck, "mls.support", &name));
-  opt->support = strcmp(name, "ball") == 0 ? MLS_SUPPORT_BALL : MLS_SUPPORT_BOX;
-  MICA_CALL(mica_deck_string(deck, "mls.search", &name));
-  opt->search = strcmp(name, "cells") == 0 ? MLS_SEARCH_CELLS : MLS_SEARCH_KDTREE;
-  MICA_CALL(mica_deck_float(deck, "mls.alpha", &opt->alpha));
-  MICA_CALL(mica_deck_float(deck, "mls.rcond_min", &opt->rcond_min));
-  const int has_radius = mica_deck_has(deck, "mls.radius"), has_dilation = mica_deck_has(deck, "mls.dilation");
-  mica_deck_where(deck, has_radius ? "mls.radius" : "mls.dilation", where, sizeof where);
-  MICA_CHECK(!(has_radius && has_dilation), MICA_ERR_INPUT,
-             "%s: give mls.radius (absolute) or mls.dilation (times the spacing), not both", where);
-  opt->dilation = 0;
-  if (has_radius) {
-    int n;
-    MICA_CALL(mica_deck_floats(deck, "mls.radius", opt->radius, 3, &n));
-    MICA_CHECK(n == 1 || n == dim, MICA_ERR_INPUT, "%s: mls.radius needs 1 or %d values, not %d", where, dim, n);
-    MICA_CHECK(n == 1 || opt->support == MLS_SUPPORT_BOX, MICA_ERR_INPUT,
-               "%s: a ball support has one radius; give mls.radius as a single number", where);
-  } else if (has_dilation) {
-    MICA_CALL(mica_deck_float(deck, "mls.dilation", &opt->dilation));
-  } else {
-    opt->dilation = opt->order + 1.0;
-  }
   return MICA_SUCCESS;
 }
 
@@ -202,7 +162,7 @@ static int evaluate_samples(const MicaDeck *deck, const MlsApprox *mls, MlsShape
                             double *rcond_min) {
   const int dim = mls_dim(mls), hh = mls_hess_index(dim, axis, axis);
   for (long i = 0; i < n; i++) {
-    int ierr = mls_eval(mls, s[i].x, MLS_HESSIAN, sh);
+    int ierr = mica_study_mls_input(mls_eval(mls, s[i].x, MLS_HESSIAN, sh));
     if (ierr) {
       mica_error_prefix("%s sample %ld", set, i + 1);
       return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
@@ -282,7 +242,7 @@ static int run_variant(const MicaDeck *deck, int listed, MlsVariantResult *r) {
   MICA_CALL_CLEANUP(read_grid(deck, &grid));
   r->dim = grid.dim;
   MICA_CALL_CLEANUP(axis_of(deck, grid.dim, &r->axis));
-  MICA_CALL_CLEANUP(read_options(deck, grid.dim, &opt));
+  MICA_CALL_CLEANUP(mica_study_mls_options(deck, grid.dim, &opt));
   MICA_CALL_CLEANUP(mica_deck_int(deck, "study.repeat", &repeat));
   MICA_CALL_CLEANUP(target_create(deck, r->axis, &target));
   MICA_CALL_CLEANUP(make_particles(deck, &grid, &x, &r->nparticles));
@@ -295,7 +255,7 @@ static int run_variant(const MicaDeck *deck, int listed, MlsVariantResult *r) {
     MICA_CALL_CLEANUP(exact_value(deck, target.f, p, &u[i]));
   }
   const double setup_start = mica_wtime();
-  MICA_CALL_CLEANUP(mls_create(grid.dim, r->nparticles, x, &opt, &mls));
+  MICA_CALL_CLEANUP(mica_study_mls_input(mls_create(grid.dim, r->nparticles, x, &opt, &mls)));
   MICA_CALL_CLEANUP(mls_shape_create(mls, &sh));
   r->setup_seconds = mica_wtime() - setup_start;
   r->rcond_min = INFINITY;

@@ -1,0 +1,114 @@
+/* Geometry, particles and integration points (docs/theory.md §geometry).
+ *
+ * A body is either a built-in shape — a map X(ξ) from a parameter box [0,1]^dim onto the body, so that
+ * particles, background cells and boundaries are laid out in parameter space and mapped exactly (cells
+ * conform to curved boundaries) — or a Gmsh mesh (.msh 4.1 ASCII: nodes are particles, elements are
+ * integration cells, physical groups are named boundary sets). Either way the result is a
+ * MicaDiscretization: particles, volume quadrature points, and named boundary sets of quadrature points
+ * with outward normals. Everything downstream works on these point lists and never sees a cell.
+ */
+#ifndef MICA_GEOM_H
+#define MICA_GEOM_H
+
+#include "mica/error.h"
+
+/* ---- Gauss rules (src/geom/gauss.c) ----------------------------------------------------------------- */
+
+/* n-point Gauss–Legendre rule on [−1, 1] (any n ≥ 1), exact for polynomials of degree 2n − 1. */
+int mica_gauss_legendre(int n, double *x, double *w);
+/* Rules on the reference triangle (0,0),(1,0),(0,1) and tetrahedron (0,0,0),(1,0,0),(0,1,0),(0,0,1) by
+ * collapsed (Duffy) Gauss products with n points per direction: n² (n³) points, weights summing to the
+ * reference area 1/2 (volume 1/6), exact for polynomials of degree 2n − 2 (and more). */
+int mica_gauss_triangle(int n, double *xi /* [n*n*2] */, double *w /* [n*n] */);
+int mica_gauss_tetrahedron(int n, double *xi /* [n*n*n*3] */, double *w /* [n*n*n] */);
+
+/* ---- Specifications (filled from a deck by the caller) ---------------------------------------------- */
+
+typedef enum {
+  MICA_SHAPE_BOX = 0,        /* 2-D or 3-D axis-aligned box: lower, upper */
+  MICA_SHAPE_POLYGON = 1,    /* 2-D quadrilateral (e.g. Cook's trapezoid): 4 vertices counterclockwise */
+  MICA_SHAPE_PLATE_HOLE = 2, /* 2-D quarter plate [0,bx]×[0,by] minus the disk of radius a at the origin */
+  MICA_SHAPE_ANNULUS = 3,    /* 2-D annulus sector: r_inner ≤ r ≤ r_outer, theta0 ≤ θ ≤ theta1 (radians) */
+  MICA_SHAPE_CYLINDER = 4,   /* 3-D cylinder: radius, axis along z from 0 to height */
+  MICA_SHAPE_GMSH = 5        /* a Gmsh .msh 4.1 ASCII mesh (2-D triangles/quads or 3-D tets/hexes) */
+} MicaShapeKind;
+
+typedef struct MicaShapeSpec {
+  MicaShapeKind kind;
+  int dim;                 /* 2 or 3 (box: from lower/upper; gmsh: from the mesh) */
+  double lower[3], upper[3];
+  double vertices[4][2];   /* polygon */
+  double hole_radius, plate_size[2]; /* plate_hole: a, (bx, by) */
+  double r_inner, r_outer, theta0, theta1; /* annulus */
+  double radius, height;   /* cylinder */
+  const char *mesh_path;   /* gmsh */
+} MicaShapeSpec;
+
+typedef enum {
+  MICA_LAYOUT_REGULAR = 0,   /* count[d] particles per parameter axis, evenly spaced in parameter space */
+  MICA_LAYOUT_GRADED = 1,    /* spacing grows geometrically along each axis: last/first = grading[d] */
+  MICA_LAYOUT_JITTERED = 2,  /* regular, interior particles shifted by ±jitter × spacing per axis */
+  MICA_LAYOUT_IRREGULAR = 3  /* boundary particles regular; interior by Poisson-disk sampling in parameter
+                                space with the regular spacing as minimum distance (seeded) */
+} MicaLayoutKind;
+
+typedef struct MicaLayoutSpec {
+  MicaLayoutKind kind;
+  long count[3];     /* particles per parameter axis (ignored for gmsh) */
+  double jitter;     /* fraction of the spacing */
+  double grading[3]; /* graded: ratio of the last spacing to the first per axis (1 = uniform) */
+  long seed;
+} MicaLayoutSpec;
+
+typedef struct MicaCellSpec {
+  long count[3];      /* background cells per parameter axis; 0 = count − 1 of the layout (cells between
+                         particles) */
+  int order;          /* Gauss points per direction in a cell (tri/tet: per collapsed direction) */
+  int boundary_order; /* Gauss points per direction on boundary edges/faces; 0 = order */
+} MicaCellSpec;
+
+/* ---- The discretization ------------------------------------------------------------------------------ */
+
+/* A named part of the boundary, as quadrature points, plus the boundary elements (edges in 2-D, faces in
+ * 3-D) those points lie on — a multiplier field for Lagrange-multiplier constraints is interpolated on
+ * them, linearly between their vertices (2 per edge; 4 per quad face, 3 per triangle face). */
+typedef struct MicaBoundarySet {
+  char name[64];
+  long n;           /* quadrature points */
+  double *x;        /* [n*dim] positions */
+  double *w;        /* [n] weights (length or area element included) */
+  double *normal;   /* [n*dim] outward unit normals */
+  long *element;    /* [n] the boundary element of each point */
+  double *lambda_N; /* [n*4] linear shape functions of the element's vertices at the point */
+  long nvertices;   /* boundary vertices of this set (multiplier nodes) */
+  double *vertex_x; /* [nvertices*dim] */
+  long nelements;
+  int element_size; /* vertices per element: 2 (2-D), 3 or 4 (3-D) */
+  long *element_vertices; /* [nelements*element_size], indices into this set's vertices */
+} MicaBoundarySet;
+
+typedef struct MicaDiscretization {
+  int dim;
+  long nparticles;
+  double *x;        /* [nparticles*dim] */
+  long ncells;      /* background integration cells */
+  long nquad;
+  double *qx;       /* [nquad*dim] volume quadrature points */
+  double *qw;       /* [nquad] weights (Jacobian included) */
+  int nsets;
+  MicaBoundarySet *sets;
+  double volume;    /* Σ qw: the body's area (2-D) or volume (3-D) */
+} MicaDiscretization;
+
+/* Builds particles, cells and quadrature points. Errors (MICA_ERR_INPUT): sizes, counts < 2, a polygon that
+ * is not convex and counterclockwise, a hole larger than the plate, a Gmsh file that cannot be read or is
+ * truncated (naming the file and line). */
+int mica_discretization_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                               const MicaCellSpec *cells, MicaDiscretization **disc);
+int mica_discretization_destroy(MicaDiscretization **disc);
+/* Index of the boundary set with this name, or −1. */
+int mica_discretization_find_set(const MicaDiscretization *disc, const char *name);
+/* The names of the sets, comma-separated, for error messages ("left, right, bottom, top"). */
+void mica_discretization_set_names(const MicaDiscretization *disc, char *buf, int size);
+
+#endif

@@ -1,0 +1,49 @@
+/* Continuum models (ops table, design.md §4): a point kernel that, given the deformation gradient F at a
+ * quadrature point, returns the strain-energy density W, the first Piola–Kirchhoff stress P = ∂W/∂F and
+ * the tangent A = ∂P/∂F. The assembly is the same for every model:
+ *   R_Ia = ∫ P_aJ N_I,J dV − f_ext,     K_IaKb = ∫ N_I,J A_aJbL N_K,L dV     (total Lagrangian)
+ * Models with linear kinematics (linear elasticity) are written in the same form with P = σ(ε), ε = sym ∇u
+ * = sym(F − I), A = C: their residual is then linear in u and Newton converges in one iteration.
+ *
+ * Layouts, row-major with dim = 2 or 3: F[i*dim + J], P[i*dim + J], A[((i*dim + J)*dim + k)*dim + L].
+ * In 2-D, plane strain embeds F in 3-D with F_33 = 1 (u_3 = 0); plane stress is for linear elasticity only.
+ * docs/theory.md §models has every formula.
+ */
+#ifndef MICA_MODEL_H
+#define MICA_MODEL_H
+
+#include "mica/error.h"
+
+typedef enum { MICA_PLANE_NONE = 0, MICA_PLANE_STRAIN = 1, MICA_PLANE_STRESS = 2 } MicaPlaneKind;
+
+typedef struct MicaMaterial {
+  double E, nu;        /* Young's modulus and Poisson's ratio: the inputs */
+  double lambda, mu;   /* Lamé constants, derived by mica_material_set */
+  double kappa;        /* bulk modulus E / (3 (1 − 2ν)) */
+  MicaPlaneKind plane; /* in 2-D: plane strain or plane stress */
+} MicaMaterial;
+
+typedef struct MicaModelOps {
+  const char *name;        /* "linear", "svk", "neohooke", "neohooke-cook" */
+  const char *description; /* one line */
+  int finite_strain;       /* 0: linear kinematics */
+  int plane_stress;        /* 1 if MICA_PLANE_STRESS is supported */
+  /* W, P, A at F; P or A may be NULL when not needed. Returns MICA_ERR_NUMERIC when F is inadmissible
+   * (det F ≤ 0 for models with ln J), so Newton can cut the load step back. */
+  int (*eval)(const MicaMaterial *mat, int dim, const double *F, double *W, double *P, double *A);
+} MicaModelOps;
+
+extern const MicaModelOps mica_model_linear, mica_model_svk, mica_model_neohooke, mica_model_neohooke_cook;
+const MicaModelOps *const *mica_model_all(void); /* NULL-terminated */
+const MicaModelOps *mica_model_find(const char *name);
+
+/* Derives λ, μ, κ from E, ν. MICA_ERR_INPUT with a message (no location: the caller prefixes the deck
+ * line) if E ≤ 0 or ν ∉ (−1, 0.5), or plane stress is asked of a model that does not support it. */
+int mica_material_set(const MicaModelOps *model, double E, double nu, MicaPlaneKind plane, MicaMaterial *mat);
+
+/* Cauchy stress σ = J⁻¹ P Fᵀ (3×3, with the out-of-plane σ_33 for plane strain / plane stress = 0) and the
+ * small-strain or Green–Lagrange strain, for output. sigma and strain are [9], row-major 3×3. */
+int mica_model_stress_strain(const MicaModelOps *model, const MicaMaterial *mat, int dim, const double *F,
+                             double *sigma, double *strain);
+
+#endif

@@ -1,0 +1,148 @@
+/* The solid-mechanics problem: discretization, MLS shape-function cache, model, boundary conditions,
+ * assembly and Newton's method (design.md §3-§6; docs/theory.md §solids).
+ *
+ * Total Lagrangian: shape functions and their gradients are computed once per quadrature point and cached
+ * (MicaShapeCache); the unknowns are the particle parameters u_I (not the displacements at the particles:
+ * MLS does not interpolate). Boundary conditions are imposed weakly on boundary quadrature points through
+ * the boundary-method ops table (penalty, Nitsche, Lagrange multipliers).
+ */
+#ifndef MICA_SOLID_H
+#define MICA_SOLID_H
+
+#include "mica/expr.h"
+#include "mica/geom.h"
+#include "mica/mls.h"
+#include "mica/model.h"
+#include "mica/sparse.h"
+
+/* ---- Shape-function cache ------------------------------------------------------------------------------ */
+
+/* N and ∇N of the supporting particles at a list of points, in CSR form: point p's supports are
+ * index[ptr[p] .. ptr[p+1]), with N[e] and dN[e*dim + d] for entry e. */
+typedef struct MicaShapeCache {
+  int dim;
+  long npoints;
+  long *ptr;    /* [npoints+1] */
+  long *index;  /* [nnz] particle indices, ascending per point */
+  double *N;    /* [nnz] */
+  double *dN;   /* [nnz*dim] */
+  long max_support;
+} MicaShapeCache;
+
+/* Evaluates shape functions with gradients at x[npoints*dim]; an MLS failure names the point (label and
+ * number). */
+int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x, const char *label,
+                            MicaShapeCache **cache);
+int mica_shape_cache_destroy(MicaShapeCache **cache);
+size_t mica_shape_cache_bytes(const MicaShapeCache *cache);
+
+/* ---- Boundary conditions ------------------------------------------------------------------------------- */
+
+typedef struct MicaDirichlet {
+  int set;                  /* index into the discretization's boundary sets */
+  int mask;                 /* bit a set: component a is prescribed */
+  MicaFunction *value[3];   /* prescribed u_a(x, y, z, t) for the components in mask */
+  char where[160];          /* deck location, for messages */
+} MicaDirichlet;
+
+typedef struct MicaTraction {
+  int set;
+  MicaFunction *value[3];   /* traction t_a(x, y, z, t) per unit reference length/area (dead load) */
+  char where[160];
+} MicaTraction;
+
+struct MicaSolid;
+
+/* Ways to impose Dirichlet conditions weakly (ops table). Each adds its terms for one Dirichlet condition
+ * to the residual and tangent; Lagrange multipliers also own extra unknowns. */
+typedef struct MicaBoundaryMethodOps {
+  const char *name;        /* "penalty", "nitsche", "lagrange" */
+  double default_alpha;    /* β = α E / h (penalty, Nitsche stabilization); unused by lagrange */
+  int symmetric_definite;  /* 1 if the tangent stays symmetric positive definite (CHOLMOD can be used) */
+  int needs_multipliers;   /* 1: multiplier nodes on the constrained sets */
+  /* Adds the residual (into R, over all dofs) and, if K, the tangent of condition c at load factor t. */
+  int (*add)(struct MicaSolid *s, const MicaDirichlet *c, double t, const double *u, double *R, MicaSparse *K);
+} MicaBoundaryMethodOps;
+
+extern const MicaBoundaryMethodOps mica_bc_penalty, mica_bc_nitsche, mica_bc_lagrange;
+const MicaBoundaryMethodOps *mica_bc_method_find(const char *name);
+
+/* ---- The problem ---------------------------------------------------------------------------------------- */
+
+typedef struct MicaSolidOptions {
+  const MicaModelOps *model;
+  MicaMaterial material;
+  const MicaBoundaryMethodOps *bc_method;
+  double bc_alpha;              /* stabilization / penalty factor α (β = α E / h) */
+  MicaFunction *body[3];        /* body force per unit reference volume, may be NULL */
+  int ramp;                     /* 1: every load and prescribed value is multiplied by the load factor t */
+} MicaSolidOptions;
+
+typedef struct MicaSolid {
+  const MicaDiscretization *disc;
+  const MlsApprox *mls;
+  MicaSolidOptions opt;
+  int dim;
+  long nparticles;
+  long ndof;                      /* dim × (particles + multiplier nodes) */
+  MicaShapeCache *volume;         /* at the volume quadrature points */
+  MicaShapeCache **boundary;      /* [nsets], at each set's boundary quadrature points (NULL if unused) */
+  double **boundary_h;            /* [nsets][n]: local particle spacing at each boundary point */
+  int ndirichlet, ntraction;
+  MicaDirichlet *dirichlet;
+  MicaTraction *traction;
+  long *multiplier_offset;        /* [ndirichlet]: first multiplier node of condition c (lagrange) */
+  long nmultiplier_nodes;
+  MicaSparse *K;                  /* the tangent, pattern built once */
+  double *work;                   /* per-point scratch: element matrices */
+  long *work_nodes;               /* per-point scratch: clique node lists */
+} MicaSolid;
+
+/* Builds the caches (volume and the boundary sets that carry conditions), the multiplier nodes, and the
+ * sparsity pattern. Takes ownership of the condition arrays (allocated with MICA_MALLOC), their functions
+ * and the body-force functions, whether it succeeds or fails. */
+int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, const MicaSolidOptions *opt,
+                      int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
+                      MicaSolid **solid);
+int mica_solid_destroy(MicaSolid **solid);
+
+/* Residual R(u; t) = internal − external forces + boundary-method terms, and (if K != NULL) the tangent
+ * into K (zeroed first). */
+int mica_solid_assemble(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K);
+
+/* u_h, ∇u_h at cached points (cache entries) for particle parameters u: uh[p*dim+a], grad[p*dim*dim + a*dim + J]. */
+void mica_solid_interpolate(const MicaSolid *s, const MicaShapeCache *c, const double *u, double *uh, double *grad);
+
+/* Deformation gradient F = I + ∇u at point p of cache c. */
+void mica_solid_deformation_gradient(const MicaSolid *s, const MicaShapeCache *c, long p, const double *u, double *F);
+
+/* ---- Newton -------------------------------------------------------------------------------------------- */
+
+typedef struct MicaNewtonOptions {
+  int steps;           /* load steps (load factor t = s / steps) */
+  int max_iterations;  /* per step */
+  double rtol, atol;   /* converged when |R| ≤ max(rtol |R_0|, atol) or |Δu| ≤ rtol |u| (after ≥ 1 iteration) */
+  int line_search;     /* backtracking on |R| */
+  int max_cuts;        /* times a failing step may be halved */
+  const MicaLinearSolverOps *linear; /* NULL: auto (CHOLMOD if the problem is SPD, else UMFPACK; CHOLMOD
+                                        falling back to UMFPACK if the matrix turns out indefinite) */
+  int verbose;         /* one monitor line per iteration */
+} MicaNewtonOptions;
+
+typedef struct MicaNewtonStats {
+  int steps_done, cuts, iterations_total;
+  int last_iterations;
+  double residual_history[64]; /* |R| per iteration of the last step (quadratic convergence evidence) */
+  int nhistory;
+  double time_assemble, time_factor, time_solve;
+  const char *linear_name;
+  MicaLinearSolverStats linear;
+} MicaNewtonStats;
+
+/* Solves from u (initial guess, updated in place) to load factor 1; on_step (may be NULL) is called after
+ * every converged step with the load factor. */
+int mica_newton_solve(MicaSolid *s, const MicaNewtonOptions *opt, double *u,
+                      int (*on_step)(void *ctx, int step, double t, const double *u), void *ctx,
+                      MicaNewtonStats *stats);
+
+#endif

@@ -1,0 +1,77 @@
+/* Sparse matrices and their direct solvers (design.md §6).
+ *
+ * The pattern is built once from "cliques": sets of nodes coupled all to all (the particles supporting a
+ * quadrature point, plus any multiplier nodes at that point), each node carrying ndof unknowns. Building
+ * it uses O(nnz) memory — no triplet list that grows with quadrature points × support². The matrix is
+ * stored in full (both triangles) compressed-sparse-column form with 64-bit indices, rows sorted within
+ * each column, so the same matrix feeds CHOLMOD (which reads the upper triangle) and UMFPACK.
+ * Assembly scatters dense clique blocks straight into the values.
+ */
+#ifndef MICA_SPARSE_H
+#define MICA_SPARSE_H
+
+#include "mica/error.h"
+
+typedef struct MicaSparse {
+  long n;       /* rows = columns = nnodes × ndof */
+  long nnz;
+  int ndof;     /* unknowns per node; dof = node × ndof + component */
+  long *colptr; /* [n+1] */
+  long *rowind; /* [nnz], ascending within a column */
+  double *val;  /* [nnz] */
+} MicaSparse;
+
+/* Pattern of nnodes × ndof unknowns from ncliques cliques: clique c holds the nodes
+ * clique_nodes[clique_ptr[c] .. clique_ptr[c+1]) (any order; duplicates allowed). Values are zero. */
+int mica_sparse_create(long nnodes, int ndof, long ncliques, const long *clique_ptr, const long *clique_nodes,
+                       MicaSparse **A);
+int mica_sparse_destroy(MicaSparse **A);
+void mica_sparse_zero(MicaSparse *A);
+/* A[dofs of nodes[a], dofs of nodes[b]] += K[(a*ndof + i) * (n*ndof) + (b*ndof + j)] for a clique's nodes
+ * in ASCENDING order (n nodes, K dense row-major (n·ndof)²). Every pair must be in the pattern
+ * (MICA_ERR_ARGUMENT otherwise). Cost O(Σ column lengths touched), no allocation. */
+int mica_sparse_add_clique(MicaSparse *A, long n, const long *nodes, const double *K);
+/* y = A x */
+void mica_sparse_matvec(const MicaSparse *A, const double *x, double *y);
+/* max |A − Aᵀ| / max |A|: 0 for a symmetric matrix. */
+double mica_sparse_asymmetry(const MicaSparse *A);
+
+/* ---- Direct solvers (ops table) ------------------------------------------------------------------------ */
+
+typedef struct MicaLinearSolverStats {
+  long nnz_factor;      /* nnz(L) (CHOLMOD) or nnz(L) + nnz(U) (UMFPACK) */
+  double flops;         /* flops of the last numeric factorization */
+  double time_analyze;  /* seconds, summed over calls */
+  double time_factor;
+  double time_solve;
+  long analyses, factorizations, solves;
+} MicaLinearSolverStats;
+
+typedef struct MicaLinearSolver MicaLinearSolver;
+
+typedef struct MicaLinearSolverOps {
+  const char *name; /* "cholmod" (supernodal Cholesky, symmetric positive definite), "umfpack" (LU) */
+  int (*create)(MicaLinearSolver *solver);
+  /* Numeric factorization of A; the symbolic analysis of the first call is reused while the pattern
+   * (the same MicaSparse object) is unchanged. CHOLMOD returns MICA_ERR_NUMERIC, with a message saying so,
+   * when A is not positive definite; UMFPACK when A is singular. */
+  int (*factor)(MicaLinearSolver *solver, const MicaSparse *A);
+  int (*solve)(MicaLinearSolver *solver, const double *b, double *x);
+  void (*destroy)(MicaLinearSolver *solver);
+} MicaLinearSolverOps;
+
+struct MicaLinearSolver {
+  const MicaLinearSolverOps *ops;
+  void *data;
+  MicaLinearSolverStats stats;
+};
+
+extern const MicaLinearSolverOps mica_linear_cholmod, mica_linear_umfpack;
+const MicaLinearSolverOps *mica_linear_solver_find(const char *name);
+
+int mica_linear_solver_create(const MicaLinearSolverOps *ops, MicaLinearSolver **solver);
+int mica_linear_solver_factor(MicaLinearSolver *solver, const MicaSparse *A);
+int mica_linear_solver_solve(MicaLinearSolver *solver, const double *b, double *x);
+int mica_linear_solver_destroy(MicaLinearSolver **solver);
+
+#endif

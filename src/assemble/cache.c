@@ -1,0 +1,71 @@
+/* The shape-function cache of a total-Lagrangian analysis: N and ∇N of the supporting particles at every
+ * quadrature point, computed once (design.md §3). Stored in CSR form so that assembly streams through it. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "mica/solid.h"
+
+/* Appends one point's shape functions, growing the arrays geometrically. */
+static int append_point(MicaShapeCache *c, const MlsShape *sh, long p, long *cap) {
+  const long start = c->ptr[p], need = start + sh->n;
+  if (need > *cap) {
+    long grown = *cap ? 2 * *cap : 1024;
+    while (grown < need) grown *= 2;
+    MICA_CALL(MICA_REALLOC(c->index, grown));
+    MICA_CALL(MICA_REALLOC(c->N, grown));
+    MICA_CALL(MICA_REALLOC(c->dN, grown * c->dim));
+    *cap = grown;
+  }
+  for (long k = 0; k < sh->n; k++) {
+    c->index[start + k] = sh->index[k];
+    c->N[start + k] = sh->N[k];
+    for (int d = 0; d < c->dim; d++) c->dN[(start + k) * c->dim + d] = sh->dN[d * sh->n + k];
+  }
+  c->ptr[p + 1] = need;
+  if (sh->n > c->max_support) c->max_support = sh->n;
+  return MICA_SUCCESS;
+}
+
+int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x, const char *label,
+                            MicaShapeCache **out) {
+  *out = NULL;
+  MicaShapeCache *c = NULL;
+  MlsShape *sh = NULL;
+  int ierr = MICA_SUCCESS;
+  long cap = 0;
+  MICA_CALL(MICA_CALLOC(c, 1));
+  c->dim = mls_dim(mls);
+  c->npoints = npoints;
+  MICA_CALL_CLEANUP(MICA_CALLOC(c->ptr, npoints + 1));
+  MICA_CALL_CLEANUP(mls_shape_create(mls, &sh));
+  for (long p = 0; p < npoints; p++) {
+    ierr = mls_eval(mls, x + p * c->dim, MLS_GRADIENT, sh);
+    if (ierr) {
+      mica_error_prefix("%s point %ld of %ld", label, p + 1, npoints);
+      goto cleanup;
+    }
+    MICA_CALL_CLEANUP(append_point(c, sh, p, &cap));
+  }
+  *out = c;
+  c = NULL;
+cleanup:
+  mls_shape_destroy(&sh);
+  mica_shape_cache_destroy(&c);
+  return ierr;
+}
+
+int mica_shape_cache_destroy(MicaShapeCache **cache) {
+  if (!*cache) return MICA_SUCCESS;
+  MICA_FREE((*cache)->ptr);
+  MICA_FREE((*cache)->index);
+  MICA_FREE((*cache)->N);
+  MICA_FREE((*cache)->dN);
+  MICA_FREE(*cache);
+  return MICA_SUCCESS;
+}
+
+size_t mica_shape_cache_bytes(const MicaShapeCache *c) {
+  if (!c) return 0;
+  const size_t entries = (size_t)c->ptr[c->npoints];
+  return sizeof(long) * (size_t)(c->npoints + 1) + entries * (sizeof(long) + sizeof(double) * (size_t)(1 + c->dim));
+}

@@ -1,0 +1,177 @@
+/* The solid problem: shape-function caches, multiplier nodes, local spacing at boundary points, and the
+ * sparsity pattern, built once (design.md §3, §6). Assembly is in assemble.c. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mica/solid.h"
+
+/* Does any condition use boundary set `set`? */
+static int set_is_used(const MicaSolid *s, int set) {
+  for (int c = 0; c < s->ndirichlet; c++)
+    if (s->dirichlet[c].set == set) return 1;
+  for (int c = 0; c < s->ntraction; c++)
+    if (s->traction[c].set == set) return 1;
+  return 0;
+}
+
+/* h at a boundary point: the particles' local spacing (largest axis), averaged with weights |N|. Penalty
+ * and Nitsche scale their parameter as α E / h. */
+static int boundary_spacing(MicaSolid *s, int set) {
+  const MicaShapeCache *c = s->boundary[set];
+  const double *spacing = mls_spacing(s->mls);
+  MICA_CALL(MICA_MALLOC(s->boundary_h[set], c->npoints));
+  for (long p = 0; p < c->npoints; p++) {
+    double sum_w = 0, sum_h = 0;
+    for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) {
+      double h = 0;
+      for (int d = 0; d < s->dim; d++) h = fmax(h, spacing[c->index[e] * s->dim + d]);
+      sum_w += fabs(c->N[e]);
+      sum_h += fabs(c->N[e]) * h;
+    }
+    s->boundary_h[set][p] = sum_h / sum_w;
+  }
+  return MICA_SUCCESS;
+}
+
+static int build_boundary_caches(MicaSolid *s) {
+  const MicaDiscretization *disc = s->disc;
+  MICA_CALL(MICA_CALLOC(s->boundary, disc->nsets));
+  MICA_CALL(MICA_CALLOC(s->boundary_h, disc->nsets));
+  for (int set = 0; set < disc->nsets; set++) {
+    if (!set_is_used(s, set)) continue;
+    char label[96];
+    snprintf(label, sizeof label, "boundary set '%s'", disc->sets[set].name);
+    MICA_CALL(mica_shape_cache_create(s->mls, disc->sets[set].n, disc->sets[set].x, label, &s->boundary[set]));
+    MICA_CALL(boundary_spacing(s, set));
+  }
+  return MICA_SUCCESS;
+}
+
+/* Lagrange multipliers: each Dirichlet condition gets the vertices of its set's boundary elements as
+ * multiplier nodes, numbered after the particles. */
+static int number_multipliers(MicaSolid *s) {
+  MICA_CALL(MICA_CALLOC(s->multiplier_offset, s->ndirichlet > 0 ? s->ndirichlet : 1));
+  s->nmultiplier_nodes = 0;
+  if (!s->opt.bc_method->needs_multipliers) return MICA_SUCCESS;
+  for (int c = 0; c < s->ndirichlet; c++) {
+    s->multiplier_offset[c] = s->nparticles + s->nmultiplier_nodes;
+    s->nmultiplier_nodes += s->disc->sets[s->dirichlet[c].set].nvertices;
+  }
+  return MICA_SUCCESS;
+}
+
+/* Cliques: every cached point's supporting particles (plus, for multipliers, its element's multiplier
+ * nodes) are coupled all to all. Counted first, then filled. */
+static long clique_size(const MicaSolid *s, const MicaShapeCache *c, long p, int cond) {
+  long n = c->ptr[p + 1] - c->ptr[p];
+  if (cond >= 0) n += s->disc->sets[s->dirichlet[cond].set].element_size;
+  return n;
+}
+
+static void clique_fill(const MicaSolid *s, const MicaShapeCache *c, long p, int cond, long *nodes) {
+  long n = 0;
+  for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) nodes[n++] = c->index[e];
+  if (cond < 0) return;
+  const MicaBoundarySet *set = &s->disc->sets[s->dirichlet[cond].set];
+  const long *vertices = set->element_vertices + set->element[p] * set->element_size;
+  for (int v = 0; v < set->element_size; v++) nodes[n++] = s->multiplier_offset[cond] + vertices[v];
+}
+
+static int build_pattern(MicaSolid *s) {
+  const int with_multipliers = s->opt.bc_method->needs_multipliers;
+  long ncliques = s->volume->npoints, total = s->volume->ptr[s->volume->npoints];
+  for (int c = 0; c < s->ndirichlet; c++) {
+    const MicaShapeCache *b = s->boundary[s->dirichlet[c].set];
+    ncliques += b->npoints;
+    for (long p = 0; p < b->npoints; p++) total += clique_size(s, b, p, with_multipliers ? c : -1);
+  }
+  long *ptr = NULL, *nodes = NULL;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(MICA_MALLOC(ptr, ncliques + 1));
+  MICA_CALL_CLEANUP(MICA_MALLOC(nodes, total));
+  long q = 0;
+  ptr[0] = 0;
+  for (long p = 0; p < s->volume->npoints; p++, q++) {
+    clique_fill(s, s->volume, p, -1, nodes + ptr[q]);
+    ptr[q + 1] = ptr[q] + clique_size(s, s->volume, p, -1);
+  }
+  for (int c = 0; c < s->ndirichlet; c++) {
+    const MicaShapeCache *b = s->boundary[s->dirichlet[c].set];
+    const int cond = with_multipliers ? c : -1;
+    for (long p = 0; p < b->npoints; p++, q++) {
+      clique_fill(s, b, p, cond, nodes + ptr[q]);
+      ptr[q + 1] = ptr[q] + clique_size(s, b, p, cond);
+    }
+  }
+  MICA_CALL_CLEANUP(mica_sparse_create(s->nparticles + s->nmultiplier_nodes, s->dim, ncliques, ptr, nodes, &s->K));
+cleanup:
+  free(ptr);
+  free(nodes);
+  return ierr;
+}
+
+static long largest_clique(const MicaSolid *s) {
+  long largest = s->volume->max_support;
+  for (int set = 0; set < s->disc->nsets; set++)
+    if (s->boundary[set] && s->boundary[set]->max_support > largest) largest = s->boundary[set]->max_support;
+  return largest + 4; /* + the multiplier nodes of one boundary element */
+}
+
+int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, const MicaSolidOptions *opt,
+                      int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
+                      MicaSolid **out) {
+  *out = NULL;
+  MicaSolid *s;
+  MICA_CALL(MICA_CALLOC(s, 1));
+  int ierr = MICA_SUCCESS;
+  s->disc = disc;
+  s->mls = mls;
+  s->opt = *opt;
+  s->dim = disc->dim;
+  s->nparticles = disc->nparticles;
+  s->ndirichlet = ndirichlet;
+  s->dirichlet = dirichlet;
+  s->ntraction = ntraction;
+  s->traction = traction;
+  MICA_CALL_CLEANUP(mica_shape_cache_create(mls, disc->nquad, disc->qx, "volume quadrature", &s->volume));
+  MICA_CALL_CLEANUP(build_boundary_caches(s));
+  MICA_CALL_CLEANUP(number_multipliers(s));
+  s->ndof = (s->nparticles + s->nmultiplier_nodes) * s->dim;
+  MICA_CALL_CLEANUP(build_pattern(s));
+  const long m = largest_clique(s) * s->dim;
+  MICA_CALL_CLEANUP(MICA_MALLOC(s->work, m * m + 32 * m + 1024));
+  MICA_CALL_CLEANUP(MICA_MALLOC(s->work_nodes, largest_clique(s)));
+  *out = s;
+  return MICA_SUCCESS;
+cleanup:
+  mica_solid_destroy(&s); /* it owns the conditions and body force from the start, failure or not */
+  return ierr;
+}
+
+int mica_solid_destroy(MicaSolid **solid) {
+  MicaSolid *s = *solid;
+  if (!s) return MICA_SUCCESS;
+  mica_shape_cache_destroy(&s->volume);
+  if (s->boundary)
+    for (int set = 0; set < s->disc->nsets; set++) {
+      mica_shape_cache_destroy(&s->boundary[set]);
+      MICA_FREE(s->boundary_h[set]);
+    }
+  MICA_FREE(s->boundary);
+  MICA_FREE(s->boundary_h);
+  for (int c = 0; c < s->ndirichlet; c++)
+    for (int a = 0; a < 3; a++) mica_function_destroy(&s->dirichlet[c].value[a]);
+  for (int c = 0; c < s->ntraction; c++)
+    for (int a = 0; a < 3; a++) mica_function_destroy(&s->traction[c].value[a]);
+  for (int a = 0; a < 3; a++) mica_function_destroy(&s->opt.body[a]);
+  MICA_FREE(s->dirichlet);
+  MICA_FREE(s->traction);
+  MICA_FREE(s->multiplier_offset);
+  mica_sparse_destroy(&s->K);
+  MICA_FREE(s->work);
+  MICA_FREE(s->work_nodes);
+  MICA_FREE(*solid);
+  return MICA_SUCCESS;
+}

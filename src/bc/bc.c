@@ -1,0 +1,34 @@
+/* Boundary methods: the registry, and gathering a boundary quadrature point for them. */
+#include <string.h>
+
+#include "bc_private.h"
+
+const MicaBoundaryMethodOps *mica_bc_method_find(const char *name) {
+  const MicaBoundaryMethodOps *all[] = {&mica_bc_penalty, &mica_bc_nitsche, &mica_bc_lagrange};
+  for (size_t i = 0; i < sizeof all / sizeof *all; i++)
+    if (strcmp(all[i]->name, name) == 0) return all[i];
+  return NULL;
+}
+
+void bc_point(const MicaSolid *s, const MicaDirichlet *c, long p, double t, const double *u, BcPoint *bp) {
+  const int dim = s->dim;
+  const MicaBoundarySet *set = &s->disc->sets[c->set];
+  const MicaShapeCache *cache = s->boundary[c->set];
+  const long start = cache->ptr[p];
+  bp->n = cache->ptr[p + 1] - start;
+  bp->index = cache->index + start;
+  bp->N = cache->N + start;
+  bp->dN = cache->dN + start * dim;
+  bp->w = set->w[p];
+  bp->h = s->boundary_h[c->set][p];
+  memset(bp->x, 0, sizeof bp->x);
+  memset(bp->normal, 0, sizeof bp->normal);
+  memcpy(bp->x, set->x + p * dim, sizeof(double) * (size_t)dim);
+  memcpy(bp->normal, set->normal + p * dim, sizeof(double) * (size_t)dim);
+  const double scale = s->opt.ramp ? t : 1.0;
+  for (int a = 0; a < 3; a++) bp->uh[a] = bp->residual[a] = 0;
+  for (long k = 0; k < bp->n; k++)
+    for (int a = 0; a < dim; a++) bp->uh[a] += bp->N[k] * u[bp->index[k] * dim + a];
+  for (int a = 0; a < dim; a++)
+    if (c->mask & (1 << a)) bp->residual[a] = bp->uh[a] - scale * mica_function_eval(c->value[a], bp->x, t);
+}

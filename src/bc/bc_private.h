@@ -1,0 +1,25 @@
+/* Shared by the boundary methods: what each needs at a boundary quadrature point. */
+#ifndef MICA_BC_PRIVATE_H
+#define MICA_BC_PRIVATE_H
+
+#include "mica/solid.h"
+
+/* One boundary quadrature point of a Dirichlet condition, gathered for the methods. */
+typedef struct {
+  long n;            /* supporting particles */
+  const long *index; /* their indices (ascending) */
+  const double *N, *dN;
+  double x[3], normal[3], w, h;
+  double uh[3];      /* u_h at the point */
+  double residual[3]; /* u_h − ū for the prescribed components, 0 for the others */
+} BcPoint;
+
+/* Gathers point p of condition c at load factor t. */
+void bc_point(const MicaSolid *s, const MicaDirichlet *c, long p, double t, const double *u, BcPoint *bp);
+
+/* β = α E / h: the penalty or Nitsche stabilization at a point. */
+static inline double bc_beta(const MicaSolid *s, const BcPoint *bp) {
+  return s->opt.bc_alpha * s->opt.material.E / bp->h;
+}
+
+#endif

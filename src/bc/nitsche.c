@@ -1,0 +1,125 @@
+/* Dirichlet conditions by Nitsche's method, symmetric (docs/theory.md §boundary methods). For the set C of
+ * prescribed components, r = u − ū on C, traction t = P n:
+ *   Π_N = −∫ t·r dΓ + ½ ∫ β |r|² dΓ,   β = α E / h,
+ * whose first variation gives the residual terms (test function v = N_k e_b)
+ *   R_kb += −[b∈C] t_b N_k − Σ_{a∈C} A_aJbL N_k,L n_J r_a + β [b∈C] r_b N_k
+ * and whose second variation the symmetric tangent
+ *   K_kb,lc += −[b∈C] N_k A_bJcM n_J N_l,M − [c∈C] N_l A_cJbL n_J N_k,L + β [b∈C] δ_bc N_k N_l
+ *              − N_k,L D_bLcM N_l,M,   D_bLcM = Σ_{a∈C} r_a n_J ∂A_aJbL/∂F_cM.
+ * The last term is the consistent linearization at finite strain (it vanishes for linear models and as
+ * r → 0); ∂A/∂F is taken by central differences of the model's tangent, dim² pairs of evaluations per
+ * boundary point, so Newton keeps its quadratic convergence. */
+#include <math.h>
+#include <string.h>
+
+#include "bc_private.h"
+
+/* D_bLcM by central differences of A (step 1e-6): only finite-strain models need it. */
+static int third_derivative(const MicaSolid *s, const MicaDirichlet *c, const BcPoint *bp, const double *F,
+                            double *D) {
+  const int dim = s->dim, d2 = dim * dim;
+  const double step = 1e-6;
+  double Fs[9], Ap[81], Am[81], W;
+  for (int cM = 0; cM < d2; cM++) {
+    memcpy(Fs, F, sizeof(double) * (size_t)d2);
+    Fs[cM] += step;
+    MICA_CALL(s->opt.model->eval(&s->opt.material, dim, Fs, &W, NULL, Ap));
+    Fs[cM] -= 2 * step;
+    MICA_CALL(s->opt.model->eval(&s->opt.material, dim, Fs, &W, NULL, Am));
+    for (int bL = 0; bL < d2; bL++) {
+      double sum = 0;
+      for (int a = 0; a < dim; a++) {
+        if (!(c->mask & (1 << a))) continue;
+        for (int J = 0; J < dim; J++) {
+          const int idx = (a * dim + J) * d2 + bL;
+          sum += bp->residual[a] * bp->normal[J] * (Ap[idx] - Am[idx]) / (2 * step);
+        }
+      }
+      D[bL * d2 + cM] = sum;
+    }
+  }
+  return MICA_SUCCESS;
+}
+
+/* T_bc,L = Σ_J A_bJcL n_J: the traction's sensitivity to ∇u. */
+static void traction_tangent(int dim, const double *A, const double *normal, double *T) {
+  for (int b = 0; b < dim; b++)
+    for (int c = 0; c < dim; c++)
+      for (int L = 0; L < dim; L++) {
+        double sum = 0;
+        for (int J = 0; J < dim; J++) sum += A[((b * dim + J) * dim + c) * dim + L] * normal[J];
+        T[(b * dim + c) * dim + L] = sum;
+      }
+}
+
+static void nitsche_residual(int dim, int mask, const BcPoint *bp, const double *P, const double *T, double beta,
+                             double *R) {
+  double traction[3] = {0, 0, 0};
+  for (int b = 0; b < dim; b++)
+    for (int J = 0; J < dim; J++) traction[b] += P[b * dim + J] * bp->normal[J];
+  for (long k = 0; k < bp->n; k++)
+    for (int b = 0; b < dim; b++) {
+      double r = 0;
+      if (mask & (1 << b)) r += (beta * bp->residual[b] - traction[b]) * bp->N[k];
+      /* Σ_{a∈C} A_aJbL n_J r_a N_k,L = Σ_a r_a T_ab,L N_k,L */
+      for (int a = 0; a < dim; a++)
+        if (mask & (1 << a))
+          for (int L = 0; L < dim; L++) r -= bp->residual[a] * T[(a * dim + b) * dim + L] * bp->dN[k * dim + L];
+      R[bp->index[k] * dim + b] += bp->w * r;
+    }
+}
+
+static void nitsche_tangent(int dim, int mask, const BcPoint *bp, const double *T, const double *D, double beta,
+                            double *Ke) {
+  const long m = bp->n * dim;
+  const int d2 = dim * dim;
+  for (long k = 0; k < bp->n; k++)
+    for (int b = 0; b < dim; b++)
+      for (long l = 0; l < bp->n; l++)
+        for (int c = 0; c < dim; c++) {
+          double v = 0;
+          if (mask & (1 << b)) {
+            double tn = 0;
+            for (int M = 0; M < dim; M++) tn += T[(b * dim + c) * dim + M] * bp->dN[l * dim + M];
+            v -= bp->N[k] * tn;
+            if (b == c) v += beta * bp->N[k] * bp->N[l];
+          }
+          if (mask & (1 << c)) {
+            double tn = 0;
+            for (int L = 0; L < dim; L++) tn += T[(c * dim + b) * dim + L] * bp->dN[k * dim + L];
+            v -= bp->N[l] * tn;
+          }
+          if (D)
+            for (int L = 0; L < dim; L++)
+              for (int M = 0; M < dim; M++)
+                v -= bp->dN[k * dim + L] * D[(b * dim + L) * d2 + c * dim + M] * bp->dN[l * dim + M];
+          Ke[(k * dim + b) * m + l * dim + c] = bp->w * v;
+        }
+}
+
+static int nitsche_add(MicaSolid *s, const MicaDirichlet *c, double t, const double *u, double *R, MicaSparse *K) {
+  const int dim = s->dim;
+  const MicaShapeCache *cache = s->boundary[c->set];
+  double F[9], P[9], A[81], T[27], D[81], W;
+  for (long p = 0; p < cache->npoints; p++) {
+    BcPoint bp;
+    bc_point(s, c, p, t, u, &bp);
+    mica_solid_deformation_gradient(s, cache, p, u, F);
+    int ierr = s->opt.model->eval(&s->opt.material, dim, F, &W, P, A);
+    if (ierr) {
+      mica_error_prefix("boundary point %ld of set '%s'", p + 1, s->disc->sets[c->set].name);
+      return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+    }
+    traction_tangent(dim, A, bp.normal, T);
+    const double beta = bc_beta(s, &bp);
+    nitsche_residual(dim, c->mask, &bp, P, T, beta, R);
+    if (!K) continue;
+    const int consistent = s->opt.model->finite_strain;
+    if (consistent) MICA_CALL(third_derivative(s, c, &bp, F, D));
+    nitsche_tangent(dim, c->mask, &bp, T, consistent ? D : NULL, beta, s->work);
+    MICA_CALL(mica_sparse_add_clique(K, bp.n, bp.index, s->work));
+  }
+  return MICA_SUCCESS;
+}
+
+const MicaBoundaryMethodOps mica_bc_nitsche = {"nitsche", 100.0, 1, 0, nitsche_add};

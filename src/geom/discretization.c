@@ -1,0 +1,106 @@
+/* MicaDiscretization: create (dispatching to the shape maps or to a Gmsh mesh), destroy, and the lookups
+ * of boundary sets by name. */
+#include <stdio.h>
+#include <string.h>
+
+#include "geom_private.h"
+
+/* Particles of a mapped shape: laid out in parameter space, then mapped by X. */
+static int mapped_particles(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes,
+                            MicaDiscretization *disc) {
+  double *xi = NULL;
+  MICA_CALL(geom_layout_particles(map, layout, axes, &disc->nparticles, &xi));
+  const int ierr = MICA_MALLOC(disc->x, disc->nparticles * map->dim);
+  if (ierr == MICA_SUCCESS)
+    for (long p = 0; p < disc->nparticles; p++)
+      geom_map_eval(map, &xi[p * map->dim], &disc->x[p * map->dim], NULL);
+  MICA_FREE(xi);
+  return ierr ? mica_error_trace(__FILE__, __LINE__, __func__, ierr) : MICA_SUCCESS;
+}
+
+static int boundary_order(const MicaCellSpec *cells) {
+  return cells->boundary_order == 0 ? cells->order : cells->boundary_order;
+}
+
+static int create_mapped(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                         MicaDiscretization *disc) {
+  int ierr = MICA_SUCCESS;
+  GeomMap map;
+  GeomAxes axes = {0};
+  GeomGrid grid = {0};
+  MICA_CALL(geom_map_init(shape, &map));
+  disc->dim = map.dim;
+  MICA_CALL_CLEANUP(geom_axes_create(layout, map.dim, &axes));
+  MICA_CALL_CLEANUP(geom_grid_create(&map, &axes, cells, &grid));
+  MICA_CALL_CLEANUP(geom_grid_quadrature(&map, &grid, cells->order, disc));
+  MICA_CALL_CLEANUP(geom_grid_boundary(&map, &grid, boundary_order(cells), disc));
+  MICA_CALL_CLEANUP(mapped_particles(&map, layout, &axes, disc));
+cleanup:
+  geom_axes_destroy(&axes);
+  geom_grid_destroy(&grid);
+  return ierr;
+}
+
+static int create_from_mesh(const MicaShapeSpec *shape, const MicaCellSpec *cells, MicaDiscretization *disc) {
+  int ierr = MICA_SUCCESS;
+  GmshMesh mesh;
+  MICA_CHECK(shape->mesh_path && shape->mesh_path[0], MICA_ERR_INPUT, "gmsh: no mesh file given");
+  MICA_CALL(gmsh_read(shape->mesh_path, &mesh));
+  MICA_CALL_CLEANUP(geom_mesh_discretize(&mesh, cells->order, boundary_order(cells), disc));
+cleanup:
+  gmsh_free(&mesh);
+  return ierr;
+}
+
+int mica_discretization_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                               const MicaCellSpec *cells, MicaDiscretization **disc) {
+  int ierr = MICA_SUCCESS;
+  MICA_CHECK(shape && layout && cells && disc, MICA_ERR_ARGUMENT,
+             "mica_discretization_create: NULL argument");
+  *disc = NULL;
+  MICA_CHECK(cells->order >= 1 && cells->order <= GEOM_GAUSS_MAX, MICA_ERR_INPUT,
+             "cells: order = %d outside [1, %d]", cells->order, GEOM_GAUSS_MAX);
+  MICA_CHECK(cells->boundary_order >= 0 && cells->boundary_order <= GEOM_GAUSS_MAX, MICA_ERR_INPUT,
+             "cells: boundary_order = %d outside [0, %d] (0: the same as order)", cells->boundary_order,
+             GEOM_GAUSS_MAX);
+  MicaDiscretization *d = NULL;
+  MICA_CALL(MICA_CALLOC(d, 1));
+  if (shape->kind == MICA_SHAPE_GMSH)
+    MICA_CALL_CLEANUP(create_from_mesh(shape, cells, d));
+  else
+    MICA_CALL_CLEANUP(create_mapped(shape, layout, cells, d));
+  *disc = d;
+  return MICA_SUCCESS;
+cleanup:
+  mica_discretization_destroy(&d);
+  return ierr;
+}
+
+int mica_discretization_destroy(MicaDiscretization **disc) {
+  if (!disc || !*disc) return MICA_SUCCESS;
+  MicaDiscretization *d = *disc;
+  for (int s = 0; s < d->nsets; s++) geom_set_free(&d->sets[s]);
+  MICA_FREE(d->sets);
+  MICA_FREE(d->x);
+  MICA_FREE(d->qx);
+  MICA_FREE(d->qw);
+  MICA_FREE(*disc);
+  return MICA_SUCCESS;
+}
+
+int mica_discretization_find_set(const MicaDiscretization *disc, const char *name) {
+  for (int s = 0; s < disc->nsets; s++)
+    if (strcmp(disc->sets[s].name, name) == 0) return s;
+  return -1;
+}
+
+void mica_discretization_set_names(const MicaDiscretization *disc, char *buf, int size) {
+  int used = 0;
+  if (size <= 0) return;
+  buf[0] = '\0';
+  for (int s = 0; s < disc->nsets && used < size; s++) {
+    const int n = snprintf(buf + used, (size_t)(size - used), "%s%s", s ? ", " : "", disc->sets[s].name);
+    if (n < 0) break;
+    used += n;
+  }
+}

@@ -1,0 +1,140 @@
+/* Internal interfaces of src/geom: the shape maps (shapes.c), particle layouts (layout.c), background
+ * cells and volume quadrature (cells.c), boundary sets of mapped shapes and the set storage (boundary.c),
+ * the Gmsh reader (gmsh.c) and the discretization of a mesh (mesh.c). */
+#ifndef MICA_GEOM_PRIVATE_H
+#define MICA_GEOM_PRIVATE_H
+
+#include "mica/geom.h"
+
+#define GEOM_PI 3.14159265358979323846
+
+enum {
+  GEOM_GAUSS_MAX = 64, /* points per direction of any rule built on the stack */
+  GEOM_SETS_MAX = 6,   /* boundary sets of a built-in shape */
+  GEOM_PIECES_MAX = 4, /* parameter-box faces (or parts of faces) in one set */
+  GEOM_KINKS_MAX = 2   /* parameter values per axis where a map is only continuous */
+};
+
+/* n-point Gauss–Legendre rule on [0, 1] (weights sum to 1). */
+int geom_gauss_unit(int n, double *u, double *w);
+
+/* ---- shape maps X(ξ): [0,1]^dim → body ---------------------------------------------------------------- */
+
+/* A part of a face of the parameter box: ξ_axis = side (0 or 1), and lo ≤ ξ_d ≤ hi along the other axes. */
+typedef struct {
+  int axis, side;
+  double lo[3], hi[3];
+} GeomFacePiece;
+
+typedef struct {
+  char name[64];
+  int npieces;
+  GeomFacePiece pieces[GEOM_PIECES_MAX];
+} GeomSetSpec;
+
+typedef struct GeomMap {
+  MicaShapeSpec shape; /* a copy of the parameters */
+  int dim;
+  double orientation; /* sign of det ∂X/∂ξ (constant over a valid map) */
+  int nsets;
+  GeomSetSpec sets[GEOM_SETS_MAX];
+  /* parameter values where the map has a kink: cells must have an edge there, and jitter must not move
+   * particles across it */
+  int nkinks[3];
+  double kinks[3][GEOM_KINKS_MAX];
+} GeomMap;
+
+/* Checks the shape's parameters and fills map (MICA_ERR_INPUT for bad shapes). Not for MICA_SHAPE_GMSH. */
+int geom_map_init(const MicaShapeSpec *shape, GeomMap *map);
+/* x = X(ξ) and jac[i*dim + j] = ∂x_i/∂ξ_j (jac may be NULL). */
+void geom_map_eval(const GeomMap *map, const double *xi, double *x, double *jac);
+/* det of a dim×dim matrix (row-major), and column a of its cofactor matrix (Nanson: n da = cof(J) N dA). */
+double geom_det(int dim, const double *jac);
+void geom_cofactor_column(int dim, const double *jac, int a, double *col);
+
+/* ---- particle layouts and cells (parameter space) ------------------------------------------------------ */
+
+/* 1-D parameter coordinates per axis: count[d] values from 0 to 1 (uniform or graded). */
+typedef struct {
+  int dim;
+  long n[3];
+  double *t[3];
+} GeomAxes;
+
+int geom_axes_create(const MicaLayoutSpec *layout, int dim, GeomAxes *axes);
+void geom_axes_destroy(GeomAxes *axes);
+/* Parameter coordinates of the particles ([*n × dim]) for any layout kind; allocates *xi. */
+int geom_layout_particles(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes, long *n,
+                          double **xi);
+
+/* Background cells: a tensor grid in parameter space; edges[d] holds n[d] + 1 ascending values. */
+typedef struct {
+  int dim;
+  long n[3];
+  double *edges[3];
+} GeomGrid;
+
+int geom_grid_create(const GeomMap *map, const GeomAxes *axes, const MicaCellSpec *cells, GeomGrid *grid);
+void geom_grid_destroy(GeomGrid *grid);
+/* Volume quadrature points of the mapped cells into disc (qx, qw, nquad, ncells, volume). */
+int geom_grid_quadrature(const GeomMap *map, const GeomGrid *grid, int order, MicaDiscretization *disc);
+
+/* ---- boundary sets ------------------------------------------------------------------------------------- */
+
+/* Allocates the arrays of a set (zeroed); geom_set_free releases them (safe on a zeroed set). */
+int geom_set_alloc(MicaBoundarySet *set, int dim, long npoints, long nelements, int element_size,
+                   long nvertices);
+void geom_set_free(MicaBoundarySet *set);
+/* The boundary sets of a mapped shape, integrated on the faces of the grid's cells; fills disc->sets. */
+int geom_grid_boundary(const GeomMap *map, const GeomGrid *grid, int order, MicaDiscretization *disc);
+
+/* ---- Gmsh meshes ------------------------------------------------------------------------------------- */
+
+typedef enum {
+  GMSH_LINE2 = 1,
+  GMSH_TRI3 = 2,
+  GMSH_QUAD4 = 3,
+  GMSH_TET4 = 4,
+  GMSH_HEX8 = 5,
+  GMSH_POINT = 15
+} GmshElementType;
+
+typedef struct {
+  char name[64];
+  int dim, tag;
+} GmshPhysical;
+
+/* A .msh 4.1 file as read: nodes, elements with their entity and source line, physical groups. */
+typedef struct {
+  char path[512];
+  long nnodes;
+  double *x; /* [nnodes*3] */
+  long nelements;
+  int *type; /* GmshElementType */
+  int *entity_dim;
+  int *entity_tag;
+  long *tag;        /* the element tag in the file */
+  long *line;       /* the line of the element in the file */
+  long *node_start; /* [nelements + 1]: offsets into node */
+  long *node;       /* node indices (0-based into x) */
+  int nphysicals;
+  GmshPhysical *physicals;
+  /* entity (dim, tag) → physical tags: entity_phys_start[dim] offsets over the entities of that dim */
+  long nentities[4];
+  int *entity_tags[4];
+  long *entity_phys_start[4];
+  int *entity_phys[4];
+} GmshMesh;
+
+int gmsh_read(const char *path, GmshMesh *mesh);
+void gmsh_free(GmshMesh *mesh);
+/* Number of nodes and dimension of a supported element type (0 nodes: unsupported). */
+int gmsh_element_nodes(int type);
+int gmsh_element_dim(int type);
+/* Physical tags of the entity (dim, tag): count, and *phys pointing into the mesh. */
+long gmsh_entity_physicals(const GmshMesh *mesh, int dim, int tag, const int **phys);
+
+/* The discretization of a mesh: particles, element quadrature, boundary sets from physical groups. */
+int geom_mesh_discretize(const GmshMesh *mesh, int order, int boundary_order, MicaDiscretization *disc);
+
+#endif

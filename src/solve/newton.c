@@ -1,0 +1,170 @@
+/* Newton–Raphson with load steps, automatic step cut-back and optional backtracking line search
+ * (design.md §6). One monitor line per iteration: step, load factor, iteration, |R|, |Δu|, and the
+ * convergence rate log(|R_i|/|R_i−1|) / log(|R_i−1|/|R_i−2|), which tends to 2 when Newton is quadratic.
+ * The tangent's pattern is fixed, so the linear solver's symbolic analysis is done once and reused. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mica/solid.h"
+#include "mica/timer.h"
+
+typedef struct {
+  MicaSolid *s;
+  const MicaNewtonOptions *opt;
+  MicaNewtonStats *stats;
+  MicaLinearSolver *linear;
+  int auto_linear; /* may switch from CHOLMOD to UMFPACK when the tangent is indefinite */
+  double *R, *du, *trial, *saved; /* trial: line search; saved: u at the start of a step, for cut-back */
+} Newton;
+
+static double norm2(long n, const double *v) {
+  double s = 0;
+  for (long i = 0; i < n; i++) s += v[i] * v[i];
+  return sqrt(s);
+}
+
+static int assemble(Newton *nw, double t, const double *u, int with_tangent) {
+  const double start = mica_wtime();
+  int ierr = mica_solid_assemble(nw->s, t, u, nw->R, with_tangent ? nw->s->K : NULL);
+  nw->stats->time_assemble += mica_wtime() - start;
+  return ierr;
+}
+
+static int choose_linear_solver(Newton *nw) {
+  const MicaLinearSolverOps *ops = nw->opt->linear;
+  nw->auto_linear = ops == NULL;
+  if (!ops) ops = nw->s->opt.bc_method->symmetric_definite ? &mica_linear_cholmod : &mica_linear_umfpack;
+  MICA_CALL(mica_linear_solver_create(ops, &nw->linear));
+  nw->stats->linear_name = ops->name;
+  return MICA_SUCCESS;
+}
+
+/* Factor and solve K du = −R. In auto mode an indefinite tangent (CHOLMOD refuses it) moves the solve to
+ * UMFPACK for the rest of the run, with a note in the log. */
+static int solve_linear(Newton *nw) {
+  const long n = nw->s->ndof;
+  double start = mica_wtime();
+  int ierr = mica_linear_solver_factor(nw->linear, nw->s->K);
+  if (ierr == MICA_ERR_NUMERIC && nw->auto_linear && nw->linear->ops == &mica_linear_cholmod) {
+    if (nw->opt->verbose) printf("  note: the tangent is not positive definite; switching to UMFPACK\n");
+    mica_error_clear();
+    mica_linear_solver_destroy(&nw->linear);
+    MICA_CALL(mica_linear_solver_create(&mica_linear_umfpack, &nw->linear));
+    nw->stats->linear_name = "umfpack";
+    ierr = mica_linear_solver_factor(nw->linear, nw->s->K);
+  }
+  nw->stats->time_factor += mica_wtime() - start;
+  MICA_CALL(ierr);
+  for (long i = 0; i < n; i++) nw->R[i] = -nw->R[i];
+  start = mica_wtime();
+  MICA_CALL(mica_linear_solver_solve(nw->linear, nw->R, nw->du));
+  nw->stats->time_solve += mica_wtime() - start;
+  return MICA_SUCCESS;
+}
+
+/* Backtracking on |R|: halve the step until the residual decreases (at most 6 halvings). */
+static int line_search(Newton *nw, double t, double *u, double rnorm, double *alpha_out) {
+  const long n = nw->s->ndof;
+  double alpha = 1.0;
+  for (int k = 0; k < 7; k++, alpha *= 0.5) {
+    for (long i = 0; i < n; i++) nw->trial[i] = u[i] + alpha * nw->du[i];
+    int ierr = assemble(nw, t, nw->trial, 0);
+    if (ierr == MICA_SUCCESS && norm2(n, nw->R) < (1 - 1e-4 * alpha) * rnorm) break;
+    if (ierr && ierr != MICA_ERR_NUMERIC) return ierr;
+    mica_error_clear();
+  }
+  *alpha_out = alpha;
+  return MICA_SUCCESS;
+}
+
+static void monitor(const Newton *nw, int step, double t, int it, double rnorm, double dunorm) {
+  if (!nw->opt->verbose) return;
+  const double *h = nw->stats->residual_history;
+  const int nh = nw->stats->nhistory;
+  char rate[32] = "-";
+  if (nh >= 3 && h[nh - 1] > 0 && h[nh - 2] > 0 && h[nh - 3] > 0 && h[nh - 2] != h[nh - 3])
+    snprintf(rate, sizeof rate, "%.2f", log(h[nh - 1] / h[nh - 2]) / log(h[nh - 2] / h[nh - 3]));
+  printf("  step %d t %.4g  it %d  |R| %.3e  |du| %.3e  rate %s\n", step, t, it, rnorm, dunorm, rate);
+  fflush(stdout);
+}
+
+/* Newton iterations at load factor t. Returns MICA_SUCCESS when converged, MICA_ERR_NUMERIC otherwise. */
+static int newton_step(Newton *nw, int step, double t, double *u) {
+  const long n = nw->s->ndof;
+  double r0 = 0, dunorm = 0;
+  nw->stats->nhistory = 0;
+  for (int it = 0;; it++) {
+    MICA_CALL(assemble(nw, t, u, 0));
+    const double rnorm = norm2(n, nw->R);
+    if (!isfinite(rnorm)) MICA_ERROR(MICA_ERR_NUMERIC, "the residual is not finite at load factor %g", t);
+    if (it == 0) r0 = rnorm;
+    if (nw->stats->nhistory < 64) nw->stats->residual_history[nw->stats->nhistory++] = rnorm;
+    monitor(nw, step, t, it, rnorm, dunorm);
+    const double unorm = norm2(n, u);
+    const int converged = rnorm <= nw->opt->atol || (it > 0 && rnorm <= nw->opt->rtol * r0) ||
+                          (it > 0 && dunorm <= 1e-14 * (unorm > 0 ? unorm : 1.0));
+    if (converged) {
+      nw->stats->last_iterations = it;
+      nw->stats->iterations_total += it;
+      return MICA_SUCCESS;
+    }
+    if (it >= nw->opt->max_iterations)
+      MICA_ERROR(MICA_ERR_NUMERIC, "Newton did not converge in %d iterations at load factor %g (|R| %.3e from %.3e)",
+                 it, t, rnorm, r0);
+    MICA_CALL(assemble(nw, t, u, 1));
+    MICA_CALL(solve_linear(nw));
+    double alpha = 1.0;
+    if (nw->opt->line_search) MICA_CALL(line_search(nw, t, u, rnorm, &alpha));
+    for (long i = 0; i < n; i++) u[i] += alpha * nw->du[i];
+    dunorm = alpha * norm2(n, nw->du);
+  }
+}
+
+static int run_steps(Newton *nw, double *u, int (*on_step)(void *, int, double, const double *), void *ctx) {
+  const long n = nw->s->ndof;
+  double t = 0, dt = 1.0 / nw->opt->steps;
+  int step = 0;
+  while (t < 1.0 - 1e-12) {
+    const double target = fmin(1.0, t + dt);
+    memcpy(nw->saved, u, sizeof(double) * (size_t)n);
+    int ierr = newton_step(nw, step + 1, target, u);
+    if (ierr == MICA_ERR_NUMERIC && nw->stats->cuts < nw->opt->max_cuts) {
+      if (nw->opt->verbose) printf("  cut back: %s\n", mica_error_message());
+      mica_error_clear();
+      memcpy(u, nw->saved, sizeof(double) * (size_t)n);
+      dt *= 0.5;
+      nw->stats->cuts++;
+      continue;
+    }
+    if (ierr) return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+    t = target;
+    step++;
+    nw->stats->steps_done = step;
+    if (on_step) MICA_CALL(on_step(ctx, step, t, u));
+  }
+  return MICA_SUCCESS;
+}
+
+int mica_newton_solve(MicaSolid *s, const MicaNewtonOptions *opt, double *u,
+                      int (*on_step)(void *ctx, int step, double t, const double *u), void *ctx,
+                      MicaNewtonStats *stats) {
+  memset(stats, 0, sizeof *stats);
+  Newton nw = {s, opt, stats, NULL, 0, NULL, NULL, NULL, NULL};
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(MICA_MALLOC(nw.R, s->ndof));
+  MICA_CALL_CLEANUP(MICA_MALLOC(nw.du, s->ndof));
+  MICA_CALL_CLEANUP(MICA_MALLOC(nw.trial, s->ndof));
+  MICA_CALL_CLEANUP(MICA_MALLOC(nw.saved, s->ndof));
+  MICA_CALL_CLEANUP(choose_linear_solver(&nw));
+  MICA_CALL_CLEANUP(run_steps(&nw, u, on_step, ctx));
+cleanup:
+  if (nw.linear) stats->linear = nw.linear->stats;
+  mica_linear_solver_destroy(&nw.linear);
+  free(nw.R);
+  free(nw.du);
+  free(nw.trial);
+  free(nw.saved);
+  return ierr;
+}

@@ -1,0 +1,42 @@
+/* Internal interface of `mica run` and `mica check` (src/study/run*.c). */
+#ifndef MICA_RUN_H
+#define MICA_RUN_H
+
+#include "mica/command.h"
+#include "mica/solid.h"
+
+extern const MicaDeckKey mica_run_schema[];
+
+/* Everything a run builds from its deck, and the times of the phases that built it. */
+typedef struct RunProblem {
+  const MicaDeck *deck;
+  MicaDiscretization *disc;
+  MlsApprox *mls;
+  MicaSolid *solid;
+  MicaFunction *exact[3];      /* exact displacement, or NULL */
+  MicaFunction *exact_grad[3][3]; /* its gradient ∂u_a/∂X_J */
+  int has_exact;
+  MicaShapeCache *at_particles; /* shape functions at the particles, for output (built on first use) */
+  double time_discretize, time_mls, time_cache_pattern;
+} RunProblem;
+
+/* Builds discretization, MLS, model, conditions and the solid from the deck. */
+int run_problem_build(const MicaDeck *deck, RunProblem *rp);
+void run_problem_free(RunProblem *rp);
+
+/* Output: per-step VTU files and the PVD collection, error norms, probes, summary members. */
+typedef struct RunOutput {
+  RunProblem *rp;
+  const char *outdir;
+  int vtu;
+  int nsteps;
+  double times[1024];
+  char files[1024][32];
+} RunOutput;
+
+int run_output_step(void *ctx, int step, double t, const double *u);
+int run_output_finish(RunOutput *out);
+int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary);
+int run_probes(RunProblem *rp, const double *u, MicaJson *summary);
+
+#endif

@@ -1,0 +1,9 @@
+// Unit square in second-order (6-node) triangles: mica must refuse element type 9 (test mesh).
+// Regenerate: gmsh -2 -order 2 -format msh41 square_tri6.geo -o square_tri6.msh
+Point(1) = {0, 0, 0, 0.5}; Point(2) = {1, 0, 0, 0.5}; Point(3) = {1, 1, 0, 0.5}; Point(4) = {0, 1, 0, 0.5};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4};
+Plane Surface(1) = {1};
+Physical Curve("boundary") = {1, 2, 3, 4};
+Physical Surface("square") = {1};
+Mesh.MshFileVersion = 4.1;
