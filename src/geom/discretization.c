@@ -8,14 +8,15 @@
 /* Particles of a mapped shape: laid out in parameter space, then mapped by X. */
 static int mapped_particles(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes,
                             MicaDiscretization *disc) {
+  int ierr = MICA_SUCCESS;
   double *xi = NULL;
   MICA_CALL(geom_layout_particles(map, layout, axes, &disc->nparticles, &xi));
-  const int ierr = MICA_MALLOC(disc->x, disc->nparticles * map->dim);
-  if (ierr == MICA_SUCCESS)
-    for (long p = 0; p < disc->nparticles; p++)
-      geom_map_eval(map, &xi[p * map->dim], &disc->x[p * map->dim], NULL);
+  MICA_CALL_CLEANUP(MICA_MALLOC(disc->x, disc->nparticles * map->dim));
+  for (long p = 0; p < disc->nparticles; p++)
+    geom_map_eval(map, &xi[p * map->dim], &disc->x[p * map->dim], NULL);
+cleanup:
   MICA_FREE(xi);
-  return ierr ? mica_error_trace(__FILE__, __LINE__, __func__, ierr) : MICA_SUCCESS;
+  return ierr;
 }
 
 static int boundary_order(const MicaCellSpec *cells) {

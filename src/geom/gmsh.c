@@ -453,9 +453,10 @@ static int read_section(Reader *rd, GmshMesh *mesh, RawTags *raw, const char *to
   const char *name = tok + 1;
   snprintf(end, sizeof end, "$End%s", name);
   rd->section = name;
-  if (strcmp(name, "PhysicalNames") == 0)
+  if (strcmp(name, "MeshFormat") == 0) return read_fail(rd, rd->token_line, "a second $MeshFormat section");
+  if (strcmp(name, "PhysicalNames") == 0) {
     MICA_CALL(read_physical_names(rd, mesh));
-  else if (strcmp(name, "Entities") == 0) {
+  } else if (strcmp(name, "Entities") == 0) {
     MICA_CALL(read_entities(rd, mesh));
     *have |= HAVE_ENTITIES;
   } else if (strcmp(name, "Nodes") == 0) {
@@ -465,10 +466,9 @@ static int read_section(Reader *rd, GmshMesh *mesh, RawTags *raw, const char *to
     if (*have & HAVE_ELEMENTS) return read_fail(rd, rd->token_line, "a second $Elements section");
     MICA_CALL(read_elements(rd, mesh, raw));
     *have |= HAVE_ELEMENTS;
-  } else if (strcmp(name, "MeshFormat") == 0)
-    return read_fail(rd, rd->token_line, "a second $MeshFormat section");
-  else
-    return skip_section(rd, end);
+  } else {
+    return skip_section(rd, end); /* $NodeData, $Periodic, ...: not needed */
+  }
   MICA_CALL(read_word(rd, got, end));
   if (strcmp(got, end) != 0)
     return read_fail(rd, rd->token_line, "expected %s, found '%s' (wrong counts in $%s?)", end, got, name);

@@ -224,6 +224,7 @@ static int irregular_points(const GeomAxes *axes, MicaRandom *rng, long *n, doub
 
 int geom_layout_particles(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes, long *n,
                           double **xi) {
+  int ierr = MICA_SUCCESS;
   const long total = tensor_count(axes);
   MicaRandom rng = mica_random_seed((uint64_t)layout->seed);
   *n = 0;
@@ -232,15 +233,14 @@ int geom_layout_particles(const GeomMap *map, const MicaLayoutSpec *layout, cons
                "particles: jitter = %g must lie in [0, 0.5) (a fraction of the spacing)", layout->jitter);
   MICA_CALL(MICA_MALLOC(*xi, total * axes->dim));
   if (layout->kind == MICA_LAYOUT_IRREGULAR) {
-    const int ierr = irregular_points(axes, &rng, n, *xi);
-    if (ierr) {
-      MICA_FREE(*xi);
-      return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
-    }
+    MICA_CALL_CLEANUP(irregular_points(axes, &rng, n, *xi));
     return MICA_SUCCESS;
   }
   tensor_points(axes, *xi);
   if (layout->kind == MICA_LAYOUT_JITTERED) jitter_points(map, axes, layout->jitter, &rng, *xi);
   *n = total;
   return MICA_SUCCESS;
+cleanup:
+  MICA_FREE(*xi);
+  return ierr;
 }

@@ -46,13 +46,15 @@ static int check_vtu_arguments(const char *path, int dim, long n, const double *
 
 /* An attribute value with XML's special characters escaped. */
 static void write_escaped(FILE *fp, const char *text) {
-  for (const char *c = text; *c; c++) switch (*c) {
+  for (const char *c = text; *c; c++) {
+    switch (*c) {
     case '&': fputs("&amp;", fp); break;
     case '<': fputs("&lt;", fp); break;
     case '>': fputs("&gt;", fp); break;
     case '"': fputs("&quot;", fp); break;
     default: fputc(*c, fp);
     }
+  }
 }
 
 static const char *host_byte_order(void) {

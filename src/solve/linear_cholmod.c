@@ -64,6 +64,13 @@ static long factor_entries(const cholmod_factor *L) {
   return count;
 }
 
+/* The column of A (not of the permuted matrix CHOLMOD factors) where the factorization broke down. */
+static long failed_column(const cholmod_factor *L) {
+  const long *perm = L->Perm;
+  if (L->minor >= L->n) return -1;
+  return perm ? perm[L->minor] : (long)L->minor;
+}
+
 static int cholmod_create(MicaLinearSolver *solver) {
   CholmodData *data = NULL;
   MICA_CALL(MICA_CALLOC(data, 1));
@@ -102,7 +109,7 @@ static int cholmod_factor_matrix(MicaLinearSolver *solver, const MicaSparse *A) 
     MICA_ERROR(MICA_ERR_NUMERIC,
                "matrix is not positive definite (CHOLMOD: column %ld); use solver.linear = umfpack or check the "
                "constraints",
-               (long)data->L->minor);
+               failed_column(data->L));
   if (!ok || data->common.status < CHOLMOD_OK) return library_error(&data->common, "factorization");
   data->factored = 1;
   solver->stats.nnz_factor = factor_entries(data->L);

@@ -9,6 +9,7 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -267,6 +268,9 @@ static void test_singular(void **state) {
   assert_int_equal(mica_linear_solver_solve(umfpack, b, x), MICA_ERR_ARGUMENT);
   assert_int_equal(mica_linear_solver_create(&mica_linear_cholmod, &cholmod), MICA_SUCCESS);
   assert_int_equal(mica_linear_solver_factor(cholmod, A), MICA_ERR_NUMERIC);
+  char column[32]; /* the message names the zero column in A's numbering, not CHOLMOD's permuted one */
+  snprintf(column, sizeof column, "column %ld)", isolated);
+  if (!strstr(mica_error_message(), column)) fail_msg("\"%s\" lacks \"%s\"", mica_error_message(), column);
   mica_error_clear();
   mica_linear_solver_destroy(&umfpack);
   mica_linear_solver_destroy(&cholmod);
