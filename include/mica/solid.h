@@ -73,7 +73,8 @@ typedef struct MicaSolidOptions {
   const MicaModelOps *model;
   MicaMaterial material;
   const MicaBoundaryMethodOps *bc_method;
-  double bc_alpha;              /* stabilization / penalty factor α (β = α E / h) */
+  double bc_alpha;              /* stabilization / penalty factor α (Nitsche β = α E / h; penalty β = α E (L/h)^(p−1) / h) */
+  int basis_order;              /* MLS basis order p (the penalty's scaling) */
   MicaFunction *body[3];        /* body force per unit reference volume, may be NULL */
   int ramp;                     /* 1: every load and prescribed value is multiplied by the load factor t */
 } MicaSolidOptions;
@@ -132,8 +133,9 @@ typedef struct MicaNewtonOptions {
 typedef struct MicaNewtonStats {
   int steps_done, cuts, iterations_total;
   int last_iterations;
-  double residual_history[64]; /* |R| per iteration of the last step (quadratic convergence evidence) */
-  int nhistory;
+  double residual_history[64]; /* |R| per iteration of the last step */
+  double increment_history[64]; /* |Δu| per iteration of the last step (quadratic convergence evidence) */
+  int nhistory, nincrements;
   double time_assemble, time_factor, time_solve;
   const char *linear_name;
   MicaLinearSolverStats linear;

@@ -81,8 +81,8 @@ static int line_search(Newton *nw, double t, double *u, double rnorm, double *al
 
 static void monitor(const Newton *nw, int step, double t, int it, double rnorm, double dunorm) {
   if (!nw->opt->verbose) return;
-  const double *h = nw->stats->residual_history;
-  const int nh = nw->stats->nhistory;
+  const double *h = nw->stats->increment_history;
+  const int nh = nw->stats->nincrements;
   char rate[32] = "-";
   if (nh >= 3 && h[nh - 1] > 0 && h[nh - 2] > 0 && h[nh - 3] > 0 && h[nh - 2] != h[nh - 3])
     snprintf(rate, sizeof rate, "%.2f", log(h[nh - 1] / h[nh - 2]) / log(h[nh - 2] / h[nh - 3]));
@@ -94,7 +94,7 @@ static void monitor(const Newton *nw, int step, double t, int it, double rnorm, 
 static int newton_step(Newton *nw, int step, double t, double *u) {
   const long n = nw->s->ndof;
   double r0 = 0, dunorm = 0;
-  nw->stats->nhistory = 0;
+  nw->stats->nhistory = nw->stats->nincrements = 0;
   for (int it = 0;; it++) {
     MICA_CALL(assemble(nw, t, u, 0));
     const double rnorm = norm2(n, nw->R);
@@ -119,6 +119,7 @@ static int newton_step(Newton *nw, int step, double t, double *u) {
     if (nw->opt->line_search) MICA_CALL(line_search(nw, t, u, rnorm, &alpha));
     for (long i = 0; i < n; i++) u[i] += alpha * nw->du[i];
     dunorm = alpha * norm2(n, nw->du);
+    if (nw->stats->nincrements < 64) nw->stats->increment_history[nw->stats->nincrements++] = dunorm;
   }
 }
 

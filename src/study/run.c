@@ -273,6 +273,9 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp) {
   MICA_CALL_CLEANUP(read_body_force(deck, rp->disc->dim, opt.body));
   MICA_CALL_CLEANUP(read_dirichlet(deck, rp->disc, &ndirichlet, &dirichlet));
   MICA_CALL_CLEANUP(read_tractions(deck, rp->disc, &ntraction, &traction));
+  long order;
+  MICA_CALL_CLEANUP(mica_deck_int(deck, "mls.order", &order));
+  opt.basis_order = (int)order;
   const double start = mica_wtime();
   ierr = mica_study_mls_input(mica_solid_create(rp->disc, rp->mls, &opt, ndirichlet, dirichlet, ntraction, traction,
                                                 &rp->solid));
@@ -402,6 +405,9 @@ static int add_newton_stats(const MicaNewtonStats *st, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "newton_iterations_last_step", st->last_iterations));
   MICA_CALL(mica_json_open_array(summary, "residual_history_last_step"));
   for (int i = 0; i < st->nhistory; i++) MICA_CALL(mica_json_number(summary, NULL, st->residual_history[i]));
+  MICA_CALL(mica_json_close(summary));
+  MICA_CALL(mica_json_open_array(summary, "increment_history_last_step"));
+  for (int i = 0; i < st->nincrements; i++) MICA_CALL(mica_json_number(summary, NULL, st->increment_history[i]));
   MICA_CALL(mica_json_close(summary));
   MICA_CALL(mica_json_string(summary, "linear_solver", st->linear_name ? st->linear_name : "none"));
   MICA_CALL(mica_json_int(summary, "nnz_factor", st->linear.nnz_factor));

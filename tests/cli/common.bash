@@ -25,3 +25,24 @@ expect_failure() {
 
 # less_than A B: floating-point A < B
 less_than() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a + 0 < b + 0) }'; }
+
+# run_deck DIR DECK [--set ...]: mica run quietly into DIR (fails the test if mica fails)
+run_deck() {
+  local dir=$1 deck=$2; shift 2
+  "$MICA" run "$deck" -o "$dir" --set output.monitor=false --set output.vtu=false "$@" > "$dir.log" 2>&1 \
+    || fail "mica run $deck $* failed: $(tail -n 3 "$dir.log")"
+}
+# Least-squares slope of log(error) against log(1/h) for "h error" pairs on stdin (the convergence rate).
+ls_rate() { awk '{ x = log($1); y = log($2); n++; sx += x; sy += y; sxx += x*x; sxy += x*y }
+                 END { printf "%.3f", (n*sxy - sx*sy) / (n*sxx - sx*sx) }'; }
+# within VALUE REFERENCE RELTOL WHAT
+within() {
+  awk -v v="$1" -v r="$2" -v t="$3" 'BEGIN { d = (v - r) / r; if (d < 0) d = -d; exit !(d <= t) }' \
+    || fail "$4: $1 is not within $3 (relative) of $2"
+  ok "$4: $1 within $3 of $2"
+}
+# at_least VALUE MIN WHAT
+at_least() {
+  awk -v v="$1" -v m="$2" 'BEGIN { exit !(v >= m) }' || fail "$3: $1 < $2"
+  ok "$3: $1 >= $2"
+}
