@@ -27,3 +27,13 @@ ok "parameter override"
 [ -f "$work/out/small/summary.json" ] || fail "default output directory out/small not used"
 [ "$(json_value status "$work/out/small/summary.json")" = ok ] || fail "summary status is not ok"
 ok "default output directory"
+
+# mica check: validates a run deck and reports its cost without solving
+"$MICA" check input/timoshenko.cfg -o "$work/check" > "$work/check.log" || fail "mica check failed"
+grep -q "dofs" "$work/check.log" || fail "mica check does not print the dofs"
+for key in particles quadrature_points dofs nnz cache_bytes matrix_bytes cost_class; do
+  [ -n "$(json_value $key "$work/check/summary.json")" ] || fail "mica check summary lacks $key"
+done
+[ -z "$(json_value newton_iterations "$work/check/summary.json")" ] || fail "mica check solved the problem"
+[ "$(json_value dofs "$work/check/summary.json")" = 594 ] || fail "check: 33x9 particles should give 594 dofs"
+ok "mica check"
