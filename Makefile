@@ -83,14 +83,15 @@ $(OUT)/bench/%: bench/%.c $(LIB)/libmica.a | deps
 	$(CC) $(CPPFLAGS) $(CFLAGS) $< $(LIB)/libmica.a $(LDFLAGS) $(LDLIBS) -o $@
 
 run: all
-	$(BIN)/mica mls input/quickstart.cfg -o out/quickstart
+	$(BIN)/mica run input/quickstart.cfg -o out/quickstart
 	@echo "--- out/quickstart/summary.json"; cat out/quickstart/summary.json
 
 test: $(BIN)/mica $(TEST_BIN) | deps
 	@MICA_BIN=$(BIN)/mica TEST_DIR=$(OUT)/tests OUT_DIR=$(OUT)/test-out SAN=$(SAN) bash tests/run.sh
 
-bench: $(BENCH_BIN) | deps
+bench: $(BIN)/mica $(BENCH_BIN) | deps
 	@for b in $(BENCH_BIN); do echo "== $$b"; $$b || exit 1; done
+	@for b in bench/bench_*.sh; do echo "== $$b"; MICA_BIN=$(BIN)/mica bash $$b || exit 1; done
 
 clean:
 	rm -rf build build-san bin lib out
