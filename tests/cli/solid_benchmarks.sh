@@ -48,3 +48,14 @@ run_deck "$work/cube" input/cube3d.cfg
 e=$(json_value error_l2 "$work/cube/summary.json")
 less_than "$e" 1e-5 || fail "3-D tension: L2 error $e"
 within "$(json_value corner_ux "$work/cube/summary.json")" 0.01 1e-5 "3-D tension: corner u_x"
+
+# the curved built-in shapes against exact solutions: a cylinder in tension (3-D, linear field) and Lamé's
+# pressurized thick cylinder (annulus sector, symmetry planes, pressure as an expression of x, y)
+run_deck "$work/cylinder" input/cylinder_tension.cfg
+e=$(json_value error_l2 "$work/cylinder/summary.json")
+less_than "$e" 1e-4 || fail "cylinder in tension: L2 error $e"
+within "$(json_value top_uz "$work/cylinder/summary.json")" 0.02 1e-4 "cylinder in tension: top u_z"
+run_deck "$work/lame" input/lame_cylinder.cfg
+e=$(json_value error_l2 "$work/lame/summary.json")
+less_than "$e" 1e-3 || fail "Lamé cylinder: L2 error $e"
+ok "Lamé cylinder: L2 error $e < 1e-3"

@@ -14,3 +14,19 @@ for method in nitsche lagrange; do
     printf "%.2f", best }')
   at_least "$order" 1.8 "Newton order on Cook Neo-Hooke ($method), last step increments: $(increments "$work/$method/summary.json" | tr '\n' ' ')"
 done
+
+# the whole load in one step with 6 iterations fails and is cut back; the answer is the same as with 10
+# steps; so is the answer with line search; and every converged step writes a VTU file listed in the PVD.
+run_deck "$work/steps10" input/cook_neohooke.cfg --set "particles.count=[13,13]"
+ref=$(json_value tip_uy "$work/steps10/summary.json")
+"$MICA" run input/cook_neohooke.cfg -o "$work/cut" --set "particles.count=[13,13]" --set solver.steps=1 \
+  --set solver.max_iterations=6 > "$work/cut.log" 2>&1 || fail "cut-back run failed"
+grep -q "cut back" "$work/cut.log" || fail "no step was cut back"
+[ "$(json_value step_cuts "$work/cut/summary.json")" -ge 1 ] || fail "step_cuts is not reported"
+within "$(json_value tip_uy "$work/cut/summary.json")" "$ref" 1e-6 "cut-back run, tip"
+steps=$(json_value load_steps "$work/cut/summary.json")
+[ "$(ls "$work/cut"/step_*.vtu | wc -l)" = "$steps" ] || fail "expected $steps VTU files"
+[ "$(grep -c '<DataSet' "$work/cut/solution.pvd")" = "$steps" ] || fail "the PVD does not list $steps steps"
+ok "VTU per load step and PVD ($steps steps)"
+run_deck "$work/ls" input/cook_neohooke.cfg --set "particles.count=[13,13]" --set solver.line_search=true
+within "$(json_value tip_uy "$work/ls/summary.json")" "$ref" 1e-6 "line search run, tip"
