@@ -15,7 +15,7 @@ typedef struct MicaCommand {
   int (*run)(const MicaDeck *deck, const char *outdir, MicaJson *summary);
 } MicaCommand;
 
-extern const MicaCommand mica_command_mls, mica_command_run, mica_command_check;
+extern const MicaCommand mica_command_mls, mica_command_run, mica_command_check, mica_command_sweep;
 
 const MicaCommand *const *mica_commands(void); /* NULL-terminated */
 const MicaCommand *mica_command_find(const char *name);

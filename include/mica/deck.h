@@ -57,6 +57,10 @@ int mica_deck_list_length(const MicaDeck *deck, const char *path);
 /* The variant's name (the element's `name`, or "variant <i+1>"); the base deck's name is its file stem. */
 const char *mica_deck_name(const MicaDeck *deck);
 const char *mica_deck_path(const MicaDeck *deck);
+/* The --set overrides the deck was loaded with, as given ("path=value"), in order (a variant's are its
+ * base's): a command that loads the deck again with more overrides (mica sweep) passes these first. */
+int mica_deck_override_count(const MicaDeck *deck);
+const char *mica_deck_override_text(const MicaDeck *deck, int i);
 
 /* Getters: the setting at path (defaults filled in). A missing setting without default is an error
  * naming the setting. Schema types are already checked, so a getter fails only for a caller's bug or

@@ -46,4 +46,44 @@ int mica_material_set(const MicaModelOps *model, double E, double nu, MicaPlaneK
 int mica_model_stress_strain(const MicaModelOps *model, const MicaMaterial *mat, int dim, const double *F,
                              double *sigma, double *strain);
 
+/* ---- Generalized continua: models of generalized kinematics ------------------------------------------------
+ *
+ * A field model has ncomp unknown components per particle (classical: the dim displacements; 2-D Cosserat:
+ * u_x, u_y, φ_z; 3-D Cosserat: u and φ) and an energy density W(q) of the generalized kinematics q at a
+ * point, laid out as
+ *   q = [ values (ncomp) | gradients (ncomp × dim): ∂_J v_c at c*dim + J | Hessians (ncomp × nh), if order 2 ]
+ * with nh = dim(dim+1)/2 in the packed Voigt order of mica/mls.h. eval returns W, s = ∂W/∂q (nq) and
+ * D = ∂s/∂q (nq × nq, row-major). The assembly is the same for every model:
+ *   R_kc = Σ_q w Σ_j s_j B_j(k,c),  K_(kc)(ld) = Σ_q w Σ_ij B_i(k,c) D_ij B_j(l,d),
+ * with B_j(k,c) = N_k, N_k,J or N_k,h in the slots of component c. */
+typedef struct MicaFieldModel MicaFieldModel;
+
+typedef struct MicaFieldModelOps {
+  const char *name;         /* "cosserat", ... (the classical models appear under their own names) */
+  int order;                /* derivatives of the unknowns the energy needs: 1 or 2 */
+  int finite;               /* 1: W is not quadratic in q (Newton iterates) */
+  int uses_values;          /* 1: W depends on the values of the unknowns (not only their derivatives) */
+  int (*ncomp)(int dim);    /* unknowns per particle in dim dimensions */
+  const char *const *(*component_names)(int dim); /* "ux", "uy", "phiz", ... ; the deck's Dirichlet keys */
+  const char *const *(*traction_names)(int dim);  /* "tx", "ty", "mz", ... ; the deck's traction keys */
+  int (*eval)(const MicaFieldModel *m, int dim, const double *q, double *W, double *s, double *D);
+  /* Force stress (3×3, row-major) and, if present, couple stress (3×3) at q, for output and probes. */
+  int (*stress)(const MicaFieldModel *m, int dim, const double *q, double *sigma, double *couple);
+} MicaFieldModelOps;
+
+struct MicaFieldModel {
+  const MicaFieldModelOps *ops;
+  MicaMaterial material;  /* E, ν and the Lamé constants (the classical part) */
+  const MicaModelOps *classical; /* for classical models: the point kernel the field model adapts */
+  double param[16];       /* model constants, documented per model (Cosserat: λ, μ, κ, α, β, γ, ...) */
+};
+
+/* Number of entries of q for a model in dim dimensions. */
+int mica_field_model_nq(const MicaFieldModel *m, int dim);
+
+/* The classical models as field models (src/models/classical_field.c): ncomp = dim, order 1, and
+ * W(q) = W(F = I + ∇u) through the classical kernel, whose P and A fill the gradient slots of s and D. */
+extern const MicaFieldModelOps mica_field_classical;
+int mica_field_classical_set(MicaFieldModel *m, const MicaModelOps *classical, const MicaMaterial *material);
+
 #endif

@@ -17,21 +17,24 @@
 
 /* ---- Shape-function cache ------------------------------------------------------------------------------ */
 
-/* N and ∇N of the supporting particles at a list of points, in CSR form: point p's supports are
- * index[ptr[p] .. ptr[p+1]), with N[e] and dN[e*dim + d] for entry e. */
+/* N, ∇N and (for second-gradient models) ∇∇N of the supporting particles at a list of points, in CSR form:
+ * point p's supports are index[ptr[p] .. ptr[p+1]), with N[e], dN[e*dim + d] and ddN[e*nh + h] for entry e. */
 typedef struct MicaShapeCache {
-  int dim;
+  int dim, order;  /* order 1: N, ∇N; order 2: also ∇∇N */
   long npoints;
   long *ptr;    /* [npoints+1] */
   long *index;  /* [nnz] particle indices, ascending per point */
   double *N;    /* [nnz] */
   double *dN;   /* [nnz*dim] */
+  double *ddN;  /* [nnz*nh] packed Hessians (order 2), else NULL */
   long max_support;
 } MicaShapeCache;
 
-/* Evaluates shape functions with gradients at x[npoints*dim]; an MLS failure names the point (label and
- * number). */
-int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x, const char *label,
+#define MICA_MAX_COMP 6 /* unknowns per particle: 3-D Cosserat */
+
+/* Evaluates shape functions with gradients (order 1) or with gradients and Hessians (order 2) at
+ * x[npoints*dim]; an MLS failure names the point (label and number). */
+int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x, int order, const char *label,
                             MicaShapeCache **cache);
 int mica_shape_cache_destroy(MicaShapeCache **cache);
 size_t mica_shape_cache_bytes(const MicaShapeCache *cache);
@@ -40,14 +43,15 @@ size_t mica_shape_cache_bytes(const MicaShapeCache *cache);
 
 typedef struct MicaDirichlet {
   int set;                  /* index into the discretization's boundary sets */
-  int mask;                 /* bit a set: component a is prescribed */
-  MicaFunction *value[3];   /* prescribed u_a(x, y, z, t) for the components in mask */
+  int mask;                 /* bit c set: component c of the model's unknowns is prescribed */
+  MicaFunction *value[MICA_MAX_COMP]; /* prescribed value of component c (x, y, z, t), for c in mask */
   char where[160];          /* deck location, for messages */
 } MicaDirichlet;
 
 typedef struct MicaTraction {
   int set;
-  MicaFunction *value[3];   /* traction t_a(x, y, z, t) per unit reference length/area (dead load) */
+  MicaFunction *value[MICA_MAX_COMP]; /* generalized traction conjugate to component c (force, couple), per
+                                         unit reference length/area (dead load), or NULL */
   char where[160];
 } MicaTraction;
 
@@ -60,6 +64,7 @@ typedef struct MicaBoundaryMethodOps {
   double default_alpha;    /* β = α E / h (penalty, Nitsche stabilization); unused by lagrange */
   int symmetric_definite;  /* 1 if the tangent stays symmetric positive definite (CHOLMOD can be used) */
   int needs_multipliers;   /* 1: multiplier nodes on the constrained sets */
+  int needs_model_traction; /* 1: uses the classical traction P n (Nitsche): classical models only */
   /* Adds the residual (into R, over all dofs) and, if K, the tangent of condition c at load factor t. */
   int (*add)(struct MicaSolid *s, const MicaDirichlet *c, double t, const double *u, double *R, MicaSparse *K);
 } MicaBoundaryMethodOps;
@@ -70,12 +75,12 @@ const MicaBoundaryMethodOps *mica_bc_method_find(const char *name);
 /* ---- The problem ---------------------------------------------------------------------------------------- */
 
 typedef struct MicaSolidOptions {
-  const MicaModelOps *model;
-  MicaMaterial material;
+  MicaFieldModel field;         /* the model: classical (adapting a MicaModelOps kernel) or generalized */
   const MicaBoundaryMethodOps *bc_method;
   double bc_alpha;              /* stabilization / penalty factor α (Nitsche β = α E / h; penalty β = α E (L/h)^(p−1) / h) */
   int basis_order;              /* MLS basis order p (the penalty's scaling) */
-  MicaFunction *body[3];        /* body force per unit reference volume, may be NULL */
+  MicaFunction *body[MICA_MAX_COMP]; /* body load conjugate to each unknown (forces, couples) per unit
+                                        reference volume, or NULL */
   int ramp;                     /* 1: every load and prescribed value is multiplied by the load factor t */
 } MicaSolidOptions;
 
@@ -84,8 +89,10 @@ typedef struct MicaSolid {
   const MlsApprox *mls;
   MicaSolidOptions opt;
   int dim;
+  int ncomp;                      /* unknowns per particle (and per multiplier node) */
+  int nq;                         /* length of the generalized kinematics q at a point */
   long nparticles;
-  long ndof;                      /* dim × (particles + multiplier nodes) */
+  long ndof;                      /* ncomp × (particles + multiplier nodes) */
   MicaShapeCache *volume;         /* at the volume quadrature points */
   MicaShapeCache **boundary;      /* [nsets], at each set's boundary quadrature points (NULL if unused) */
   double **boundary_h;            /* [nsets][n]: local particle spacing at each boundary point */
@@ -111,18 +118,20 @@ int mica_solid_destroy(MicaSolid **solid);
  * into K (zeroed first). */
 int mica_solid_assemble(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K);
 
-/* u_h, ∇u_h at cached points (cache entries) for particle parameters u: uh[p*dim+a], grad[p*dim*dim + a*dim + J]. */
-void mica_solid_interpolate(const MicaSolid *s, const MicaShapeCache *c, const double *u, double *uh, double *grad);
+/* The generalized kinematics q (values, gradients, Hessians of the ncomp unknowns; layout of mica/model.h)
+ * at point p of cache c for particle parameters u. */
+void mica_solid_kinematics(const MicaSolid *s, const MicaShapeCache *c, long p, const double *u, double *q);
 
-/* Deformation gradient F = I + ∇u at point p of cache c. */
+/* Deformation gradient F = I + ∇u (the first dim components) at point p of cache c. */
 void mica_solid_deformation_gradient(const MicaSolid *s, const MicaShapeCache *c, long p, const double *u, double *F);
+
 
 /* ---- Newton -------------------------------------------------------------------------------------------- */
 
 typedef struct MicaNewtonOptions {
   int steps;           /* load steps (load factor t = s / steps) */
   int max_iterations;  /* per step */
-  double rtol, atol;   /* converged when |R| ≤ max(rtol |R_0|, atol) or |Δu| ≤ rtol |u| (after ≥ 1 iteration) */
+  double rtol, atol;   /* converged when |R| ≤ max(rtol |R_0|, atol), or |Δu| ≤ rtol |u|, after ≥ 1 iteration */
   int line_search;     /* backtracking on |R| */
   int max_cuts;        /* times a failing step may be halved */
   const MicaLinearSolverOps *linear; /* NULL: auto (CHOLMOD if the problem is SPD, else UMFPACK; CHOLMOD

@@ -1,129 +1,160 @@
-/* Residual and tangent of the solid (docs/theory.md §solids), total Lagrangian:
- *   R_Ia = ∫ P_aJ N_I,J dV − ∫ b_a N_I dV − ∫ t̄_a N_I dΓ + (boundary-method terms),
- *   K_IaKb = ∫ N_I,J A_aJbL N_K,L dV + (boundary-method terms),
- * with F = I + Σ_I u_I ⊗ ∇N_I at each quadrature point and P, A from the model's point kernel. Local
- * blocks are scattered straight into the fixed sparsity pattern. */
+/* Residual and tangent of the solid (docs/theory.md §solids), total Lagrangian, for any field model:
+ *   q = [values | gradients | Hessians] of the ncomp unknowns at a quadrature point (mica/model.h),
+ *   R_kc = Σ_q w Σ_j s_j B_j(k,c) − (body forces, tractions) + (boundary-method terms),
+ *   K_(kc)(ld) = Σ_q w Σ_ij B_i(k,c) D_ij B_j(l,d) + (boundary-method terms),
+ * where B_j(k,c) is N_k, N_k,J or N_k,h in the slots of component c and zero elsewhere, and s, D come from
+ * the model's point kernel. For a classical model only the gradient slots are used and this is
+ * R_Ia = ∫ P_aJ N_I,J, K = ∫ N_I,J A_aJbL N_K,L. Local blocks are scattered straight into the fixed pattern. */
 #include <math.h>
 #include <string.h>
 
 #include "mica/solid.h"
 
+/* Slots of q (model.h layout): value of c at c; ∂_J of c at ncomp + c*dim + J; ∂_h of c after the gradients. */
+typedef struct {
+  int ncomp, dim, nh, order, values;
+} Layout;
+
+static Layout layout_of(const MicaSolid *s) {
+  Layout L = {s->ncomp, s->dim, s->dim * (s->dim + 1) / 2, s->opt.field.ops->order, s->opt.field.ops->uses_values};
+  return L;
+}
+
+void mica_solid_kinematics(const MicaSolid *s, const MicaShapeCache *c, long p, const double *u, double *q) {
+  const Layout L = layout_of(s);
+  memset(q, 0, sizeof(double) * (size_t)s->nq);
+  double *grad = q + L.ncomp, *hess = grad + L.ncomp * L.dim;
+  for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) {
+    const double *ue = u + c->index[e] * L.ncomp, *dN = c->dN + e * L.dim;
+    for (int k = 0; k < L.ncomp; k++) {
+      q[k] += c->N[e] * ue[k];
+      for (int J = 0; J < L.dim; J++) grad[k * L.dim + J] += ue[k] * dN[J];
+      if (L.order >= 2)
+        for (int h = 0; h < L.nh; h++) hess[k * L.nh + h] += ue[k] * c->ddN[e * L.nh + h];
+    }
+  }
+}
+
 void mica_solid_deformation_gradient(const MicaSolid *s, const MicaShapeCache *c, long p, const double *u, double *F) {
-  const int dim = s->dim;
+  const int dim = s->dim, ncomp = s->ncomp;
   for (int a = 0; a < dim; a++)
     for (int J = 0; J < dim; J++) F[a * dim + J] = a == J ? 1.0 : 0.0;
   for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) {
-    const double *ue = u + c->index[e] * dim, *dN = c->dN + e * dim;
+    const double *ue = u + c->index[e] * ncomp, *dN = c->dN + e * dim;
     for (int a = 0; a < dim; a++)
       for (int J = 0; J < dim; J++) F[a * dim + J] += ue[a] * dN[J];
   }
 }
 
-void mica_solid_interpolate(const MicaSolid *s, const MicaShapeCache *c, const double *u, double *uh, double *grad) {
-  const int dim = s->dim;
-  for (long p = 0; p < c->npoints; p++) {
-    double *up = uh ? uh + p * dim : NULL, *gp = grad ? grad + p * dim * dim : NULL;
-    if (up) memset(up, 0, sizeof(double) * (size_t)dim);
-    if (gp) memset(gp, 0, sizeof(double) * (size_t)(dim * dim));
-    for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) {
-      const double *ue = u + c->index[e] * dim, *dN = c->dN + e * dim;
-      for (int a = 0; a < dim; a++) {
-        if (up) up[a] += c->N[e] * ue[a];
-        if (gp)
-          for (int J = 0; J < dim; J++) gp[a * dim + J] += ue[a] * dN[J];
+/* The nonzero B entries of particle entry e for component c: their slots in q and their values. */
+static int b_entries(const Layout *L, const MicaShapeCache *c, long e, int comp, int *slot, double *value) {
+  int n = 0;
+  if (L->values) slot[n] = comp, value[n++] = c->N[e];
+  for (int J = 0; J < L->dim; J++) slot[n] = L->ncomp + comp * L->dim + J, value[n++] = c->dN[e * L->dim + J];
+  if (L->order >= 2)
+    for (int h = 0; h < L->nh; h++)
+      slot[n] = L->ncomp * (1 + L->dim) + comp * L->nh + h, value[n++] = c->ddN[e * L->nh + h];
+  return n;
+}
+
+/* R_kc += w Σ_j s_j B_j(k,c). */
+static void add_internal_force(const Layout *L, const MicaShapeCache *c, long p, const double *sq, double w, double *R) {
+  int slot[16];
+  double b[16];
+  for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
+    for (int comp = 0; comp < L->ncomp; comp++) {
+      const int n = b_entries(L, c, e, comp, slot, b);
+      double f = 0;
+      for (int i = 0; i < n; i++) f += sq[slot[i]] * b[i];
+      R[c->index[e] * L->ncomp + comp] += w * f;
+    }
+}
+
+/* Ke[(k c),(l d)] = w Σ_ij B_i(k,c) D_ij B_j(l,d) through G_(k c)[j] = Σ_i B_i(k,c) D_ij. */
+static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, int nq, const double *D, double w,
+                              double *G, double *Ke) {
+  int slot[16];
+  double b[16];
+  const long first = c->ptr[p], n = c->ptr[p + 1] - first, m = n * L->ncomp;
+  for (long k = 0; k < n; k++)
+    for (int comp = 0; comp < L->ncomp; comp++) {
+      const int nb = b_entries(L, c, first + k, comp, slot, b);
+      double *g = G + (k * L->ncomp + comp) * nq;
+      for (int j = 0; j < nq; j++) {
+        double sum = 0;
+        for (int i = 0; i < nb; i++) sum += b[i] * D[slot[i] * nq + j];
+        g[j] = sum;
       }
     }
-  }
+  for (long l = 0; l < n; l++)
+    for (int d = 0; d < L->ncomp; d++) {
+      const int nb = b_entries(L, c, first + l, d, slot, b);
+      for (long row = 0; row < m; row++) {
+        const double *g = G + row * nq;
+        double sum = 0;
+        for (int j = 0; j < nb; j++) sum += g[slot[j]] * b[j];
+        Ke[row * m + l * L->ncomp + d] = w * sum;
+      }
+    }
 }
 
 /* Load scaling: with ramping, every load and prescribed value grows with the load factor t. */
 static double load_scale(const MicaSolid *s, double t) { return s->opt.ramp ? t : 1.0; }
 
-/* Internal force of one point: R_ka += w P_aJ N_k,J. */
-static void add_internal_force(int dim, long n, const long *idx, const double *dN, const double *P, double w,
-                               double *R) {
-  for (long k = 0; k < n; k++)
-    for (int a = 0; a < dim; a++) {
-      double f = 0;
-      for (int J = 0; J < dim; J++) f += P[a * dim + J] * dN[k * dim + J];
-      R[idx[k] * dim + a] += w * f;
-    }
-}
-
-/* Ke[(k a),(l b)] = w Σ_JL N_k,J A_aJbL N_l,L via G_k[a][b][L] = Σ_J N_k,J A_aJbL: n dim⁴ + n² dim³. */
-static void element_stiffness(int dim, long n, const double *dN, const double *A, double w, double *G, double *Ke) {
-  const int d2 = dim * dim, d3 = d2 * dim;
-  for (long k = 0; k < n; k++)
-    for (int a = 0; a < dim; a++)
-      for (int b = 0; b < dim; b++)
-        for (int L = 0; L < dim; L++) {
-          double g = 0;
-          for (int J = 0; J < dim; J++) g += dN[k * dim + J] * A[((a * dim + J) * dim + b) * dim + L];
-          G[k * d3 + (a * dim + b) * dim + L] = g;
-        }
-  const long m = n * dim;
-  for (long k = 0; k < n; k++)
-    for (int a = 0; a < dim; a++)
-      for (long l = 0; l < n; l++)
-        for (int b = 0; b < dim; b++) {
-          const double *g = G + k * d3 + (a * dim + b) * dim, *dNl = dN + l * dim;
-          double v = 0;
-          for (int L = 0; L < dim; L++) v += g[L] * dNl[L];
-          Ke[(k * dim + a) * m + l * dim + b] = w * v;
-        }
-}
-
-static int add_body_force(const MicaSolid *s, long p, double t, double scale, double *R) {
+/* Body loads, conjugate to each unknown (forces on displacements, couples on micro-rotations). */
+static void add_body_force(const MicaSolid *s, long p, double t, double scale, double *R) {
   const MicaShapeCache *c = s->volume;
-  const int dim = s->dim;
-  double x[3] = {0, 0, 0}, b[3];
+  const int dim = s->dim, ncomp = s->ncomp;
+  double x[3] = {0, 0, 0}, b[MICA_MAX_COMP];
   memcpy(x, s->disc->qx + p * dim, sizeof(double) * (size_t)dim);
-  for (int a = 0; a < dim; a++) b[a] = s->opt.body[a] ? scale * mica_function_eval(s->opt.body[a], x, t) : 0.0;
+  for (int a = 0; a < ncomp; a++) b[a] = s->opt.body[a] ? scale * mica_function_eval(s->opt.body[a], x, t) : 0.0;
   const double w = s->disc->qw[p];
   for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
-    for (int a = 0; a < dim; a++) R[c->index[e] * dim + a] -= w * c->N[e] * b[a];
-  return MICA_SUCCESS;
+    for (int a = 0; a < ncomp; a++) R[c->index[e] * ncomp + a] -= w * c->N[e] * b[a];
 }
 
 static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K) {
   const MicaShapeCache *c = s->volume;
-  const int dim = s->dim, has_body = s->opt.body[0] || s->opt.body[1] || s->opt.body[2];
+  const Layout L = layout_of(s);
+  const int nq = s->nq;
+  int has_body = 0;
+  for (int a = 0; a < s->ncomp; a++) has_body |= s->opt.body[a] != NULL;
   const double scale = load_scale(s, t);
-  double F[9], P[9], A[81], W;
-  double *Ke = s->work, *G = NULL;
+  double q[128], sq[128], W;
+  double *D = s->work; /* nq², then the element matrix and G after it */
   for (long p = 0; p < c->npoints; p++) {
-    const long n = c->ptr[p + 1] - c->ptr[p], *idx = c->index + c->ptr[p];
-    const double *dN = c->dN + c->ptr[p] * dim, w = s->disc->qw[p];
-    mica_solid_deformation_gradient(s, c, p, u, F);
-    int ierr = s->opt.model->eval(&s->opt.material, dim, F, &W, P, K ? A : NULL);
+    const long n = c->ptr[p + 1] - c->ptr[p], m = n * L.ncomp;
+    const double w = s->disc->qw[p];
+    mica_solid_kinematics(s, c, p, u, q);
+    int ierr = s->opt.field.ops->eval(&s->opt.field, L.dim, q, &W, sq, K ? D : NULL);
     if (ierr) {
       mica_error_prefix("volume quadrature point %ld", p + 1);
       return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
     }
-    add_internal_force(dim, n, idx, dN, P, w, R);
-    if (has_body) MICA_CALL(add_body_force(s, p, t, scale, R));
+    add_internal_force(&L, c, p, sq, w, R);
+    if (has_body) add_body_force(s, p, t, scale, R);
     if (!K) continue;
-    G = Ke + (n * dim) * (n * dim);
-    element_stiffness(dim, n, dN, A, w, G, Ke);
-    MICA_CALL(mica_sparse_add_clique(K, n, idx, Ke));
+    double *Ke = D + nq * nq, *G = Ke + m * m;
+    element_stiffness(&L, c, p, nq, D, w, G, Ke);
+    MICA_CALL(mica_sparse_add_clique(K, n, c->index + c->ptr[p], Ke));
   }
   return MICA_SUCCESS;
 }
 
-/* Dead tractions: R_ka −= ∫ t̄_a N_k dΓ. */
+/* Dead generalized tractions (forces on displacements, couples on rotations): R_kc −= ∫ t̄_c N_k dΓ. */
 static int assemble_tractions(const MicaSolid *s, double t, double *R) {
-  const int dim = s->dim;
+  const int dim = s->dim, ncomp = s->ncomp;
   const double scale = load_scale(s, t);
   for (int i = 0; i < s->ntraction; i++) {
     const MicaTraction *tr = &s->traction[i];
     const MicaBoundarySet *set = &s->disc->sets[tr->set];
     const MicaShapeCache *c = s->boundary[tr->set];
     for (long p = 0; p < c->npoints; p++) {
-      double x[3] = {0, 0, 0}, tv[3] = {0, 0, 0};
+      double x[3] = {0, 0, 0}, tv[MICA_MAX_COMP] = {0};
       memcpy(x, set->x + p * dim, sizeof(double) * (size_t)dim);
-      for (int a = 0; a < dim; a++) tv[a] = tr->value[a] ? scale * mica_function_eval(tr->value[a], x, t) : 0.0;
+      for (int a = 0; a < ncomp; a++) tv[a] = tr->value[a] ? scale * mica_function_eval(tr->value[a], x, t) : 0.0;
       for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
-        for (int a = 0; a < dim; a++) R[c->index[e] * dim + a] -= set->w[p] * c->N[e] * tv[a];
+        for (int a = 0; a < ncomp; a++) R[c->index[e] * ncomp + a] -= set->w[p] * c->N[e] * tv[a];
     }
   }
   return MICA_SUCCESS;

@@ -1,5 +1,6 @@
-/* The shape-function cache of a total-Lagrangian analysis: N and ∇N of the supporting particles at every
- * quadrature point, computed once (design.md §3). Stored in CSR form so that assembly streams through it. */
+/* The shape-function cache of a total-Lagrangian analysis: N, ∇N and, for second-gradient models, ∇∇N of
+ * the supporting particles at every quadrature point, computed once (design.md §3). Stored in CSR form so
+ * that assembly streams through it. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -14,19 +15,22 @@ static int append_point(MicaShapeCache *c, const MlsShape *sh, long p, long *cap
     MICA_CALL(MICA_REALLOC(c->index, grown));
     MICA_CALL(MICA_REALLOC(c->N, grown));
     MICA_CALL(MICA_REALLOC(c->dN, grown * c->dim));
+    if (c->order >= 2) MICA_CALL(MICA_REALLOC(c->ddN, grown * mls_num_hess(c->dim)));
     *cap = grown;
   }
   for (long k = 0; k < sh->n; k++) {
     c->index[start + k] = sh->index[k];
     c->N[start + k] = sh->N[k];
     for (int d = 0; d < c->dim; d++) c->dN[(start + k) * c->dim + d] = sh->dN[d * sh->n + k];
+    if (c->order >= 2)
+      for (int h = 0, nh = mls_num_hess(c->dim); h < nh; h++) c->ddN[(start + k) * nh + h] = sh->ddN[h * sh->n + k];
   }
   c->ptr[p + 1] = need;
   if (sh->n > c->max_support) c->max_support = sh->n;
   return MICA_SUCCESS;
 }
 
-int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x, const char *label,
+int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x, int order, const char *label,
                             MicaShapeCache **out) {
   *out = NULL;
   MicaShapeCache *c = NULL;
@@ -35,11 +39,12 @@ int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x,
   long cap = 0;
   MICA_CALL(MICA_CALLOC(c, 1));
   c->dim = mls_dim(mls);
+  c->order = order >= 2 ? 2 : 1;
   c->npoints = npoints;
   MICA_CALL_CLEANUP(MICA_CALLOC(c->ptr, npoints + 1));
   MICA_CALL_CLEANUP(mls_shape_create(mls, &sh));
   for (long p = 0; p < npoints; p++) {
-    ierr = mls_eval(mls, x + p * c->dim, MLS_GRADIENT, sh);
+    ierr = mls_eval(mls, x + p * c->dim, c->order >= 2 ? MLS_HESSIAN : MLS_GRADIENT, sh);
     if (ierr) {
       mica_error_prefix("%s point %ld of %ld", label, p + 1, npoints);
       goto cleanup;
@@ -60,6 +65,7 @@ int mica_shape_cache_destroy(MicaShapeCache **cache) {
   MICA_FREE((*cache)->index);
   MICA_FREE((*cache)->N);
   MICA_FREE((*cache)->dN);
+  MICA_FREE((*cache)->ddN);
   MICA_FREE(*cache);
   return MICA_SUCCESS;
 }
@@ -67,5 +73,6 @@ int mica_shape_cache_destroy(MicaShapeCache **cache) {
 size_t mica_shape_cache_bytes(const MicaShapeCache *c) {
   if (!c) return 0;
   const size_t entries = (size_t)c->ptr[c->npoints];
-  return sizeof(long) * (size_t)(c->npoints + 1) + entries * (sizeof(long) + sizeof(double) * (size_t)(1 + c->dim));
+  const size_t per_entry = (size_t)(1 + c->dim + (c->order >= 2 ? mls_num_hess(c->dim) : 0));
+  return sizeof(long) * (size_t)(c->npoints + 1) + entries * (sizeof(long) + sizeof(double) * per_entry);
 }

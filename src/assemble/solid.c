@@ -43,7 +43,8 @@ static int build_boundary_caches(MicaSolid *s) {
     if (!set_is_used(s, set)) continue;
     char label[96];
     snprintf(label, sizeof label, "boundary set '%s'", disc->sets[set].name);
-    MICA_CALL(mica_shape_cache_create(s->mls, disc->sets[set].n, disc->sets[set].x, label, &s->boundary[set]));
+    MICA_CALL(mica_shape_cache_create(s->mls, disc->sets[set].n, disc->sets[set].x, s->opt.field.ops->order, label,
+                                      &s->boundary[set]));
     MICA_CALL(boundary_spacing(s, set));
   }
   return MICA_SUCCESS;
@@ -105,7 +106,7 @@ static int build_pattern(MicaSolid *s) {
       ptr[q + 1] = ptr[q] + clique_size(s, b, p, cond);
     }
   }
-  MICA_CALL_CLEANUP(mica_sparse_create(s->nparticles + s->nmultiplier_nodes, s->dim, ncliques, ptr, nodes, &s->K));
+  MICA_CALL_CLEANUP(mica_sparse_create(s->nparticles + s->nmultiplier_nodes, s->ncomp, ncliques, ptr, nodes, &s->K));
 cleanup:
   free(ptr);
   free(nodes);
@@ -119,6 +120,16 @@ static long largest_clique(const MicaSolid *s) {
   return largest + 4; /* + the multiplier nodes of one boundary element */
 }
 
+/* The model and the boundary method must fit together and in the fixed-size scratch of a point. */
+static int check_model(const MicaSolidOptions *opt, int ncomp, int nq) {
+  MICA_CHECK(ncomp <= MICA_MAX_COMP && nq <= 128, MICA_ERR_ARGUMENT, "model '%s' has too many unknowns",
+             opt->field.ops->name);
+  MICA_CHECK(opt->field.classical || !opt->bc_method->needs_model_traction, MICA_ERR_INPUT,
+             "bc.method = \"%s\" needs a classical model; model '%s' has generalized tractions: use \"lagrange\" or "
+             "\"penalty\"", opt->bc_method->name, opt->field.ops->name);
+  return MICA_SUCCESS;
+}
+
 int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, const MicaSolidOptions *opt,
                       int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
                       MicaSolid **out) {
@@ -130,18 +141,23 @@ int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, cons
   s->mls = mls;
   s->opt = *opt;
   s->dim = disc->dim;
+  s->ncomp = opt->field.ops->ncomp(s->dim);
+  s->nq = mica_field_model_nq(&opt->field, s->dim);
   s->nparticles = disc->nparticles;
   s->ndirichlet = ndirichlet;
   s->dirichlet = dirichlet;
   s->ntraction = ntraction;
   s->traction = traction;
-  MICA_CALL_CLEANUP(mica_shape_cache_create(mls, disc->nquad, disc->qx, "volume quadrature", &s->volume));
+  MICA_CALL_CLEANUP(check_model(opt, s->ncomp, s->nq));
+  MICA_CALL_CLEANUP(mica_shape_cache_create(mls, disc->nquad, disc->qx, opt->field.ops->order, "volume quadrature",
+                                            &s->volume));
   MICA_CALL_CLEANUP(build_boundary_caches(s));
   MICA_CALL_CLEANUP(number_multipliers(s));
-  s->ndof = (s->nparticles + s->nmultiplier_nodes) * s->dim;
+  s->ndof = (s->nparticles + s->nmultiplier_nodes) * s->ncomp;
   MICA_CALL_CLEANUP(build_pattern(s));
-  const long m = largest_clique(s) * s->dim;
-  MICA_CALL_CLEANUP(MICA_MALLOC(s->work, m * m + 32 * m + 1024));
+  /* scratch: the model's D (nq × nq), the element matrix (m × m) and the projections G (m × nq) */
+  const long m = largest_clique(s) * s->ncomp;
+  MICA_CALL_CLEANUP(MICA_MALLOC(s->work, (long)s->nq * s->nq + m * m + m * s->nq + 64));
   MICA_CALL_CLEANUP(MICA_MALLOC(s->work_nodes, largest_clique(s)));
   *out = s;
   return MICA_SUCCESS;
@@ -162,10 +178,10 @@ int mica_solid_destroy(MicaSolid **solid) {
   MICA_FREE(s->boundary);
   MICA_FREE(s->boundary_h);
   for (int c = 0; c < s->ndirichlet; c++)
-    for (int a = 0; a < 3; a++) mica_function_destroy(&s->dirichlet[c].value[a]);
+    for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&s->dirichlet[c].value[a]);
   for (int c = 0; c < s->ntraction; c++)
-    for (int a = 0; a < 3; a++) mica_function_destroy(&s->traction[c].value[a]);
-  for (int a = 0; a < 3; a++) mica_function_destroy(&s->opt.body[a]);
+    for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&s->traction[c].value[a]);
+  for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&s->opt.body[a]);
   MICA_FREE(s->dirichlet);
   MICA_FREE(s->traction);
   MICA_FREE(s->multiplier_offset);

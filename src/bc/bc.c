@@ -11,7 +11,7 @@ const MicaBoundaryMethodOps *mica_bc_method_find(const char *name) {
 }
 
 void bc_point(const MicaSolid *s, const MicaDirichlet *c, long p, double t, const double *u, BcPoint *bp) {
-  const int dim = s->dim;
+  const int dim = s->dim, ncomp = s->ncomp;
   const MicaBoundarySet *set = &s->disc->sets[c->set];
   const MicaShapeCache *cache = s->boundary[c->set];
   const long start = cache->ptr[p];
@@ -26,9 +26,9 @@ void bc_point(const MicaSolid *s, const MicaDirichlet *c, long p, double t, cons
   memcpy(bp->x, set->x + p * dim, sizeof(double) * (size_t)dim);
   memcpy(bp->normal, set->normal + p * dim, sizeof(double) * (size_t)dim);
   const double scale = s->opt.ramp ? t : 1.0;
-  for (int a = 0; a < 3; a++) bp->uh[a] = bp->residual[a] = 0;
+  for (int a = 0; a < MICA_MAX_COMP; a++) bp->uh[a] = bp->residual[a] = 0;
   for (long k = 0; k < bp->n; k++)
-    for (int a = 0; a < dim; a++) bp->uh[a] += bp->N[k] * u[bp->index[k] * dim + a];
-  for (int a = 0; a < dim; a++)
+    for (int a = 0; a < ncomp; a++) bp->uh[a] += bp->N[k] * u[bp->index[k] * ncomp + a];
+  for (int a = 0; a < ncomp; a++)
     if (c->mask & (1 << a)) bp->residual[a] = bp->uh[a] - scale * mica_function_eval(c->value[a], bp->x, t);
 }

@@ -10,8 +10,8 @@ typedef struct {
   const long *index; /* their indices (ascending) */
   const double *N, *dN;
   double x[3], normal[3], w, h;
-  double uh[3];      /* u_h at the point */
-  double residual[3]; /* u_h − ū for the prescribed components, 0 for the others */
+  double uh[MICA_MAX_COMP];       /* the unknowns' approximation at the point */
+  double residual[MICA_MAX_COMP]; /* u_h − ū for the prescribed components, 0 for the others */
 } BcPoint;
 
 /* Gathers point p of condition c at load factor t. */
@@ -19,7 +19,7 @@ void bc_point(const MicaSolid *s, const MicaDirichlet *c, long p, double t, cons
 
 /* β = α E / h: the penalty or Nitsche stabilization at a point. */
 static inline double bc_beta(const MicaSolid *s, const BcPoint *bp) {
-  return s->opt.bc_alpha * s->opt.material.E / bp->h;
+  return s->opt.bc_alpha * s->opt.field.material.E / bp->h;
 }
 
 #endif

@@ -37,12 +37,12 @@ static int condition_index(const MicaSolid *s, const MicaDirichlet *c) { return 
 
 static int lagrange_point(MicaSolid *s, const MicaDirichlet *c, long p, double t, const double *u, double *R,
                           MicaSparse *K) {
-  const int dim = s->dim, cond = condition_index(s, c);
+  const int dim = s->ncomp, cond = condition_index(s, c); /* unknowns per node */
   BcPoint bp;
   bc_point(s, c, p, t, u, &bp);
-  const double scale = s->opt.material.E, ws = bp.w * scale;
+  const double scale = s->opt.field.material.E, ws = bp.w * scale;
   long mnodes[MAX_ELEMENT];
-  double psi[MAX_ELEMENT], lambda[3] = {0, 0, 0};
+  double psi[MAX_ELEMENT], lambda[MICA_MAX_COMP] = {0};
   const int nm = point_multipliers(s, c, cond, p, mnodes, psi);
   for (int v = 0; v < nm; v++)
     for (int b = 0; b < dim; b++) lambda[b] += psi[v] * u[mnodes[v] * dim + b];
@@ -73,9 +73,9 @@ static int lagrange_point(MicaSolid *s, const MicaDirichlet *c, long p, double t
 
 /* Multiplier components that are not prescribed: λ_b = 0 through an identity row and column. */
 static int pin_free_components(MicaSolid *s, const MicaDirichlet *c, const double *u, double *R, MicaSparse *K) {
-  const int dim = s->dim, cond = condition_index(s, c);
+  const int dim = s->ncomp, cond = condition_index(s, c); /* unknowns per node */
   const long nvertices = s->disc->sets[c->set].nvertices;
-  double block[9];
+  double block[MICA_MAX_COMP * MICA_MAX_COMP];
   for (long v = 0; v < nvertices; v++) {
     const long node = s->multiplier_offset[cond] + v;
     memset(block, 0, sizeof block);
@@ -96,4 +96,4 @@ static int lagrange_add(MicaSolid *s, const MicaDirichlet *c, double t, const do
   return MICA_SUCCESS;
 }
 
-const MicaBoundaryMethodOps mica_bc_lagrange = {"lagrange", 0.0, 0, 1, lagrange_add};
+const MicaBoundaryMethodOps mica_bc_lagrange = {"lagrange", 0.0, 0, 1, 0, lagrange_add};

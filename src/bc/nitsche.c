@@ -23,9 +23,9 @@ static int third_derivative(const MicaSolid *s, const MicaDirichlet *c, const Bc
   for (int cM = 0; cM < d2; cM++) {
     memcpy(Fs, F, sizeof(double) * (size_t)d2);
     Fs[cM] += step;
-    MICA_CALL(s->opt.model->eval(&s->opt.material, dim, Fs, &W, NULL, Ap));
+    MICA_CALL(s->opt.field.classical->eval(&s->opt.field.material, dim, Fs, &W, NULL, Ap));
     Fs[cM] -= 2 * step;
-    MICA_CALL(s->opt.model->eval(&s->opt.material, dim, Fs, &W, NULL, Am));
+    MICA_CALL(s->opt.field.classical->eval(&s->opt.field.material, dim, Fs, &W, NULL, Am));
     for (int bL = 0; bL < d2; bL++) {
       double sum = 0;
       for (int a = 0; a < dim; a++) {
@@ -105,7 +105,7 @@ static int nitsche_add(MicaSolid *s, const MicaDirichlet *c, double t, const dou
     BcPoint bp;
     bc_point(s, c, p, t, u, &bp);
     mica_solid_deformation_gradient(s, cache, p, u, F);
-    int ierr = s->opt.model->eval(&s->opt.material, dim, F, &W, P, A);
+    int ierr = s->opt.field.classical->eval(&s->opt.field.material, dim, F, &W, P, A);
     if (ierr) {
       mica_error_prefix("boundary point %ld of set '%s'", p + 1, s->disc->sets[c->set].name);
       return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
@@ -114,7 +114,7 @@ static int nitsche_add(MicaSolid *s, const MicaDirichlet *c, double t, const dou
     const double beta = bc_beta(s, &bp);
     nitsche_residual(dim, c->mask, &bp, P, T, beta, R);
     if (!K) continue;
-    const int consistent = s->opt.model->finite_strain;
+    const int consistent = s->opt.field.classical->finite_strain;
     if (consistent) MICA_CALL(third_derivative(s, c, &bp, F, D));
     nitsche_tangent(dim, c->mask, &bp, T, consistent ? D : NULL, beta, s->work);
     MICA_CALL(mica_sparse_add_clique(K, bp.n, bp.index, s->work));
@@ -122,4 +122,4 @@ static int nitsche_add(MicaSolid *s, const MicaDirichlet *c, double t, const dou
   return MICA_SUCCESS;
 }
 
-const MicaBoundaryMethodOps mica_bc_nitsche = {"nitsche", 100.0, 1, 0, nitsche_add};
+const MicaBoundaryMethodOps mica_bc_nitsche = {"nitsche", 100.0, 1, 0, 1, nitsche_add};

@@ -9,7 +9,7 @@
 #include "bc_private.h"
 
 static int penalty_add(MicaSolid *s, const MicaDirichlet *c, double t, const double *u, double *R, MicaSparse *K) {
-  const int dim = s->dim;
+  const int dim = s->dim, ncomp = s->ncomp;
   const long npoints = s->boundary[c->set]->npoints;
   double *Ke = s->work;
   for (long p = 0; p < npoints; p++) {
@@ -19,17 +19,17 @@ static int penalty_add(MicaSolid *s, const MicaDirichlet *c, double t, const dou
     const int p_minus_1 = s->opt.basis_order > 1 ? s->opt.basis_order - 1 : 0;
     const double beta = bc_beta(s, &bp) * pow(length / bp.h, p_minus_1), wb = bp.w * beta;
     for (long k = 0; k < bp.n; k++)
-      for (int a = 0; a < dim; a++) R[bp.index[k] * dim + a] += wb * bp.residual[a] * bp.N[k];
+      for (int a = 0; a < ncomp; a++) R[bp.index[k] * ncomp + a] += wb * bp.residual[a] * bp.N[k];
     if (!K) continue;
-    const long m = bp.n * dim;
+    const long m = bp.n * ncomp;
     for (long i = 0; i < m * m; i++) Ke[i] = 0;
     for (long k = 0; k < bp.n; k++)
       for (long l = 0; l < bp.n; l++)
-        for (int a = 0; a < dim; a++)
-          if (c->mask & (1 << a)) Ke[(k * dim + a) * m + l * dim + a] = wb * bp.N[k] * bp.N[l];
+        for (int a = 0; a < ncomp; a++)
+          if (c->mask & (1 << a)) Ke[(k * ncomp + a) * m + l * ncomp + a] = wb * bp.N[k] * bp.N[l];
     MICA_CALL(mica_sparse_add_clique(K, bp.n, bp.index, Ke));
   }
   return MICA_SUCCESS;
 }
 
-const MicaBoundaryMethodOps mica_bc_penalty = {"penalty", 1e3, 1, 0, penalty_add};
+const MicaBoundaryMethodOps mica_bc_penalty = {"penalty", 1e3, 1, 0, 0, penalty_add};

@@ -332,6 +332,15 @@ cleanup:
 const char *mica_deck_name(const MicaDeck *deck) { return deck ? deck->name : NULL; }
 const char *mica_deck_path(const MicaDeck *deck) { return deck ? deck->path : NULL; }
 
+int mica_deck_override_count(const MicaDeck *deck) {
+  return deck ? (deck->base ? deck->base : deck)->noverrides : 0;
+}
+
+const char *mica_deck_override_text(const MicaDeck *deck, int i) {
+  const MicaDeck *base = deck ? (deck->base ? deck->base : deck) : NULL;
+  return base && i >= 0 && i < base->noverrides ? base->overrides[i].text : NULL;
+}
+
 /* ---- the resolved deck ---- */
 
 /* A variant's resolved deck is the base with the element laid over it and without the overlay list:

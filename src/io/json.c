@@ -188,6 +188,18 @@ int mica_json_close(MicaJson *json) {
   return MICA_SUCCESS;
 }
 
+/* Root-level lookup only: summaries are flat where their numbers are. */
+int mica_json_get_number(const MicaJson *json, const char *key, double *value) {
+  MICA_CHECK(json && key && value, MICA_ERR_ARGUMENT, "mica_json_get_number: NULL argument");
+  const int i = find_member(json->root, key);
+  MICA_CHECK(i >= 0, MICA_ERR_ARGUMENT, "the summary has no member '%s'", key);
+  const JsonNode *node = json->root->items[i];
+  MICA_CHECK(node->kind == JSON_NUMBER || node->kind == JSON_INT, MICA_ERR_ARGUMENT,
+             "the summary's member '%s' is not a number", key);
+  *value = node->kind == JSON_NUMBER ? node->value.number : (double)node->value.integer;
+  return MICA_SUCCESS;
+}
+
 /* ---- serialization ---- */
 
 static int buffer_append(Buffer *buffer, const char *text, size_t length) {

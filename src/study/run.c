@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mica/cosserat.h"
 #include "mica/timer.h"
 #include "run.h"
 #include "study_common.h"
@@ -136,13 +137,11 @@ static int read_layout(const MicaDeck *deck, int dim, int gmsh, MicaLayoutSpec *
 
 /* ---- material, conditions, loads ------------------------------------------------------------------------ */
 
-static int read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt) {
-  const char *name, *plane;
+/* A classical model: E and ν, plane strain or stress in 2-D, adapted as a field model. */
+static int read_classical(const MicaDeck *deck, int dim, const MicaModelOps *model, MicaFieldModel *field) {
+  const char *plane;
   double E, nu;
   char where[256];
-  MICA_CALL(mica_deck_string(deck, "material.model", &name));
-  opt->model = mica_model_find(name);
-  MICA_CHECK(opt->model, MICA_ERR_ARGUMENT, "schema and model registry disagree on '%s'", name);
   mica_deck_where(deck, "material", where, sizeof where);
   MICA_CHECK(mica_deck_has(deck, "material.E") && mica_deck_has(deck, "material.nu"), MICA_ERR_INPUT,
              "%s: material needs E and nu", where);
@@ -152,12 +151,66 @@ static int read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt) {
   MicaPlaneKind kind = dim == 3 ? MICA_PLANE_NONE : !strcmp(plane, "stress") ? MICA_PLANE_STRESS : MICA_PLANE_STRAIN;
   mica_deck_where(deck, !(E > 0 && isfinite(E)) ? "material.E" : !(nu > -1 && nu < 0.5) ? "material.nu" : "material.plane", where,
                   sizeof where);
-  int ierr = mica_material_set(opt->model, E, nu, kind, &opt->material);
+  MicaMaterial mat;
+  int ierr = mica_material_set(model, E, nu, kind, &mat);
+  if (ierr) {
+    mica_error_prefix("%s", where);
+    return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  }
+  return mica_field_classical_set(field, model, &mat);
+}
+
+static int optional_float(const MicaDeck *deck, const char *path, double fallback, double *value) {
+  *value = fallback;
+  if (mica_deck_has(deck, path)) MICA_CALL(mica_deck_float(deck, path, value));
+  return MICA_SUCCESS;
+}
+
+/* Cosserat: technical constants (G, ν, N, l | l_t, l_b, Ψ) when material.G is given, else Eringen's. */
+static int read_cosserat(const MicaDeck *deck, int dim, MicaFieldModel *field) {
+  char where[256];
+  mica_deck_where(deck, "material", where, sizeof where);
+  int ierr;
+  if (mica_deck_has(deck, "material.G")) {
+    double G, nu, N, l, lt, lb, psi;
+    MICA_CALL(optional_float(deck, "material.G", 0, &G));
+    MICA_CALL(optional_float(deck, "material.nu", 0, &nu));
+    MICA_CALL(optional_float(deck, "material.N", -1, &N));
+    MICA_CALL(optional_float(deck, "material.l", 0, &l));
+    MICA_CALL(optional_float(deck, "material.l_t", l, &lt));
+    MICA_CALL(optional_float(deck, "material.l_b", l, &lb));
+    MICA_CALL(optional_float(deck, "material.psi", 1.0, &psi));
+    MICA_CHECK(mica_deck_has(deck, "material.N") && (dim == 3 || mica_deck_has(deck, "material.l")), MICA_ERR_INPUT,
+               "%s: Cosserat technical constants need G, nu, N and %s", where, dim == 2 ? "l" : "l_t, l_b, psi");
+    ierr = mica_cosserat_set_technical(field, dim, G, nu, N, lt, lb, psi);
+  } else {
+    double lambda, mu, kappa, alpha, beta, gamma;
+    MICA_CHECK(mica_deck_has(deck, "material.lambda") && mica_deck_has(deck, "material.mu") &&
+                   mica_deck_has(deck, "material.kappa") && mica_deck_has(deck, "material.gamma"),
+               MICA_ERR_INPUT, "%s: a Cosserat material needs G, nu, N, l (technical constants) or lambda, mu, kappa, "
+               "gamma (and alpha, beta in 3-D; Eringen's constants)", where);
+    MICA_CALL(mica_deck_float(deck, "material.lambda", &lambda));
+    MICA_CALL(mica_deck_float(deck, "material.mu", &mu));
+    MICA_CALL(mica_deck_float(deck, "material.kappa", &kappa));
+    MICA_CALL(mica_deck_float(deck, "material.alpha", &alpha));
+    MICA_CALL(mica_deck_float(deck, "material.beta", &beta));
+    MICA_CALL(mica_deck_float(deck, "material.gamma", &gamma));
+    ierr = mica_cosserat_set_eringen(field, dim, lambda, mu, kappa, alpha, beta, gamma);
+  }
   if (ierr) {
     mica_error_prefix("%s", where);
     return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
   }
   return MICA_SUCCESS;
+}
+
+static int read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt) {
+  const char *name;
+  MICA_CALL(mica_deck_string(deck, "material.model", &name));
+  if (!strcmp(name, "cosserat")) return read_cosserat(deck, dim, &opt->field);
+  const MicaModelOps *model = mica_model_find(name);
+  MICA_CHECK(model, MICA_ERR_ARGUMENT, "schema and model registry disagree on '%s'", name);
+  return read_classical(deck, dim, model, &opt->field);
 }
 
 static int find_set(const MicaDeck *deck, const MicaDiscretization *disc, const char *path, int *set) {
@@ -171,24 +224,48 @@ static int find_set(const MicaDeck *deck, const MicaDiscretization *disc, const 
   MICA_ERROR(MICA_ERR_INPUT, "%s: there is no boundary set '%s'; this body has: %s", where, name, names);
 }
 
-/* Components "x", "y", "z" of a list element (prefix.[i].<letter><axis>); returns the mask of those given. */
-static int read_components(const MicaDeck *deck, const char *element, char letter, int dim, MicaFunction **f,
-                           int *mask) {
+/* The model's named components of a list element (prefix.[i].<name>: "ux", "phiz", "tx", "mz", ...); returns
+ * the mask of those given. A name the schema knows but this model lacks ("uz" in 2-D, "phiz" for a
+ * classical model) is an error naming it. */
+static int read_components(const MicaDeck *deck, const char *element, const char *const *names,
+                           const char *const *all_names, MicaFunction **f, int *mask) {
   *mask = 0;
-  for (int a = 0; a < 3; a++) {
+  for (int c = 0; names[c]; c++) {
     char path[160];
-    snprintf(path, sizeof path, "%s.%c%c", element, letter, 'x' + a);
+    snprintf(path, sizeof path, "%s.%s", element, names[c]);
     if (!mica_deck_has(deck, path)) continue;
-    char where[256];
+    MICA_CALL(mica_deck_function(deck, path, &f[c]));
+    *mask |= 1 << c;
+  }
+  for (int k = 0; all_names[k]; k++) {
+    int known = 0;
+    for (int c = 0; names[c]; c++) known |= !strcmp(names[c], all_names[k]);
+    char path[160], where[256];
+    snprintf(path, sizeof path, "%s.%s", element, all_names[k]);
+    if (known || !mica_deck_has(deck, path)) continue;
     mica_deck_where(deck, path, where, sizeof where);
-    MICA_CHECK(a < dim, MICA_ERR_INPUT, "%s: %c%c does not exist in a %d-D problem", where, letter, 'x' + a, dim);
-    MICA_CALL(mica_deck_function(deck, path, &f[a]));
-    *mask |= 1 << a;
+    MICA_ERROR(MICA_ERR_INPUT, "%s: %s is not an unknown (or load) of this model in this dimension", where,
+               all_names[k]);
   }
   return MICA_SUCCESS;
 }
 
-static int read_dirichlet(const MicaDeck *deck, const MicaDiscretization *disc, int *count, MicaDirichlet **out) {
+/* The model's names truncated to its ncomp unknowns. */
+static int model_names(const MicaFieldModel *m, int dim, int traction, const char **names) {
+  const char *const *all = traction ? m->ops->traction_names(dim) : m->ops->component_names(dim);
+  const int n = m->ops->ncomp(dim);
+  for (int c = 0; c < n; c++) names[c] = all[c];
+  names[n] = NULL;
+  return n;
+}
+
+static const char *const ALL_UNKNOWNS[] = {"ux", "uy", "uz", "phix", "phiy", "phiz", NULL};
+static const char *const ALL_TRACTIONS[] = {"tx", "ty", "tz", "mx", "my", "mz", NULL};
+
+static int read_dirichlet(const MicaDeck *deck, const MicaDiscretization *disc, const MicaFieldModel *m, int *count,
+                          MicaDirichlet **out) {
+  const char *names[MICA_MAX_COMP + 1];
+  model_names(m, disc->dim, 0, names);
   *count = mica_deck_list_length(deck, "bcs.dirichlet");
   MICA_CALL(MICA_CALLOC(*out, *count > 0 ? *count : 1));
   for (int i = 0; i < *count; i++) {
@@ -198,14 +275,17 @@ static int read_dirichlet(const MicaDeck *deck, const MicaDiscretization *disc, 
     snprintf(path, sizeof path, "%s.set", element);
     mica_deck_where(deck, path, c->where, sizeof c->where);
     MICA_CALL(find_set(deck, disc, path, &c->set));
-    MICA_CALL(read_components(deck, element, 'u', disc->dim, c->value, &c->mask));
-    MICA_CHECK(c->mask, MICA_ERR_INPUT, "%s: this condition prescribes nothing; give ux, uy%s", c->where,
-               disc->dim == 3 ? " or uz" : "");
+    MICA_CALL(read_components(deck, element, names, ALL_UNKNOWNS, c->value, &c->mask));
+    MICA_CHECK(c->mask, MICA_ERR_INPUT, "%s: this condition prescribes nothing; give %s, %s, ...", c->where, names[0],
+               names[1]);
   }
   return MICA_SUCCESS;
 }
 
-static int read_tractions(const MicaDeck *deck, const MicaDiscretization *disc, int *count, MicaTraction **out) {
+static int read_tractions(const MicaDeck *deck, const MicaDiscretization *disc, const MicaFieldModel *m, int *count,
+                          MicaTraction **out) {
+  const char *names[MICA_MAX_COMP + 1];
+  model_names(m, disc->dim, 1, names);
   *count = mica_deck_list_length(deck, "bcs.traction");
   MICA_CALL(MICA_CALLOC(*out, *count > 0 ? *count : 1));
   for (int i = 0; i < *count; i++) {
@@ -216,16 +296,21 @@ static int read_tractions(const MicaDeck *deck, const MicaDiscretization *disc, 
     snprintf(path, sizeof path, "%s.set", element);
     mica_deck_where(deck, path, c->where, sizeof c->where);
     MICA_CALL(find_set(deck, disc, path, &c->set));
-    MICA_CALL(read_components(deck, element, 't', disc->dim, c->value, &mask));
+    MICA_CALL(read_components(deck, element, names, ALL_TRACTIONS, c->value, &mask));
   }
   return MICA_SUCCESS;
 }
 
-static int read_body_force(const MicaDeck *deck, int dim, MicaFunction **body) {
-  for (int a = 0; a < dim; a++) {
+/* Body loads by unknown: loads.b<axis> for a displacement u<axis>, loads.c<axis> for a micro-rotation
+ * phi<axis> (a body couple). */
+static int read_body_force(const MicaDeck *deck, int dim, const MicaFieldModel *m, MicaFunction **body) {
+  const char *names[MICA_MAX_COMP + 1];
+  const int ncomp = model_names(m, dim, 0, names);
+  for (int c = 0; c < ncomp; c++) {
     char path[32];
-    snprintf(path, sizeof path, "loads.b%c", 'x' + a);
-    if (mica_deck_has(deck, path)) MICA_CALL(mica_deck_function(deck, path, &body[a]));
+    const int rotation = names[c][0] == 'p'; /* "phix": a couple; "ux": a force */
+    snprintf(path, sizeof path, "loads.%c%c", rotation ? 'c' : 'b', names[c][strlen(names[c]) - 1]);
+    if (mica_deck_has(deck, path)) MICA_CALL(mica_deck_function(deck, path, &body[c]));
   }
   return MICA_SUCCESS;
 }
@@ -241,21 +326,26 @@ static int read_bc_method(const MicaDeck *deck, MicaSolidOptions *opt) {
   return MICA_SUCCESS;
 }
 
-static int read_exact(const MicaDeck *deck, RunProblem *rp) {
-  for (int a = 0; a < rp->disc->dim; a++) {
+/* The exact solution, one expression per unknown of the model (exact.ux, exact.phiz, ...), and its
+ * gradient by symbolic differentiation. */
+static int read_exact(const MicaDeck *deck, RunProblem *rp, const MicaFieldModel *m) {
+  const int dim = rp->disc->dim;
+  const char *names[MICA_MAX_COMP + 1];
+  rp->ncomp = model_names(m, dim, 0, names);
+  for (int c = 0; c < rp->ncomp; c++) {
     char path[32];
-    snprintf(path, sizeof path, "exact.u%c", 'x' + a);
+    snprintf(path, sizeof path, "exact.%s", names[c]);
     if (!mica_deck_has(deck, path)) continue;
-    MICA_CALL(mica_deck_function(deck, path, &rp->exact[a]));
-    for (int J = 0; J < rp->disc->dim; J++) MICA_CALL(mica_function_derivative(rp->exact[a], J, &rp->exact_grad[a][J]));
+    MICA_CALL(mica_deck_function(deck, path, &rp->exact[c]));
+    for (int J = 0; J < dim; J++) MICA_CALL(mica_function_derivative(rp->exact[c], J, &rp->exact_grad[c][J]));
     rp->has_exact = 1;
   }
   if (rp->has_exact)
-    for (int a = 0; a < rp->disc->dim; a++) {
+    for (int c = 0; c < rp->ncomp; c++) {
       char where[256];
       mica_deck_where(deck, "exact", where, sizeof where);
-      MICA_CHECK(rp->exact[a], MICA_ERR_INPUT, "%s: an exact solution needs every component (u%c is missing)", where,
-                 'x' + a);
+      MICA_CHECK(rp->exact[c], MICA_ERR_INPUT, "%s: an exact solution needs every unknown (%s is missing)", where,
+                 names[c]);
     }
   return MICA_SUCCESS;
 }
@@ -270,9 +360,9 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp) {
   int ndirichlet = 0, ntraction = 0, ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(read_material(deck, rp->disc->dim, &opt));
   MICA_CALL_CLEANUP(read_bc_method(deck, &opt));
-  MICA_CALL_CLEANUP(read_body_force(deck, rp->disc->dim, opt.body));
-  MICA_CALL_CLEANUP(read_dirichlet(deck, rp->disc, &ndirichlet, &dirichlet));
-  MICA_CALL_CLEANUP(read_tractions(deck, rp->disc, &ntraction, &traction));
+  MICA_CALL_CLEANUP(read_body_force(deck, rp->disc->dim, &opt.field, opt.body));
+  MICA_CALL_CLEANUP(read_dirichlet(deck, rp->disc, &opt.field, &ndirichlet, &dirichlet));
+  MICA_CALL_CLEANUP(read_tractions(deck, rp->disc, &opt.field, &ntraction, &traction));
   long order;
   MICA_CALL_CLEANUP(mica_deck_int(deck, "mls.order", &order));
   opt.basis_order = (int)order;
@@ -282,11 +372,11 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp) {
   rp->time_cache_pattern = mica_wtime() - start;
   return ierr; /* the solid owns the conditions now, whether or not it was built */
 cleanup:
-  for (int a = 0; a < 3; a++) mica_function_destroy(&opt.body[a]);
+  for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&opt.body[a]);
   for (int c = 0; c < ndirichlet; c++)
-    for (int a = 0; a < 3; a++) mica_function_destroy(&dirichlet[c].value[a]);
+    for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&dirichlet[c].value[a]);
   for (int c = 0; c < ntraction; c++)
-    for (int a = 0; a < 3; a++) mica_function_destroy(&traction[c].value[a]);
+    for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&traction[c].value[a]);
   free(dirichlet);
   free(traction);
   return ierr;
@@ -309,8 +399,8 @@ int run_problem_build(const MicaDeck *deck, RunProblem *rp) {
   start = mica_wtime();
   MICA_CALL(mica_study_mls_input(mls_create(rp->disc->dim, rp->disc->nparticles, rp->disc->x, &mls_opt, &rp->mls)));
   rp->time_mls = mica_wtime() - start;
-  MICA_CALL(read_exact(deck, rp));
   MICA_CALL(build_solid(deck, rp));
+  MICA_CALL(read_exact(deck, rp, &rp->solid->opt.field));
   return MICA_SUCCESS;
 }
 
@@ -319,7 +409,7 @@ void run_problem_free(RunProblem *rp) {
   mls_destroy(&rp->mls);
   mica_discretization_destroy(&rp->disc);
   mica_shape_cache_destroy(&rp->at_particles);
-  for (int a = 0; a < 3; a++) {
+  for (int a = 0; a < MICA_MAX_COMP; a++) {
     mica_function_destroy(&rp->exact[a]);
     for (int J = 0; J < 3; J++) mica_function_destroy(&rp->exact_grad[a][J]);
   }
@@ -355,7 +445,9 @@ static int add_counts(const RunProblem *rp, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "cache_bytes", (long)cache_bytes(s)));
   MICA_CALL(mica_json_int(summary, "matrix_bytes", (long)(s->K->nnz * 16 + (s->ndof + 1) * 8)));
   MICA_CALL(mica_json_number(summary, "volume", rp->disc->volume));
-  MICA_CALL(mica_json_string(summary, "model", s->opt.model->name));
+  MICA_CALL(mica_json_string(summary, "model", s->opt.field.classical ? s->opt.field.classical->name
+                                                                       : s->opt.field.ops->name));
+  MICA_CALL(mica_json_int(summary, "unknowns_per_particle", s->ncomp));
   MICA_CALL(mica_json_string(summary, "bc_method", s->opt.bc_method->name));
   MICA_CALL(mica_json_number(summary, "bc_alpha", s->opt.bc_alpha));
   MICA_CALL(mica_json_number(summary, "time_discretize", rp->time_discretize));

@@ -13,9 +13,9 @@ typedef struct RunProblem {
   MicaDiscretization *disc;
   MlsApprox *mls;
   MicaSolid *solid;
-  MicaFunction *exact[3];      /* exact displacement, or NULL */
-  MicaFunction *exact_grad[3][3]; /* its gradient ∂u_a/∂X_J */
-  int has_exact;
+  MicaFunction *exact[MICA_MAX_COMP];      /* exact unknowns (displacements, micro-rotations), or NULL */
+  MicaFunction *exact_grad[MICA_MAX_COMP][3]; /* their gradients ∂v_c/∂X_J */
+  int has_exact, ncomp;
   MicaShapeCache *at_particles; /* shape functions at the particles, for output (built on first use) */
   double time_discretize, time_mls, time_cache_pattern;
 } RunProblem;

@@ -16,66 +16,78 @@ static double von_mises(const double *s) {
   return sqrt(0.5 * (dxx * dxx + dyy * dyy + dzz * dzz) + 3 * (s[1] * s[1] + s[5] * s[5] + s[2] * s[2]));
 }
 
-/* Stress and strain (3×3) from ∇u_h at one point. */
-static int stress_strain(const RunProblem *rp, const double *grad, double *sigma, double *strain) {
+/* Force stress, couple stress and (classical models) strain, 3×3 each, at kinematics q. */
+static int stresses(const RunProblem *rp, const double *q, double *sigma, double *couple, double *strain) {
   const MicaSolid *s = rp->solid;
-  const int dim = s->dim;
-  double F[9];
-  for (int a = 0; a < dim; a++)
-    for (int J = 0; J < dim; J++) F[a * dim + J] = (a == J) + grad[a * dim + J];
-  return mica_model_stress_strain(s->opt.model, &s->opt.material, dim, F, sigma, strain);
+  const MicaFieldModel *m = &s->opt.field;
+  memset(strain, 0, sizeof(double) * 9);
+  MICA_CALL(m->ops->stress(m, s->dim, q, sigma, couple));
+  if (m->classical) {
+    double F[9], sig[9];
+    const int dim = s->dim;
+    for (int a = 0; a < dim; a++)
+      for (int J = 0; J < dim; J++) F[a * dim + J] = (a == J) + q[s->ncomp + a * dim + J];
+    MICA_CALL(mica_model_stress_strain(m->classical, &m->material, dim, F, sig, strain));
+  }
+  return MICA_SUCCESS;
 }
 
-static void exact_at(const RunProblem *rp, const double *x, double *u, double *grad) {
-  const int dim = rp->disc->dim;
+/* The exact unknowns and their gradients at x (q layout: values, then gradients). */
+static void exact_at(const RunProblem *rp, const double *x, double *q) {
+  const int dim = rp->disc->dim, ncomp = rp->ncomp;
   double p[3] = {0, 0, 0};
   memcpy(p, x, sizeof(double) * (size_t)dim);
-  for (int a = 0; a < dim; a++) {
-    if (u) u[a] = mica_function_eval(rp->exact[a], p, 1.0);
-    if (grad)
-      for (int J = 0; J < dim; J++) grad[a * dim + J] = mica_function_eval(rp->exact_grad[a][J], p, 1.0);
+  for (int c = 0; c < ncomp; c++) {
+    q[c] = mica_function_eval(rp->exact[c], p, 1.0);
+    for (int J = 0; J < dim; J++) q[ncomp + c * dim + J] = mica_function_eval(rp->exact_grad[c][J], p, 1.0);
   }
 }
 
 /* ---- fields at the particles ---------------------------------------------------------------------------- */
 
 typedef struct {
-  double *disp, *strain, *stress, *mises, *error;
+  double *disp, *rotation, *strain, *stress, *couple, *mises, *error;
 } ParticleFields;
 
 static void fields_free(ParticleFields *f) {
-  free(f->disp), free(f->strain), free(f->stress), free(f->mises), free(f->error);
+  free(f->disp), free(f->rotation), free(f->strain), free(f->stress), free(f->couple), free(f->mises), free(f->error);
+}
+
+static int fields_alloc(const RunProblem *rp, long n, ParticleFields *f) {
+  MICA_CALL(MICA_CALLOC(f->disp, n * 3));
+  MICA_CALL(MICA_CALLOC(f->strain, n * 9));
+  MICA_CALL(MICA_CALLOC(f->stress, n * 9));
+  MICA_CALL(MICA_CALLOC(f->mises, n));
+  if (rp->solid->ncomp > rp->disc->dim) {
+    MICA_CALL(MICA_CALLOC(f->rotation, n * 3));
+    MICA_CALL(MICA_CALLOC(f->couple, n * 9));
+  }
+  if (rp->has_exact) MICA_CALL(MICA_CALLOC(f->error, n * 3));
+  return MICA_SUCCESS;
 }
 
 static int fields_compute(RunProblem *rp, const double *u, ParticleFields *f) {
-  const int dim = rp->disc->dim;
+  const MicaSolid *s = rp->solid;
+  const int dim = rp->disc->dim, ncomp = s->ncomp;
   const long n = rp->disc->nparticles;
-  double *uh = NULL, *grad = NULL;
-  int ierr = MICA_SUCCESS;
   if (!rp->at_particles)
-    MICA_CALL(mica_shape_cache_create(rp->mls, n, rp->disc->x, "output at particle", &rp->at_particles));
-  MICA_CALL_CLEANUP(MICA_MALLOC(uh, n * dim));
-  MICA_CALL_CLEANUP(MICA_MALLOC(grad, n * dim * dim));
-  MICA_CALL_CLEANUP(MICA_CALLOC(f->disp, n * 3));
-  MICA_CALL_CLEANUP(MICA_CALLOC(f->strain, n * 9));
-  MICA_CALL_CLEANUP(MICA_CALLOC(f->stress, n * 9));
-  MICA_CALL_CLEANUP(MICA_CALLOC(f->mises, n));
-  if (rp->has_exact) MICA_CALL_CLEANUP(MICA_CALLOC(f->error, n * 3));
-  mica_solid_interpolate(rp->solid, rp->at_particles, u, uh, grad);
+    MICA_CALL(mica_shape_cache_create(rp->mls, n, rp->disc->x, s->opt.field.ops->order, "output at particle",
+                                      &rp->at_particles));
+  MICA_CALL(fields_alloc(rp, n, f));
+  double q[128], qe[64], couple[9];
   for (long i = 0; i < n; i++) {
-    for (int a = 0; a < dim; a++) f->disp[i * 3 + a] = uh[i * dim + a];
-    MICA_CALL_CLEANUP(stress_strain(rp, grad + i * dim * dim, f->stress + i * 9, f->strain + i * 9));
+    mica_solid_kinematics(s, rp->at_particles, i, u, q);
+    for (int a = 0; a < dim; a++) f->disp[i * 3 + a] = q[a];
+    if (f->rotation) /* 2-D: φ_z is the only micro-rotation */
+      for (int c = dim; c < ncomp; c++) f->rotation[i * 3 + (ncomp - dim == 1 ? 2 : c - dim)] = q[c];
+    MICA_CALL(stresses(rp, q, f->stress + i * 9, f->couple ? f->couple + i * 9 : couple, f->strain + i * 9));
     f->mises[i] = von_mises(f->stress + i * 9);
     if (rp->has_exact) {
-      double ue[3];
-      exact_at(rp, rp->disc->x + i * dim, ue, NULL);
-      for (int a = 0; a < dim; a++) f->error[i * 3 + a] = uh[i * dim + a] - ue[a];
+      exact_at(rp, rp->disc->x + i * dim, qe);
+      for (int a = 0; a < dim; a++) f->error[i * 3 + a] = q[a] - qe[a];
     }
   }
-cleanup:
-  free(uh);
-  free(grad);
-  return ierr;
+  return MICA_SUCCESS;
 }
 
 int run_output_step(void *ctx, int step, double t, const double *u) {
@@ -87,10 +99,16 @@ int run_output_step(void *ctx, int step, double t, const double *u) {
   MICA_CALL_CLEANUP(fields_compute(out->rp, u, &f));
   snprintf(out->files[out->nsteps], sizeof out->files[0], "step_%04d.vtu", step);
   MICA_CALL_CLEANUP(mica_path_join(out->outdir, out->files[out->nsteps], &path));
-  MicaVtkField fields[5] = {{"displacement", 3, f.disp}, {"strain", 9, f.strain}, {"stress", 9, f.stress},
-                            {"von_mises", 1, f.mises}, {"error", 3, f.error}};
-  MICA_CALL_CLEANUP(mica_vtu_write(path, out->rp->disc->dim, out->rp->disc->nparticles, out->rp->disc->x,
-                                   out->rp->has_exact ? 5 : 4, fields));
+  MicaVtkField fields[8];
+  int nf = 0;
+  fields[nf++] = (MicaVtkField){"displacement", 3, f.disp};
+  if (f.rotation) fields[nf++] = (MicaVtkField){"microrotation", 3, f.rotation};
+  if (out->rp->solid->opt.field.classical) fields[nf++] = (MicaVtkField){"strain", 9, f.strain};
+  fields[nf++] = (MicaVtkField){"stress", 9, f.stress};
+  if (f.couple) fields[nf++] = (MicaVtkField){"couple_stress", 9, f.couple};
+  fields[nf++] = (MicaVtkField){"von_mises", 1, f.mises};
+  if (f.error) fields[nf++] = (MicaVtkField){"error", 3, f.error};
+  MICA_CALL_CLEANUP(mica_vtu_write(path, out->rp->disc->dim, out->rp->disc->nparticles, out->rp->disc->x, nf, fields));
   out->times[out->nsteps++] = t;
 cleanup:
   free(path);
@@ -111,53 +129,32 @@ int run_output_finish(RunOutput *out) {
 
 /* ---- error norms ----------------------------------------------------------------------------------------- */
 
-/* e:A0:e with A0 the model's tangent at the reference configuration (the elasticity tensor). */
-static double energy_product(int dim, const double *A0, const double *e) {
-  double sum = 0;
-  const int d2 = dim * dim;
-  for (int i = 0; i < d2; i++)
-    for (int j = 0; j < d2; j++) sum += e[i] * A0[i * d2 + j] * e[j];
-  return sum;
-}
-
+/* Relative errors over the volume quadrature points, of all unknowns: L2 of the values, H1 seminorm of the
+ * gradients, and the energy norm e·D₀·e with D₀ the model's D at q = 0 (for classical models: ∇e:C:∇e). */
 int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary) {
   if (!rp->has_exact) return MICA_SUCCESS;
   const MicaSolid *s = rp->solid;
-  const int dim = s->dim, d2 = dim * dim;
+  const int dim = s->dim, ncomp = s->ncomp, nq = s->nq, nvg = ncomp * (1 + dim);
   const MicaShapeCache *c = s->volume;
-  double identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, F0[9], A0[81], P0[9], W0;
-  for (int a = 0; a < dim; a++)
-    for (int J = 0; J < dim; J++) F0[a * dim + J] = identity[a * 3 + J];
-  MICA_CALL(s->opt.model->eval(&s->opt.material, dim, F0, &W0, P0, A0));
-  double *uh = NULL, *grad = NULL;
-  MICA_CALL(MICA_MALLOC(uh, c->npoints * dim));
-  int ierr = MICA_MALLOC(grad, c->npoints * d2);
-  if (ierr) {
-    free(uh);
-    return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
-  }
-  mica_solid_interpolate(s, c, u, uh, grad);
+  double *D0 = NULL, q0[128] = {0}, W0, s0[128];
+  MICA_CALL(MICA_MALLOC(D0, nq * nq));
+  int ierr = s->opt.field.ops->eval(&s->opt.field, dim, q0, &W0, s0, D0);
   double l2[2] = {0, 0}, h1[2] = {0, 0}, en[2] = {0, 0};
-  for (long p = 0; p < c->npoints; p++) {
-    double ue[3], ge[9], eu[9];
-    exact_at(rp, rp->disc->qx + p * dim, ue, ge);
+  for (long p = 0; p < c->npoints && !ierr; p++) {
+    double q[128], qe[128] = {0}, e[128] = {0};
+    mica_solid_kinematics(s, c, p, u, q);
+    exact_at(rp, rp->disc->qx + p * dim, qe);
     const double w = rp->disc->qw[p];
-    for (int a = 0; a < dim; a++) {
-      l2[0] += w * (uh[p * dim + a] - ue[a]) * (uh[p * dim + a] - ue[a]);
-      l2[1] += w * ue[a] * ue[a];
-    }
-    for (int i = 0; i < d2; i++) {
-      eu[i] = grad[p * d2 + i] - ge[i];
-      h1[0] += w * eu[i] * eu[i];
-      h1[1] += w * ge[i] * ge[i];
-    }
-    en[0] += w * energy_product(dim, A0, eu);
-    en[1] += w * energy_product(dim, A0, ge);
+    for (int i = 0; i < nvg; i++) e[i] = q[i] - qe[i]; /* Hessian slots: no exact second derivatives, left 0 */
+    for (int i = 0; i < ncomp; i++) l2[0] += w * e[i] * e[i], l2[1] += w * qe[i] * qe[i];
+    for (int i = ncomp; i < nvg; i++) h1[0] += w * e[i] * e[i], h1[1] += w * qe[i] * qe[i];
+    for (int i = 0; i < nvg; i++)
+      for (int j = 0; j < nvg; j++) en[0] += w * e[i] * D0[i * nq + j] * e[j], en[1] += w * qe[i] * D0[i * nq + j] * qe[j];
   }
-  free(uh);
-  free(grad);
+  free(D0);
+  MICA_CALL(ierr);
   const double el2 = sqrt(l2[0] / fmax(l2[1], 1e-300)), eh1 = sqrt(h1[0] / fmax(h1[1], 1e-300)),
-               een = sqrt(en[0] / fmax(en[1], 1e-300));
+               een = sqrt(fabs(en[0]) / fmax(en[1], 1e-300));
   MICA_CALL(mica_json_number(summary, "error_l2", el2));
   MICA_CALL(mica_json_number(summary, "error_h1", eh1));
   MICA_CALL(mica_json_number(summary, "error_energy", een));
@@ -167,21 +164,25 @@ int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary) {
 
 /* ---- probes ------------------------------------------------------------------------------------------------ */
 
-/* The value of a named field ("ux", "sxy", "mises", ...) from u_h, the strain and the stress at a point. */
-static double probe_field(const char *field, const double *uh, const double *strain, const double *sigma) {
-  static const struct { const char *suffix; int i, j; } components[] = {
-      {"xx", 0, 0}, {"yy", 1, 1}, {"zz", 2, 2}, {"xy", 0, 1}, {"yz", 1, 2}, {"xz", 0, 2}};
-  if (field[0] == 'u') return uh[field[1] - 'x'];
+/* The value of a named field at a point: an unknown by its name ("ux", "phiz"), a strain e.., a force
+ * stress s.. or couple stress m.. component (first index the one contracted with the normal), or mises. */
+static double probe_field(const RunProblem *rp, const char *field, const double *q, const double *strain,
+                          const double *sigma, const double *couple) {
+  static const char *const axes = "xyz";
+  const MicaFieldModel *m = &rp->solid->opt.field;
+  const char *const *names = m->ops->component_names(rp->disc->dim);
+  for (int c = 0; c < rp->solid->ncomp; c++)
+    if (!strcmp(field, names[c])) return q[c];
   if (!strcmp(field, "mises")) return von_mises(sigma);
-  const double *tensor = field[0] == 'e' ? strain : sigma;
-  for (size_t k = 0; k < sizeof components / sizeof *components; k++)
-    if (!strcmp(field + 1, components[k].suffix)) return tensor[components[k].i * 3 + components[k].j];
-  return NAN; /* unreachable: the schema admits only the names above */
+  const double *tensor = field[0] == 'e' ? strain : field[0] == 'm' ? couple : sigma;
+  const int i = (int)(strchr(axes, field[1]) - axes), j = (int)(strchr(axes, field[2]) - axes);
+  return tensor[i * 3 + j];
 }
 
 static int probe_one(RunProblem *rp, int i, const double *u, MlsShape *sh, MicaJson *summary) {
   const MicaDeck *deck = rp->deck;
-  const int dim = rp->disc->dim;
+  const MicaSolid *s = rp->solid;
+  const int dim = rp->disc->dim, ncomp = s->ncomp, nh = dim * (dim + 1) / 2;
   char path[96], where[256];
   const char *name, *field;
   double point[3] = {0, 0, 0}, scale;
@@ -196,22 +197,29 @@ static int probe_one(RunProblem *rp, int i, const double *u, MlsShape *sh, MicaJ
   MICA_CALL(mica_deck_floats(deck, path, point, 3, &n));
   mica_deck_where(deck, path, where, sizeof where);
   MICA_CHECK(n == dim, MICA_ERR_INPUT, "%s: probe '%s' needs a point with %d coordinates", where, name, dim);
-  MICA_CHECK(!(field[0] == 'u' && field[1] - 'x' >= dim), MICA_ERR_INPUT, "%s: probe '%s' asks for %s in a %d-D problem",
-             where, name, field, dim);
-  int ierr = mls_eval(rp->mls, point, MLS_GRADIENT, sh);
+  const char *const *names = s->opt.field.ops->component_names(dim);
+  int is_unknown = 0, is_tensor = (field[0] == 's' || field[0] == 'e' || field[0] == 'm') && strlen(field) == 3;
+  for (int c = 0; c < ncomp; c++) is_unknown |= !strcmp(field, names[c]);
+  MICA_CHECK(is_unknown || is_tensor || !strcmp(field, "mises"), MICA_ERR_INPUT,
+             "%s: probe '%s' asks for %s, which this model in %d-D does not have", where, name, field, dim);
+  MICA_CHECK(!(field[0] == 'e' && is_tensor && !s->opt.field.classical), MICA_ERR_INPUT,
+             "%s: probe '%s': strains are reported for classical models only", where, name);
+  int ierr = mls_eval(rp->mls, point, s->opt.field.ops->order >= 2 ? MLS_HESSIAN : MLS_GRADIENT, sh);
   if (ierr) {
     mica_error_prefix("%s: probe '%s'", where, name);
     return mica_error_trace(__FILE__, __LINE__, __func__, ierr == MICA_ERR_NUMERIC ? MICA_ERR_INPUT : ierr);
   }
-  double uh[3] = {0, 0, 0}, grad[9] = {0}, sigma[9], strain[9];
+  double q[128] = {0}, sigma[9], couple[9] = {0}, strain[9];
   for (long k = 0; k < sh->n; k++)
-    for (int a = 0; a < dim; a++) {
-      const double uk = u[sh->index[k] * dim + a];
-      uh[a] += sh->N[k] * uk;
-      for (int J = 0; J < dim; J++) grad[a * dim + J] += sh->dN[J * sh->n + k] * uk;
+    for (int c = 0; c < ncomp; c++) {
+      const double uk = u[sh->index[k] * ncomp + c];
+      q[c] += sh->N[k] * uk;
+      for (int J = 0; J < dim; J++) q[ncomp + c * dim + J] += sh->dN[J * sh->n + k] * uk;
+      if (s->opt.field.ops->order >= 2)
+        for (int h = 0; h < nh; h++) q[ncomp * (1 + dim) + c * nh + h] += sh->ddN[h * sh->n + k] * uk;
     }
-  MICA_CALL(stress_strain(rp, grad, sigma, strain));
-  const double value = scale * probe_field(field, uh, strain, sigma);
+  MICA_CALL(stresses(rp, q, sigma, couple, strain));
+  const double value = scale * probe_field(rp, field, q, strain, sigma, couple);
   MICA_CALL(mica_json_number(summary, name, value));
   printf("probe %s = %.10g\n", name, value);
   return MICA_SUCCESS;

@@ -1,0 +1,25 @@
+#!/usr/bin/env python3
+"""Regenerates the settings tables of docs/input.md from `mica help <command>` (run after changing a schema;
+tests/cli/docs.sh fails when a setting is missing from the page). Usage: python3 docs/gen_input_tables.py"""
+import re
+import subprocess
+
+def table(command):
+    out = subprocess.run(['bin/mica', 'help', command], capture_output=True, text=True, check=True).stdout.splitlines()
+    start = [k for k, line in enumerate(out) if line.startswith('setting ')][0]
+    header = out[start]
+    cols = [header.index(word) for word in ('setting', 'type', 'default', 'range', 'description')]
+    rows = ['| setting | type | default | range | meaning |', '|---|---|---|---|---|']
+    for line in out[start + 1:]:
+        if not line.strip():
+            continue
+        f = [line[cols[j]:(cols[j + 1] if j + 1 < len(cols) else None)].strip() for j in range(5)]
+        rows.append('| `%s` | %s | %s | %s | %s |' % (f[0], f[1], f[2].replace('|', '\\|'), f[3].replace('|', '\\|'), f[4]))
+    return '\n'.join(rows) + '\n'
+
+doc = open('docs/input.md').read()
+for command, marker in (('run', 'This table is `mica help run`'), ('mls', 'This table is `mica help mls`')):
+    end = doc.index(marker)
+    start = doc.rindex('| setting | type | default | range | meaning |', 0, end)
+    doc = doc[:start] + table(command) + '\n' + doc[end:]
+open('docs/input.md', 'w').write(doc)

@@ -1,0 +1,402 @@
+/* `mica sweep`: a run deck solved at every point of a grid (or zip) of values of some of its settings.
+ *
+ * Each point is the run deck loaded again with the point's values as --set overrides (after the user's)
+ * and solved by `mica run`'s own entry point, into DIR/points/<n>/ (its summary.json and run.log). A point
+ * that fails is recorded and the sweep goes on; the sweep fails only when every point does. Results:
+ * sweep.csv (one row per point), summary.json (counts, and how the models compare when material.model is
+ * swept), sweep.png/.svg (the probe against x, with analytic curves and measured points). */
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "mica/files.h"
+#include "mica/timer.h"
+#include "sweep.h"
+
+/* Points write no fields and no Newton monitor unless the user's --set says otherwise (these come first). */
+static const char *const point_defaults[] = {"output.vtu=false", "output.monitor=false"};
+
+/* ---- directories ------------------------------------------------------------------------------------ */
+
+/* rm -r: the command line's staging cleanup removes files only, and a sweep's points are directories. */
+static void remove_tree(const char *path) {
+  struct stat info;
+  if (lstat(path, &info) != 0) return;
+  if (S_ISDIR(info.st_mode)) {
+    DIR *dir = opendir(path);
+    struct dirent *entry;
+    while (dir && (entry = readdir(dir))) {
+      if (!strcmp(entry->d_name, ".") || !strcmp(entry->d_name, "..")) continue;
+      char *child = NULL;
+      if (mica_path_join(path, entry->d_name, &child) == MICA_SUCCESS) remove_tree(child);
+      free(child);
+    }
+    if (dir) closedir(dir);
+    rmdir(path);
+  } else {
+    unlink(path);
+  }
+}
+
+/* The command line moves each entry of its staging directory into DIR with rename(), which cannot replace
+ * a non-empty directory: on success, an earlier sweep's DIR/points goes just before the new one moves in
+ * (a failed sweep leaves it untouched). */
+static void clear_published_points(const char *outdir) {
+  const char *slash = strrchr(outdir, '/');
+  const char *name = slash ? slash + 1 : outdir;
+  if (strncmp(name, ".staging-", 9) != 0) return;
+  char parent[4096];
+  snprintf(parent, sizeof parent, "%.*s/points", slash ? (int)(slash - outdir) : 1, slash ? outdir : ".");
+  remove_tree(parent);
+}
+
+static int point_dir(const char *outdir, long p, char **dir) {
+  char name[64];
+  snprintf(name, sizeof name, "points/%ld", p + 1);
+  MICA_CALL(mica_path_join(outdir, name, dir));
+  MICA_CALL(mica_make_dir(*dir));
+  return MICA_SUCCESS;
+}
+
+/* ---- one point -------------------------------------------------------------------------------------- */
+
+typedef struct {
+  char (*text)[1024]; /* per axis: "parameters.L=8" */
+  const char **list;
+} PointOverrides;
+
+static int overrides_make(const SweepSpec *spec, const int *choice, PointOverrides *o) {
+  MICA_CALL(MICA_CALLOC(o->text, spec->naxes));
+  MICA_CALL(MICA_CALLOC(o->list, spec->naxes));
+  for (int a = 0; a < spec->naxes; a++) {
+    sweep_override_text(&spec->axes[a], choice[a], o->text[a], sizeof o->text[a]);
+    o->list[a] = o->text[a];
+  }
+  return MICA_SUCCESS;
+}
+
+static void overrides_free(PointOverrides *o) {
+  free(o->text);
+  free(o->list);
+}
+
+/* mica_command_run.run with stdout in dir/run.log: the run's own lines would drown the progress. */
+static int run_logged(const MicaDeck *deck, const char *dir, MicaJson *summary) {
+  char *log = NULL;
+  MICA_CALL(mica_path_join(dir, "run.log", &log));
+  fflush(stdout);
+  const int saved = dup(STDOUT_FILENO), fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  free(log);
+  if (saved < 0 || fd < 0 || dup2(fd, STDOUT_FILENO) < 0) {
+    const int error = errno;
+    if (saved >= 0) close(saved);
+    if (fd >= 0) close(fd);
+    MICA_ERROR(MICA_ERR_IO, "cannot write %s/run.log: %s", dir, strerror(error));
+  }
+  close(fd);
+  const int ierr = mica_command_run.run(deck, dir, summary);
+  fflush(stdout);
+  dup2(saved, STDOUT_FILENO);
+  close(saved);
+  return ierr;
+}
+
+static int add_point_header(MicaJson *json, const SweepSpec *spec, long p, const PointOverrides *o) {
+  MICA_CALL(mica_json_string(json, "status", "ok"));
+  MICA_CALL(mica_json_string(json, "command", "run"));
+  MICA_CALL(mica_json_string(json, "deck", mica_deck_path(spec->deck)));
+  MICA_CALL(mica_json_int(json, "sweep_point", p + 1));
+  MICA_CALL(mica_json_open_array(json, "overrides"));
+  for (int a = 0; a < spec->naxes; a++) MICA_CALL(mica_json_string(json, NULL, o->list[a]));
+  MICA_CALL(mica_json_close(json));
+  return MICA_SUCCESS;
+}
+
+/* Loads and solves point p; the error code is the point's (a failure of the run, not of the sweep). */
+static int point_solve(const SweepSpec *spec, const char *dir, const PointOverrides *o, MicaJson *json) {
+  MicaDeck *deck = NULL;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(sweep_load(spec, 2, point_defaults, spec->naxes, o->list, &deck));
+  MICA_CALL_CLEANUP(run_logged(deck, dir, json));
+cleanup:
+  mica_deck_destroy(&deck);
+  return ierr;
+}
+
+static int record_failure(SweepPoint *pt, int ierr) {
+  pt->status = ierr;
+  const char *message = mica_error_message();
+  MICA_CALL(MICA_MALLOC(pt->message, strlen(message) + 1));
+  strcpy(pt->message, message);
+  mica_error_clear();
+  return MICA_SUCCESS;
+}
+
+static void read_probes(const SweepSpec *spec, const MicaJson *json, SweepPoint *pt) {
+  for (int i = 0; i < spec->nprobes; i++)
+    if (mica_json_get_number(json, spec->probes[i], &pt->probe[i]) != MICA_SUCCESS) {
+      pt->probe[i] = NAN; /* a probe the run did not report (it failed before the probes) */
+      mica_error_clear();
+    }
+}
+
+/* A failed run may have left its summary half-built: the point's summary is then written afresh. */
+static int write_failure_summary(const SweepSpec *spec, long p, const PointOverrides *o, const SweepPoint *pt,
+                                 const char *path) {
+  MicaJson *json = NULL;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(mica_json_create(&json));
+  MICA_CALL_CLEANUP(add_point_header(json, spec, p, o));
+  MICA_CALL_CLEANUP(mica_json_string(json, "status", "error"));
+  MICA_CALL_CLEANUP(mica_json_string(json, "error", pt->message ? pt->message : ""));
+  MICA_CALL_CLEANUP(mica_json_int(json, "exit_status", mica_exit_status(pt->status)));
+  MICA_CALL_CLEANUP(mica_json_number(json, "time_total", pt->time));
+  MICA_CALL_CLEANUP(mica_json_write(json, path));
+cleanup:
+  mica_json_destroy(&json);
+  return ierr;
+}
+
+/* Runs point p into outdir/points/<p+1>/. Only the sweep's own failures (files, memory) are returned. */
+static int run_point(const SweepSpec *spec, long p, const char *outdir, SweepPoint *pt) {
+  PointOverrides o = {NULL, NULL};
+  MicaJson *json = NULL;
+  char *dir = NULL, *path = NULL;
+  int ierr = MICA_SUCCESS;
+  const double start = mica_wtime();
+  sweep_point_choice(spec, p, pt->choice);
+  MICA_CALL_CLEANUP(overrides_make(spec, pt->choice, &o));
+  MICA_CALL_CLEANUP(point_dir(outdir, p, &dir));
+  MICA_CALL_CLEANUP(mica_path_join(dir, "summary.json", &path));
+  MICA_CALL_CLEANUP(mica_json_create(&json));
+  MICA_CALL_CLEANUP(add_point_header(json, spec, p, &o));
+  const int failed = point_solve(spec, dir, &o, json);
+  pt->time = mica_wtime() - start;
+  if (failed) {
+    MICA_CALL_CLEANUP(record_failure(pt, failed));
+    MICA_CALL_CLEANUP(write_failure_summary(spec, p, &o, pt, path));
+  } else {
+    read_probes(spec, json, pt);
+    MICA_CALL_CLEANUP(mica_json_number(json, "time_total", pt->time));
+    MICA_CALL_CLEANUP(mica_json_write(json, path));
+  }
+cleanup:
+  overrides_free(&o);
+  mica_json_destroy(&json);
+  free(dir);
+  free(path);
+  return ierr;
+}
+
+/* ---- progress --------------------------------------------------------------------------------------- */
+
+/* "point 3/12  L=8 model=svk  tip_uy=0.0256  elapsed 4.1 s  remaining ~12 s" */
+static void print_progress(const SweepSpec *spec, long p, const SweepPoint *pt, double elapsed) {
+  printf("point %ld/%ld ", p + 1, spec->npoints);
+  for (int a = 0; a < spec->naxes; a++) {
+    char label[256];
+    sweep_value_label(&spec->axes[a], pt->choice[a], label, sizeof label);
+    printf(" %s", label);
+  }
+  if (pt->status == MICA_SUCCESS)
+    printf("  %s=%.6g", spec->probes[spec->probe], pt->probe[spec->probe]);
+  else
+    printf("  failed: %.*s", (int)strcspn(pt->message, "\n"), pt->message);
+  const double remaining = elapsed / (double)(p + 1) * (double)(spec->npoints - p - 1);
+  printf("  elapsed %.1f s  remaining ~%.0f s\n", elapsed, remaining);
+  fflush(stdout);
+}
+
+/* ---- comparing models ------------------------------------------------------------------------------- */
+
+/* The point whose values equal p's on every axis but the model's, which is the classical one; -1 if none. */
+static long partner(const SweepSpec *spec, const SweepPoint *pts, long p, int classical) {
+  const int m = spec->model_axis;
+  for (long q = 0; q < spec->npoints; q++) {
+    int same = pts[q].choice[m] == classical;
+    for (int a = 0; a < spec->naxes && same; a++) {
+      const SweepAxis *axis = &spec->axes[a];
+      const int u = pts[p].choice[a], v = pts[q].choice[a];
+      if (a != m) same = axis->values ? axis->values[u] == axis->values[v] : !strcmp(axis->words[u], axis->words[v]);
+    }
+    if (same) return q;
+  }
+  return -1;
+}
+
+/* At x value index vx, for model w: 1 if every pair with data agrees, 0 if one does not, -1 without data. */
+static int agrees_at(const SweepSpec *spec, const SweepPoint *pts, int vx, int w, int classical) {
+  int seen = 0;
+  const int k = spec->probe;
+  for (long p = 0; p < spec->npoints; p++) {
+    if (pts[p].choice[spec->x] != vx || pts[p].choice[spec->model_axis] != w || pts[p].status) continue;
+    const long q = partner(spec, pts, p, classical);
+    if (q < 0 || pts[q].status) continue;
+    const double a = pts[p].probe[k], b = pts[q].probe[k];
+    const double difference = b != 0 ? fabs(a / b - 1) : (a == 0 ? 0 : INFINITY);
+    if (!(difference <= spec->tolerance)) return 0;
+    seen = 1;
+  }
+  return seen ? 1 : -1;
+}
+
+/* The smallest x above which model w agrees with the classical one at every larger x: 1 and *x_above,
+ * 0 if it does not agree at the largest x with data, -1 if no pair has data. */
+static int agree_above(const SweepSpec *spec, const SweepPoint *pts, int w, int classical, double *x_above) {
+  const SweepAxis *xa = &spec->axes[spec->x];
+  double last = INFINITY; /* x values are visited from the largest down */
+  int found = -1;
+  for (;;) {
+    int vx = -1;
+    for (int v = 0; v < xa->nvalues; v++)
+      if (xa->values[v] < last && (vx < 0 || xa->values[v] > xa->values[vx])) vx = v;
+    if (vx < 0) return found;
+    last = xa->values[vx];
+    const int state = agrees_at(spec, pts, vx, w, classical);
+    if (state == 0) return found < 0 ? 0 : 1;
+    if (state == 1) found = 1, *x_above = last;
+  }
+}
+
+static int compare_models(const SweepSpec *spec, const SweepPoint *pts, MicaJson *summary) {
+  const int m = spec->model_axis;
+  if (m < 0 || !spec->axes[m].words) return MICA_SUCCESS;
+  const SweepAxis *axis = &spec->axes[m];
+  int classical = -1;
+  for (int v = 0; v < axis->nvalues; v++)
+    if (!strcmp(axis->words[v], spec->classical)) classical = v;
+  if (classical < 0 || spec->x < 0) {
+    printf("no model comparison: %s\n", classical < 0 ? "the classical model is not among material.model's words"
+                                                       : "no numeric swept path for x");
+    return MICA_SUCCESS;
+  }
+  const char *probe = spec->probes[spec->probe], *xl = spec->axes[spec->x].label;
+  MICA_CALL(mica_json_open_object(summary, "agrees_with_classical_above"));
+  for (int w = 0; w < axis->nvalues; w++) {
+    if (w == classical) continue;
+    double x = 0;
+    const int state = agree_above(spec, pts, w, classical, &x);
+    if (state == 1) {
+      MICA_CALL(mica_json_number(summary, axis->words[w], x));
+      printf("%s agrees with %s (|%s / %s_%s - 1| <= %g) for %s >= %g\n", axis->words[w], spec->classical, probe,
+             probe, spec->classical, spec->tolerance, xl, x);
+    } else {
+      MICA_CALL(mica_json_string(summary, axis->words[w], state == 0 ? "never" : "no data"));
+      if (state == 0)
+        printf("%s does not agree with %s (|%s / %s_%s - 1| <= %g) at the largest %s\n", axis->words[w],
+               spec->classical, probe, probe, spec->classical, spec->tolerance, xl);
+      else
+        printf("%s: no pair of successful points to compare with %s\n", axis->words[w], spec->classical);
+    }
+  }
+  MICA_CALL(mica_json_close(summary));
+  return MICA_SUCCESS;
+}
+
+/* ---- the command ------------------------------------------------------------------------------------ */
+
+static int points_create(const SweepSpec *spec, SweepPoint **pts) {
+  MICA_CALL(MICA_CALLOC(*pts, spec->npoints));
+  for (long p = 0; p < spec->npoints; p++) {
+    MICA_CALL(MICA_CALLOC((*pts)[p].choice, spec->naxes));
+    MICA_CALL(MICA_MALLOC((*pts)[p].probe, spec->nprobes));
+    for (int i = 0; i < spec->nprobes; i++) (*pts)[p].probe[i] = NAN;
+  }
+  return MICA_SUCCESS;
+}
+
+static void points_free(const SweepSpec *spec, SweepPoint **pts) {
+  for (long p = 0; *pts && p < spec->npoints; p++) {
+    free((*pts)[p].choice);
+    free((*pts)[p].probe);
+    free((*pts)[p].message);
+  }
+  MICA_FREE(*pts);
+}
+
+/* Every point, in order; *nfailed counts the failures. With no success, the first failure is the error. */
+static int run_points(const SweepSpec *spec, SweepPoint *pts, const char *outdir, long *nfailed) {
+  const double start = mica_wtime();
+  long first_failure = -1;
+  *nfailed = 0;
+  for (long p = 0; p < spec->npoints; p++) {
+    MICA_CALL(run_point(spec, p, outdir, &pts[p]));
+    if (pts[p].status) {
+      ++*nfailed;
+      if (first_failure < 0) first_failure = p;
+    }
+    print_progress(spec, p, &pts[p], mica_wtime() - start);
+  }
+  if (*nfailed < spec->npoints) return MICA_SUCCESS;
+  MICA_ERROR(pts[first_failure].status, "every point of the sweep failed (%ld); point %ld: %s", spec->npoints,
+             first_failure + 1, pts[first_failure].message);
+}
+
+/* The chart is drawn last and is not the result: when gnuplot fails, the sweep's numbers still stand. */
+static int draw_chart(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, MicaJson *summary) {
+  if (!spec->chart || spec->x < 0) return mica_json_string(summary, "chart", spec->chart ? "none: no numeric x" : "off");
+  if (sweep_write_chart(spec, pts, outdir) == MICA_SUCCESS) return mica_json_string(summary, "chart", "sweep.png");
+  fprintf(stderr, "mica sweep: no chart: %s\n", mica_error_message());
+  mica_error_clear();
+  return mica_json_string(summary, "chart", "failed: see gnuplot.log");
+}
+
+static int add_summary(const SweepSpec *spec, long nfailed, MicaJson *summary) {
+  MICA_CALL(mica_json_string(summary, "mode", spec->zip ? "zip" : "grid"));
+  MICA_CALL(mica_json_open_array(summary, "swept"));
+  for (int a = 0; a < spec->naxes; a++) MICA_CALL(mica_json_string(summary, NULL, spec->axes[a].path));
+  MICA_CALL(mica_json_close(summary));
+  MICA_CALL(mica_json_string(summary, "probe", spec->probes[spec->probe]));
+  if (spec->x >= 0) MICA_CALL(mica_json_string(summary, "x", spec->axes[spec->x].path));
+  MICA_CALL(mica_json_int(summary, "points_total", spec->npoints));
+  MICA_CALL(mica_json_int(summary, "points_ok", spec->npoints - nfailed));
+  MICA_CALL(mica_json_int(summary, "points_failed", nfailed));
+  return MICA_SUCCESS;
+}
+
+static int sweep_run(const MicaDeck *deck, const char *outdir, MicaJson *summary) {
+  SweepSpec spec;
+  SweepPoint *pts = NULL;
+  char *points = NULL;
+  long nfailed = 0;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(sweep_spec_read(deck, &spec));
+  MICA_CALL_CLEANUP(mica_path_join(outdir, "points", &points));
+  printf("sweep: %ld point%s (%s of %d setting%s)\n", spec.npoints, spec.npoints > 1 ? "s" : "",
+         spec.zip ? "zip" : "grid", spec.naxes, spec.naxes > 1 ? "s" : "");
+  MICA_CALL_CLEANUP(points_create(&spec, &pts));
+  MICA_CALL_CLEANUP(run_points(&spec, pts, outdir, &nfailed));
+  MICA_CALL_CLEANUP(sweep_write_csv(&spec, pts, outdir));
+  MICA_CALL_CLEANUP(add_summary(&spec, nfailed, summary));
+  MICA_CALL_CLEANUP(compare_models(&spec, pts, summary));
+  MICA_CALL_CLEANUP(draw_chart(&spec, pts, outdir, summary));
+  printf("sweep: %ld of %ld points ok, %ld failed%s\n", spec.npoints - nfailed, spec.npoints, nfailed,
+         nfailed ? " (see sweep.csv and points/<n>/summary.json)" : "");
+  clear_published_points(outdir);
+cleanup:
+  if (ierr && points) remove_tree(points);
+  free(points);
+  points_free(&spec, &pts);
+  sweep_spec_free(&spec);
+  return ierr;
+}
+
+const MicaCommand mica_command_sweep = {
+    "sweep",
+    "solve a run deck at every point of a grid of values of its settings; CSV, chart, model comparison",
+    "The deck is a run deck plus a `sweep` group naming settings and their values (numbers, words or a\n"
+    "range). Every combination (mode = \"grid\") or every i-th tuple (mode = \"zip\") is solved like\n"
+    "`mica run` with the values as --set overrides, into DIR/points/<n>/. A failing point is recorded and the\n"
+    "sweep goes on. Writes sweep.csv (per point: the swept values, every probe, the time, the status),\n"
+    "summary.json, and sweep.png/.svg: the chosen probe against the x path, one curve per combination of the\n"
+    "other paths, with analytic curves and measured points. When material.model is swept, the summary says\n"
+    "above which x each model agrees with the classical one within the tolerance.",
+    mica_sweep_schema,
+    sweep_run,
+};

@@ -1,0 +1,79 @@
+/* Internal interface of `mica sweep` (src/study/sweep*.c): a run deck solved at every point of a grid (or
+ * a zip) of values of some of its settings, each point a `mica run` of the deck loaded again with the
+ * point's values as overrides. sweep_schema.c: the deck; sweep_spec.c: reading and checking the `sweep`
+ * group; sweep.c: the points, the comparison of models, the summary; sweep_output.c: sweep.csv and the
+ * chart. */
+#ifndef MICA_SWEEP_H
+#define MICA_SWEEP_H
+
+#include "mica/command.h"
+
+enum { SWEEP_WHERE_MAX = 256, SWEEP_MAX_POINTS = 100000, SWEEP_SCHEMA_MAX = 512 };
+
+/* The run schema's keys followed by the sweep group's (filled at program start). */
+extern MicaDeckKey mica_sweep_schema[SWEEP_SCHEMA_MAX];
+
+/* One swept setting: its path and its values, numbers or words (for string settings: material.model). */
+typedef struct SweepAxis {
+  char *path;        /* "parameters.L" */
+  const char *label; /* its short name: "L" for a parameter, else the path */
+  int nvalues;
+  double *values;    /* numbers, or NULL */
+  char **words;      /* words, or NULL */
+  char where[SWEEP_WHERE_MAX]; /* "deck.cfg:12", the line of the axis's path */
+} SweepAxis;
+
+/* Measured points from a CSV file, for the chart. */
+typedef struct SweepData {
+  const char *name; /* legend (borrowed from the deck) */
+  int n;
+  double *x, *y;
+} SweepData;
+
+/* The `sweep` group, read and checked against the deck. */
+typedef struct SweepSpec {
+  const MicaDeck *deck;
+  int naxes;
+  SweepAxis *axes;
+  int zip;           /* 1: point i takes the i-th value of every axis; 0: every combination */
+  long npoints;
+  int nprobes;
+  const char **probes; /* the deck's probe names (borrowed) */
+  int probe;         /* the charted probe, an index into probes */
+  int x;             /* the axis on the chart's x (numeric), or -1 when no axis is numeric */
+  int model_axis;    /* the material.model axis (words), or -1 */
+  const char *classical; /* the model the others are compared with ("linear") */
+  double tolerance;
+  int logx, logy, chart;
+  int nanalytic, nexperiments;
+  SweepData *experiments; /* [nexperiments], read before anything is solved */
+} SweepSpec;
+
+/* The outcome of one point. */
+typedef struct SweepPoint {
+  int *choice;      /* per axis, the index of the point's value */
+  double *probe;    /* per probe (NAN when the point failed) */
+  double time;      /* seconds, loading and solving */
+  int status;       /* MICA_SUCCESS, or the error code of the failure */
+  char *message;    /* the failure's message, or NULL */
+} SweepPoint;
+
+int sweep_spec_read(const MicaDeck *deck, SweepSpec *spec);
+void sweep_spec_free(SweepSpec *spec);
+/* The axis choices of point p (0-based) in choice[naxes]. */
+void sweep_point_choice(const SweepSpec *spec, long p, int *choice);
+/* "path=value" for axis a at value index v (a number as %.17g, a word quoted). */
+void sweep_override_text(const SweepAxis *axis, int v, char *buf, size_t size);
+/* "L=8" (a number as %g, a word as is), for progress lines and legends. */
+void sweep_value_label(const SweepAxis *axis, int v, char *buf, size_t size);
+/* Loads the deck again: the user's --set first, then forced (may be NULL), then extra[nextra]. */
+int sweep_load(const SweepSpec *spec, int nforced, const char *const *forced, int nextra,
+               const char *const *extra, MicaDeck **deck);
+
+/* Reads sweep.experiments' files (relative to the deck's directory): x,y rows; other lines are skipped. */
+int sweep_read_experiments(SweepSpec *spec);
+int sweep_write_csv(const SweepSpec *spec, const SweepPoint *points, const char *outdir);
+/* Draws sweep.png and sweep.svg with gnuplot (data and script kept in outdir for re-plotting). */
+int sweep_write_chart(const SweepSpec *spec, const SweepPoint *points, const char *outdir);
+
+#endif

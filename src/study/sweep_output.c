@@ -1,0 +1,437 @@
+/* Outputs of `mica sweep`: sweep.csv (one row per point), the measured points of sweep.experiments, and
+ * the chart sweep.png/.svg drawn by gnuplot from sweep_points.dat, sweep_analytic.dat,
+ * sweep_experiments.dat and sweep_chart.gp (kept in the output directory for re-plotting). */
+#include <errno.h>
+#include <libgen.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "mica/files.h"
+#include "sweep.h"
+
+enum { FINE = 201 }; /* samples of an analytic curve */
+
+/* ---- sweep.csv -------------------------------------------------------------------------------------- */
+
+/* A CSV field in double quotes, inner quotes doubled, line breaks flattened. */
+static void put_quoted(FILE *fp, const char *text) {
+  fputc('"', fp);
+  for (const char *c = text; *c; c++) {
+    if (*c == '"') fputc('"', fp);
+    fputc(*c == '\n' || *c == '\r' ? ' ' : *c, fp);
+  }
+  fputc('"', fp);
+}
+
+static void put_row(FILE *fp, const SweepSpec *spec, long p, const SweepPoint *pt) {
+  fprintf(fp, "%ld", p + 1);
+  for (int a = 0; a < spec->naxes; a++) {
+    const SweepAxis *axis = &spec->axes[a];
+    fputc(',', fp);
+    if (axis->values) fprintf(fp, "%.17g", axis->values[pt->choice[a]]);
+    else put_quoted(fp, axis->words[pt->choice[a]]);
+  }
+  for (int i = 0; i < spec->nprobes; i++) {
+    fputc(',', fp);
+    if (isfinite(pt->probe[i])) fprintf(fp, "%.17g", pt->probe[i]);
+  }
+  fprintf(fp, ",%.6g,%s,", pt->time, pt->status ? "error" : "ok");
+  if (pt->status) put_quoted(fp, pt->message ? pt->message : "");
+  fputc('\n', fp);
+}
+
+int sweep_write_csv(const SweepSpec *spec, const SweepPoint *points, const char *outdir) {
+  char *path = NULL;
+  MicaOutFile out = {0};
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(mica_path_join(outdir, "sweep.csv", &path));
+  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  fprintf(out.fp, "index");
+  for (int a = 0; a < spec->naxes; a++) fprintf(out.fp, ",%s", spec->axes[a].path);
+  for (int i = 0; i < spec->nprobes; i++) fprintf(out.fp, ",%s", spec->probes[i]);
+  fprintf(out.fp, ",time_total,status,message\n");
+  for (long p = 0; p < spec->npoints; p++) put_row(out.fp, spec, p, &points[p]);
+  MICA_CALL_CLEANUP(mica_out_commit(&out));
+cleanup:
+  mica_out_abort(&out);
+  free(path);
+  return ierr;
+}
+
+/* ---- measured points -------------------------------------------------------------------------------- */
+
+/* "x,y", "x;y" or "x y"; any other line (a header, a comment) is not a point. */
+static int parse_pair(const char *line, double *x, double *y) {
+  char *end;
+  *x = strtod(line, &end);
+  if (end == line) return 0;
+  const char *next = end + strspn(end, " \t,;");
+  *y = strtod(next, &end);
+  return end != next && isfinite(*x) && isfinite(*y);
+}
+
+static int data_path(const SweepSpec *spec, const char *file, char *buf, size_t size) {
+  if (file[0] == '/') {
+    snprintf(buf, size, "%s", file);
+  } else {
+    char deck_path[4096];
+    snprintf(deck_path, sizeof deck_path, "%s", mica_deck_path(spec->deck));
+    snprintf(buf, size, "%s/%s", dirname(deck_path), file);
+  }
+  return MICA_SUCCESS;
+}
+
+static int read_points(FILE *fp, SweepData *data) {
+  char line[4096];
+  int capacity = 0;
+  while (fgets(line, sizeof line, fp)) {
+    double x, y;
+    if (!parse_pair(line + strspn(line, " \t"), &x, &y)) continue;
+    if (data->n == capacity) {
+      capacity = capacity ? 2 * capacity : 64;
+      MICA_CALL(MICA_REALLOC(data->x, capacity));
+      MICA_CALL(MICA_REALLOC(data->y, capacity));
+    }
+    data->x[data->n] = x, data->y[data->n] = y;
+    data->n++;
+  }
+  return MICA_SUCCESS;
+}
+
+static int read_experiment(SweepSpec *spec, int e) {
+  char path[96], where[SWEEP_WHERE_MAX], file[4096];
+  const char *name;
+  SweepData *data = &spec->experiments[e];
+  snprintf(path, sizeof path, "sweep.experiments.[%d].name", e);
+  data->name = mica_deck_has(spec->deck, path) && mica_deck_string(spec->deck, path, &name) == MICA_SUCCESS
+                   ? name : "measured";
+  snprintf(path, sizeof path, "sweep.experiments.[%d].file", e);
+  mica_deck_where(spec->deck, path, where, sizeof where);
+  MICA_CHECK(mica_deck_has(spec->deck, path), MICA_ERR_INPUT, "%s: sweep.experiments.[%d] needs a file", where, e);
+  MICA_CALL(mica_deck_string(spec->deck, path, &name));
+  MICA_CALL(data_path(spec, name, file, sizeof file));
+  FILE *fp = fopen(file, "r");
+  MICA_CHECK(fp, MICA_ERR_INPUT, "%s: cannot read %s: %s", where, file, strerror(errno));
+  const int ierr = read_points(fp, data);
+  fclose(fp);
+  MICA_CALL(ierr);
+  MICA_CHECK(data->n > 0, MICA_ERR_INPUT, "%s: %s has no x,y rows", where, file);
+  return MICA_SUCCESS;
+}
+
+int sweep_read_experiments(SweepSpec *spec) {
+  MICA_CALL(MICA_CALLOC(spec->experiments, spec->nexperiments > 0 ? spec->nexperiments : 1));
+  for (int e = 0; e < spec->nexperiments; e++) MICA_CALL(read_experiment(spec, e));
+  return MICA_SUCCESS;
+}
+
+/* ---- curves ----------------------------------------------------------------------------------------- */
+
+/* The curves of the chart: in a grid, one per combination of the axes other than x, each represented by
+ * its point at the first x value; in a zip, one. */
+typedef struct {
+  int n;
+  long *first; /* the representative point of each curve */
+} Curves;
+
+static int curves_find(const SweepSpec *spec, const SweepPoint *pts, Curves *c) {
+  MICA_CALL(MICA_MALLOC(c->first, spec->npoints));
+  c->n = 0;
+  for (long p = 0; p < spec->npoints; p++)
+    if (spec->zip ? p == 0 : pts[p].choice[spec->x] == 0) c->first[c->n++] = p;
+  return MICA_SUCCESS;
+}
+
+static int same_curve(const SweepSpec *spec, const SweepPoint *pts, long p, long first) {
+  if (spec->zip) return 1;
+  for (int a = 0; a < spec->naxes; a++)
+    if (a != spec->x && pts[p].choice[a] != pts[first].choice[a]) return 0;
+  return 1;
+}
+
+static void curve_label(const SweepSpec *spec, const SweepPoint *pts, long first, char *buf, size_t size) {
+  size_t used = 0;
+  buf[0] = '\0';
+  for (int a = 0; a < spec->naxes && !spec->zip; a++) {
+    if (a == spec->x) continue;
+    char label[256];
+    sweep_value_label(&spec->axes[a], pts[first].choice[a], label, sizeof label);
+    int n = snprintf(buf + used, size - used, "%s%s", used ? " " : "", label);
+    if (n > 0 && (size_t)n < size - used) used += (size_t)n;
+  }
+  if (!used) snprintf(buf, size, "%s", spec->probes[spec->probe]);
+}
+
+/* gnuplot strings: printable, without quotes. */
+static void gnuplot_safe(const char *in, char *out, size_t size) {
+  size_t j = 0;
+  for (size_t i = 0; in[i] && j + 1 < size; i++) out[j++] = (in[i] == '"' || in[i] == '\\' || in[i] == '\'') ? ' ' : in[i];
+  out[j] = '\0';
+}
+
+/* One block per curve: the curve's successful points by increasing x. Returns the number of points. */
+static int write_curve(FILE *fp, const SweepSpec *spec, const SweepPoint *pts, long first) {
+  const SweepAxis *xa = &spec->axes[spec->x];
+  double last = -INFINITY;
+  int written = 0;
+  for (;;) { /* selection by increasing x: the axis's values need not be sorted */
+    long next = -1;
+    for (long p = 0; p < spec->npoints; p++) {
+      const double x = xa->values[pts[p].choice[spec->x]];
+      if (x > last && same_curve(spec, pts, p, first) && (next < 0 || x < xa->values[pts[next].choice[spec->x]]))
+        next = p;
+    }
+    if (next < 0) break;
+    last = xa->values[pts[next].choice[spec->x]];
+    for (long p = 0; p < spec->npoints; p++) /* every point at this x (a zip may repeat an x) */
+      if (xa->values[pts[p].choice[spec->x]] == last && same_curve(spec, pts, p, first) && !pts[p].status &&
+          isfinite(pts[p].probe[spec->probe])) {
+        fprintf(fp, "%.17g %.17g\n", last, pts[p].probe[spec->probe]);
+        written++;
+      }
+  }
+  fprintf(fp, "\n\n");
+  return written;
+}
+
+/* ---- analytic curves -------------------------------------------------------------------------------- */
+
+static void fine_grid(const SweepSpec *spec, double *x) {
+  const SweepAxis *xa = &spec->axes[spec->x];
+  double lo = xa->values[0], hi = xa->values[0];
+  for (int v = 1; v < xa->nvalues; v++) lo = fmin(lo, xa->values[v]), hi = fmax(hi, xa->values[v]);
+  const int logscale = spec->logx && lo > 0;
+  for (int i = 0; i < FINE; i++) {
+    const double s = (double)i / (FINE - 1);
+    x[i] = logscale ? lo * pow(hi / lo, s) : lo + (hi - lo) * s;
+  }
+}
+
+/* The analytic curves of one chart curve: its values of the other axes are overrides, so the deck's
+ * parameters they change are bound in the expressions. y[k * FINE + i] = curve k at x[i]. */
+static int analytic_eval(const SweepSpec *spec, const SweepPoint *pts, long first, const double *x, double *y) {
+  char (*text)[1024] = NULL;
+  const char **list = NULL;
+  MicaDeck *deck = NULL;
+  MicaFunction *f = NULL;
+  int n = 0, ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(MICA_CALLOC(text, spec->naxes));
+  MICA_CALL_CLEANUP(MICA_CALLOC(list, spec->naxes));
+  for (int a = 0; a < spec->naxes && !spec->zip; a++)
+    if (a != spec->x) {
+      sweep_override_text(&spec->axes[a], pts[first].choice[a], text[n], sizeof text[n]);
+      list[n] = text[n];
+      n++;
+    }
+  MICA_CALL_CLEANUP(sweep_load(spec, 0, NULL, n, list, &deck));
+  for (int k = 0; k < spec->nanalytic; k++) {
+    char path[64];
+    snprintf(path, sizeof path, "sweep.analytic.[%d].f", k);
+    MICA_CALL_CLEANUP(mica_deck_function(deck, path, &f));
+    for (int i = 0; i < FINE; i++) y[k * FINE + i] = mica_function_eval(f, (double[3]){x[i], 0, 0}, 0.0);
+    mica_function_destroy(&f);
+  }
+cleanup:
+  mica_function_destroy(&f);
+  mica_deck_destroy(&deck);
+  free(text);
+  free(list);
+  return ierr;
+}
+
+/* Analytic curve k of chart curve c, unless an earlier chart curve gave the same values (the
+ * expression does not depend on what distinguishes them). */
+static int analytic_repeats(const double *y, int nanalytic, int c, int k) {
+  for (int b = 0; b < c; b++)
+    if (!memcmp(&y[(b * nanalytic + k) * FINE], &y[(c * nanalytic + k) * FINE], FINE * sizeof *y)) return 1;
+  return 0;
+}
+
+static void write_analytic_block(FILE *fp, const double *x, const double *y) {
+  for (int i = 0; i < FINE; i++) {
+    if (isfinite(y[i])) fprintf(fp, "%.10g %.10g\n", x[i], y[i]);
+    else fprintf(fp, "\n"); /* a gap in the line */
+  }
+  fprintf(fp, "\n\n");
+}
+
+/* ---- the chart -------------------------------------------------------------------------------------- */
+
+typedef struct {
+  Curves curves;
+  int *npoints;       /* per curve: points written */
+  double x[FINE];
+  double *analytic;   /* [curve][analytic][FINE] */
+  FILE *script;
+  int nplots;
+} Chart;
+
+static int write_points_file(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, Chart *ch) {
+  char *path = NULL;
+  MicaOutFile out = {0};
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(MICA_CALLOC(ch->npoints, ch->curves.n));
+  MICA_CALL_CLEANUP(mica_path_join(outdir, "sweep_points.dat", &path));
+  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  fprintf(out.fp, "# x = %s, y = %s; one block per curve\n", spec->axes[spec->x].path, spec->probes[spec->probe]);
+  for (int c = 0; c < ch->curves.n; c++) ch->npoints[c] = write_curve(out.fp, spec, pts, ch->curves.first[c]);
+  MICA_CALL_CLEANUP(mica_out_commit(&out));
+cleanup:
+  mica_out_abort(&out);
+  free(path);
+  return ierr;
+}
+
+static int write_analytic_file(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, Chart *ch) {
+  char *path = NULL;
+  MicaOutFile out = {0};
+  int ierr = MICA_SUCCESS;
+  if (!spec->nanalytic) return MICA_SUCCESS;
+  fine_grid(spec, ch->x);
+  MICA_CALL_CLEANUP(MICA_MALLOC(ch->analytic, (size_t)ch->curves.n * (size_t)spec->nanalytic * FINE));
+  for (int c = 0; c < ch->curves.n; c++)
+    MICA_CALL_CLEANUP(analytic_eval(spec, pts, ch->curves.first[c], ch->x, &ch->analytic[c * spec->nanalytic * FINE]));
+  MICA_CALL_CLEANUP(mica_path_join(outdir, "sweep_analytic.dat", &path));
+  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  fprintf(out.fp, "# one block per chart curve and analytic curve (curve-major)\n");
+  for (int c = 0; c < ch->curves.n; c++)
+    for (int k = 0; k < spec->nanalytic; k++)
+      write_analytic_block(out.fp, ch->x, &ch->analytic[(c * spec->nanalytic + k) * FINE]);
+  MICA_CALL_CLEANUP(mica_out_commit(&out));
+cleanup:
+  mica_out_abort(&out);
+  free(path);
+  return ierr;
+}
+
+static int write_experiments_file(const SweepSpec *spec, const char *outdir) {
+  char *path = NULL;
+  MicaOutFile out = {0};
+  int ierr = MICA_SUCCESS;
+  if (!spec->nexperiments) return MICA_SUCCESS;
+  MICA_CALL_CLEANUP(mica_path_join(outdir, "sweep_experiments.dat", &path));
+  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  for (int e = 0; e < spec->nexperiments; e++) {
+    fprintf(out.fp, "# %s\n", spec->experiments[e].name);
+    for (int i = 0; i < spec->experiments[e].n; i++)
+      fprintf(out.fp, "%.17g %.17g\n", spec->experiments[e].x[i], spec->experiments[e].y[i]);
+    fprintf(out.fp, "\n\n");
+  }
+  MICA_CALL_CLEANUP(mica_out_commit(&out));
+cleanup:
+  mica_out_abort(&out);
+  free(path);
+  return ierr;
+}
+
+/* One plot item; on log axes, values that are not positive are left out (1/0). */
+static void plot_item(const SweepSpec *spec, Chart *ch, const char *file, int index, const char *style,
+                      const char *title) {
+  char safe[512];
+  gnuplot_safe(title, safe, sizeof safe);
+  fprintf(ch->script, "%s'%s' index %d using %s:%s %s title \"%s\"", ch->nplots++ ? ", \\\n     " : "", file, index,
+          spec->logx ? "($1 > 0 ? $1 : 1/0)" : "1", spec->logy ? "($2 > 0 ? $2 : 1/0)" : "2", style, safe);
+}
+
+static void plot_items(const SweepSpec *spec, const SweepPoint *pts, Chart *ch) {
+  ch->nplots = 0;
+  for (int c = 0; c < ch->curves.n; c++) {
+    if (!ch->npoints[c]) continue;
+    char label[512];
+    curve_label(spec, pts, ch->curves.first[c], label, sizeof label);
+    char style[64];
+    snprintf(style, sizeof style, "with linespoints lw 1.5 pt 7 lc %d", c + 1);
+    plot_item(spec, ch, "sweep_points.dat", c, style, label);
+  }
+  for (int c = 0; c < ch->curves.n; c++)
+    for (int k = 0; k < spec->nanalytic; k++) {
+      if (analytic_repeats(ch->analytic, spec->nanalytic, c, k)) continue;
+      char path[64], title[1024], label[512];
+      const char *name = NULL;
+      snprintf(path, sizeof path, "sweep.analytic.[%d].name", k);
+      if (!mica_deck_has(spec->deck, path) || mica_deck_string(spec->deck, path, &name)) name = "analytic";
+      curve_label(spec, pts, ch->curves.first[c], label, sizeof label);
+      snprintf(title, sizeof title, ch->curves.n > 1 ? "%s (%s)" : "%s", name, label);
+      char style[64]; /* the colour of its chart curve, a dash pattern per expression */
+      snprintf(style, sizeof style, "with lines lw 1 lc %d dt %d", c + 1, 2 + k % 4);
+      plot_item(spec, ch, "sweep_analytic.dat", c * spec->nanalytic + k, style, title);
+    }
+  for (int e = 0; e < spec->nexperiments; e++)
+    plot_item(spec, ch, "sweep_experiments.dat", e, "with points pt 6 ps 1.2 lc rgb 'black'", spec->experiments[e].name);
+  fprintf(ch->script, "\n");
+}
+
+static int write_script(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, Chart *ch) {
+  char *path = NULL, title[512];
+  const char *deck_title;
+  MicaOutFile out = {0};
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(mica_deck_string(spec->deck, "problem.title", &deck_title));
+  gnuplot_safe(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);
+  MICA_CALL_CLEANUP(mica_path_join(outdir, "sweep_chart.gp", &path));
+  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  ch->script = out.fp;
+  for (int pass = 0; pass < 2; pass++) {
+    fprintf(out.fp, pass ? "set terminal svg size 900,650 noenhanced\nset output 'sweep.svg'\n"
+                         : "set terminal pngcairo size 900,650 noenhanced\nset output 'sweep.png'\n");
+    fprintf(out.fp, "set title '%s: sweep'\nset xlabel '%s'\nset ylabel '%s'\nset grid\nset key top left opaque box\n%s%s",
+            title, spec->axes[spec->x].label, spec->probes[spec->probe], spec->logx ? "set logscale x\n" : "",
+            spec->logy ? "set logscale y\n" : "");
+    fprintf(out.fp, "plot ");
+    plot_items(spec, pts, ch);
+    fprintf(out.fp, "set output\n");
+  }
+  if (!ch->nplots) {
+    ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_NUMERIC, "nothing to chart: no point has a finite %s",
+                          spec->probes[spec->probe]);
+    goto cleanup;
+  }
+  MICA_CALL_CLEANUP(mica_out_commit(&out));
+cleanup:
+  mica_out_abort(&out);
+  free(path);
+  return ierr;
+}
+
+/* Runs gnuplot on the script inside outdir; its messages go to outdir/gnuplot.log. */
+static int run_gnuplot(const char *outdir) {
+  fflush(stdout);
+  pid_t pid = fork();
+  MICA_CHECK(pid >= 0, MICA_ERR_LIBRARY, "cannot start gnuplot: %s", strerror(errno));
+  if (pid == 0) {
+    if (chdir(outdir) != 0) _exit(126);
+    FILE *log = freopen("gnuplot.log", "w", stderr);
+    (void)log;
+    execlp("gnuplot", "gnuplot", "sweep_chart.gp", (char *)NULL);
+    _exit(127);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+  MICA_CHECK(WIFEXITED(status) && WEXITSTATUS(status) != 127, MICA_ERR_LIBRARY,
+             "gnuplot is not installed: run `make deps` (package gnuplot-nox), or set sweep.chart = false");
+  MICA_CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0, MICA_ERR_LIBRARY,
+             "gnuplot failed drawing the chart (exit %d); see gnuplot.log in the output directory",
+             WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  return MICA_SUCCESS;
+}
+
+int sweep_write_chart(const SweepSpec *spec, const SweepPoint *points, const char *outdir) {
+  Chart ch;
+  int ierr = MICA_SUCCESS;
+  memset(&ch, 0, sizeof ch);
+  MICA_CALL_CLEANUP(curves_find(spec, points, &ch.curves));
+  MICA_CALL_CLEANUP(write_points_file(spec, points, outdir, &ch));
+  MICA_CALL_CLEANUP(write_analytic_file(spec, points, outdir, &ch));
+  MICA_CALL_CLEANUP(write_experiments_file(spec, outdir));
+  MICA_CALL_CLEANUP(write_script(spec, points, outdir, &ch));
+  MICA_CALL_CLEANUP(run_gnuplot(outdir));
+cleanup:
+  free(ch.curves.first);
+  free(ch.npoints);
+  free(ch.analytic);
+  return ierr;
+}
