@@ -86,4 +86,11 @@ int mica_field_model_nq(const MicaFieldModel *m, int dim);
 extern const MicaFieldModelOps mica_field_classical;
 int mica_field_classical_set(MicaFieldModel *m, const MicaModelOps *classical, const MicaMaterial *material);
 
+/* The gradient micromorph continuum with χ = F (src/models/micromorph.c): unknowns u, order 2, micro energy
+ * micro_energy (a classical kernel: linear, svk, neohooke) averaged over a micro box with sizes[K] along
+ * axis K (0: no extent along K; the micro-space dimension is the number of nonzero sizes). */
+extern const MicaFieldModelOps mica_field_micromorph;
+int mica_micromorph_set(MicaFieldModel *m, int dim, const MicaModelOps *micro_energy, const MicaMaterial *material,
+                        const double *sizes);
+
 #endif

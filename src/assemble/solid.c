@@ -124,7 +124,7 @@ static long largest_clique(const MicaSolid *s) {
 static int check_model(const MicaSolidOptions *opt, int ncomp, int nq) {
   MICA_CHECK(ncomp <= MICA_MAX_COMP && nq <= 128, MICA_ERR_ARGUMENT, "model '%s' has too many unknowns",
              opt->field.ops->name);
-  MICA_CHECK(opt->field.classical || !opt->bc_method->needs_model_traction, MICA_ERR_INPUT,
+  MICA_CHECK(opt->field.ops == &mica_field_classical || !opt->bc_method->needs_model_traction, MICA_ERR_INPUT,
              "bc.method = \"%s\" needs a classical model; model '%s' has generalized tractions: use \"lagrange\" or "
              "\"penalty\"", opt->bc_method->name, opt->field.ops->name);
   return MICA_SUCCESS;

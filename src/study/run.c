@@ -204,10 +204,59 @@ static int read_cosserat(const MicaDeck *deck, int dim, MicaFieldModel *field) {
   return MICA_SUCCESS;
 }
 
+/* Gradient micromorph (χ = F): a classical micro energy (material.micro_model with E, ν) averaged over the
+ * micro space: one size per axis named in material.micro_axes. */
+static int read_micromorph(const MicaDeck *deck, int dim, MicaFieldModel *field) {
+  const char *micro_name, *axes;
+  char where[256];
+  MICA_CALL(mica_deck_string(deck, "material.micro_model", &micro_name));
+  MICA_CALL(mica_deck_string(deck, "material.micro_axes", &axes));
+  const MicaModelOps *micro = mica_model_find(micro_name);
+  MICA_CHECK(micro, MICA_ERR_ARGUMENT, "schema and model registry disagree on '%s'", micro_name);
+  MicaFieldModel classical;
+  MICA_CALL(read_classical(deck, dim, micro, &classical));
+  double given[3] = {0, 0, 0}, sizes[3] = {0, 0, 0};
+  int n = 0;
+  const int naxes = (int)strlen(axes);
+  if (naxes) MICA_CALL(mica_deck_floats(deck, "material.micro_sizes", given, 3, &n));
+  mica_deck_where(deck, naxes ? "material.micro_sizes" : "material.micro_axes", where, sizeof where);
+  MICA_CHECK(n == naxes, MICA_ERR_INPUT, "%s: material.micro_axes = \"%s\" needs %d sizes in material.micro_sizes, "
+             "not %d", where, axes, naxes, n);
+  for (int i = 0; i < naxes; i++) {
+    const int K = axes[i] - 'x';
+    MICA_CHECK(K >= 0 && K < dim && sizes[K] == 0, MICA_ERR_INPUT, "%s: micro_axes \"%s\": '%c' is not an axis of "
+               "this %d-D body, or appears twice", where, axes, axes[i], dim);
+    MICA_CHECK(given[i] > 0, MICA_ERR_INPUT, "%s: the micro-space axis %c has size %g; give a positive size (or leave "
+               "the axis out of material.micro_axes)", where, axes[i], given[i]);
+    sizes[K] = given[i];
+  }
+  return mica_micromorph_set(field, dim, micro, &classical.material, sizes);
+}
+
+/* A gradient model needs second derivatives of the unknowns: a basis of order ≥ 2 and a weight that is at
+ * least C² (the cubic, quartic and quartic C³ splines). */
+static int check_second_derivatives(const MicaDeck *deck) {
+  long order;
+  const char *weight;
+  char where[256];
+  MICA_CALL(mica_deck_int(deck, "mls.order", &order));
+  MICA_CALL(mica_deck_string(deck, "mls.weight", &weight));
+  const MlsWeightOps *w = mls_weight_find(weight);
+  mica_deck_where(deck, order < 2 ? "mls.order" : "mls.weight", where, sizeof where);
+  MICA_CHECK(order >= 2 && w && w->continuity >= 2, MICA_ERR_INPUT,
+             "%s: a gradient model needs second derivatives: mls.order >= 2 and a weight that is at least C2 (cubic, "
+             "quartic, quartic-c3), not order %ld with the %s weight", where, order, weight);
+  return MICA_SUCCESS;
+}
+
 static int read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt) {
   const char *name;
   MICA_CALL(mica_deck_string(deck, "material.model", &name));
   if (!strcmp(name, "cosserat")) return read_cosserat(deck, dim, &opt->field);
+  if (!strcmp(name, "micromorph")) {
+    MICA_CALL(check_second_derivatives(deck));
+    return read_micromorph(deck, dim, &opt->field);
+  }
   const MicaModelOps *model = mica_model_find(name);
   MICA_CHECK(model, MICA_ERR_ARGUMENT, "schema and model registry disagree on '%s'", name);
   return read_classical(deck, dim, model, &opt->field);
@@ -445,8 +494,8 @@ static int add_counts(const RunProblem *rp, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "cache_bytes", (long)cache_bytes(s)));
   MICA_CALL(mica_json_int(summary, "matrix_bytes", (long)(s->K->nnz * 16 + (s->ndof + 1) * 8)));
   MICA_CALL(mica_json_number(summary, "volume", rp->disc->volume));
-  MICA_CALL(mica_json_string(summary, "model", s->opt.field.classical ? s->opt.field.classical->name
-                                                                       : s->opt.field.ops->name));
+  MICA_CALL(mica_json_string(summary, "model", s->opt.field.ops == &mica_field_classical ? s->opt.field.classical->name
+                                                                                       : s->opt.field.ops->name));
   MICA_CALL(mica_json_int(summary, "unknowns_per_particle", s->ncomp));
   MICA_CALL(mica_json_string(summary, "bc_method", s->opt.bc_method->name));
   MICA_CALL(mica_json_number(summary, "bc_alpha", s->opt.bc_alpha));

@@ -219,7 +219,12 @@ static int probe_one(RunProblem *rp, int i, const double *u, MlsShape *sh, MicaJ
         for (int h = 0; h < nh; h++) q[ncomp * (1 + dim) + c * nh + h] += sh->ddN[h * sh->n + k] * uk;
     }
   MICA_CALL(stresses(rp, q, sigma, couple, strain));
-  const double value = scale * probe_field(rp, field, q, strain, sigma, couple);
+  int inverse;
+  snprintf(path, sizeof path, "output.probes.[%d].inverse", i);
+  MICA_CALL(mica_deck_bool(deck, path, &inverse));
+  const double raw = probe_field(rp, field, q, strain, sigma, couple);
+  MICA_CHECK(!inverse || raw != 0, MICA_ERR_NUMERIC, "probe '%s': %s is 0 at the point; it has no inverse", name, field);
+  const double value = inverse ? scale / raw : scale * raw;
   MICA_CALL(mica_json_number(summary, name, value));
   printf("probe %s = %.10g\n", name, value);
   return MICA_SUCCESS;
