@@ -93,4 +93,9 @@ extern const MicaFieldModelOps mica_field_micromorph;
 int mica_micromorph_set(MicaFieldModel *m, int dim, const MicaModelOps *micro_energy, const MicaMaterial *material,
                         const double *sizes);
 
+/* Small-strain gradient elasticity (src/models/strain_gradient.c), unknowns u, order 2: first strain
+ * gradient with one length l (couple_stress = 0) or the modified couple-stress theory (couple_stress = 1). */
+extern const MicaFieldModelOps mica_field_strain_gradient;
+int mica_strain_gradient_set(MicaFieldModel *m, const MicaMaterial *material, double l, int couple_stress);
+
 #endif

@@ -233,6 +233,30 @@ static int read_micromorph(const MicaDeck *deck, int dim, MicaFieldModel *field)
   return mica_micromorph_set(field, dim, micro, &classical.material, sizes);
 }
 
+/* Strain gradient / modified couple stress: E, ν (plane strain in 2-D) and the length material.l. */
+static int read_strain_gradient(const MicaDeck *deck, int dim, int couple_stress, MicaFieldModel *field) {
+  char where[256];
+  const char *plane;
+  MICA_CALL(mica_deck_string(deck, "material.plane", &plane));
+  mica_deck_where(deck, "material.plane", where, sizeof where);
+  MICA_CHECK(dim == 3 || strcmp(plane, "stress"), MICA_ERR_INPUT, "%s: the gradient models are plane strain in 2-D",
+             where);
+  MicaFieldModel classical;
+  MICA_CALL(read_classical(deck, dim, &mica_model_linear, &classical));
+  mica_deck_where(deck, "material", where, sizeof where);
+  MICA_CHECK(mica_deck_has(deck, "material.l"), MICA_ERR_INPUT, "%s: the %s model needs its length material.l", where,
+             couple_stress ? "couple-stress" : "strain-gradient");
+  double l;
+  MICA_CALL(mica_deck_float(deck, "material.l", &l));
+  mica_deck_where(deck, "material.l", where, sizeof where);
+  int ierr = mica_strain_gradient_set(field, &classical.material, l, couple_stress);
+  if (ierr) {
+    mica_error_prefix("%s", where);
+    return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  }
+  return MICA_SUCCESS;
+}
+
 /* A gradient model needs second derivatives of the unknowns: a basis of order ≥ 2 and a weight that is at
  * least C² (the cubic, quartic and quartic C³ splines). */
 static int check_second_derivatives(const MicaDeck *deck) {
@@ -256,6 +280,10 @@ static int read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt) {
   if (!strcmp(name, "micromorph")) {
     MICA_CALL(check_second_derivatives(deck));
     return read_micromorph(deck, dim, &opt->field);
+  }
+  if (!strcmp(name, "strain-gradient") || !strcmp(name, "couple-stress")) {
+    MICA_CALL(check_second_derivatives(deck));
+    return read_strain_gradient(deck, dim, !strcmp(name, "couple-stress"), &opt->field);
   }
   const MicaModelOps *model = mica_model_find(name);
   MICA_CHECK(model, MICA_ERR_ARGUMENT, "schema and model registry disagree on '%s'", name);
