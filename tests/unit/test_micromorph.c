@@ -113,6 +113,28 @@ static void test_linear_micro_energy_is_strain_gradient(void **state) {
   assert_true(worst < 1e-12);
 }
 
+/* Strain-gradient and couple-stress kernels: s and D against differences (D comes from polarization). */
+static void test_gradient_models_match_finite_differences(void **state) {
+  (void)state;
+  uint64_t rng = 29;
+  double worst_s = 0, worst_d = 0;
+  for (int dim = 2; dim <= 3; dim++)
+    for (int couple = 0; couple <= 1; couple++) {
+      MicaMaterial mat;
+      MicaFieldModel m;
+      assert_int_equal(mica_material_set(&mica_model_linear, 1000.0, 0.25, dim == 2 ? MICA_PLANE_STRAIN : MICA_PLANE_NONE,
+                                         &mat), 0);
+      assert_int_equal(mica_strain_gradient_set(&m, &mat, 0.3, couple), 0);
+      double q[64], es, ed;
+      random_q(mica_field_model_nq(&m, dim), 0.1, &rng, q);
+      check_derivatives(&m, dim, q, &es, &ed);
+      worst_s = fmax(worst_s, es), worst_d = fmax(worst_d, ed);
+    }
+  printf("strain gradient / couple stress: |s - dW| %.2e, |D - ds| %.2e\n", worst_s, worst_d);
+  assert_true(worst_s < 1e-7);
+  assert_true(worst_d < 1e-6);
+}
+
 static void test_bad_micro_size(void **state) {
   (void)state;
   MicaFieldModel m;
@@ -126,6 +148,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_tangents_match_finite_differences),
       cmocka_unit_test(test_linear_micro_energy_is_strain_gradient),
+      cmocka_unit_test(test_gradient_models_match_finite_differences),
       cmocka_unit_test(test_bad_micro_size),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
