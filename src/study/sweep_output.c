@@ -360,8 +360,12 @@ static void plot_items(const SweepSpec *spec, const SweepPoint *pts, Chart *ch) 
       snprintf(style, sizeof style, "with lines lw 1 lc %d dt %d", c + 1, 2 + k % 4);
       plot_item(spec, ch, "sweep_analytic.dat", c * spec->nanalytic + k, style, title);
     }
-  for (int e = 0; e < spec->nexperiments; e++)
-    plot_item(spec, ch, "sweep_experiments.dat", e, "with points pt 6 ps 1.2 lc rgb 'black'", spec->experiments[e].name);
+  static const int open_marker[] = {6, 4, 8, 10, 12, 14}; /* circle, square, triangles, diamond, pentagon */
+  for (int e = 0; e < spec->nexperiments; e++) {
+    char style[64]; /* a distinct open marker per data set, so the sets stay apart without colour */
+    snprintf(style, sizeof style, "with points pt %d ps 1.2 lc rgb 'black'", open_marker[e % 6]);
+    plot_item(spec, ch, "sweep_experiments.dat", e, style, spec->experiments[e].name);
+  }
   fprintf(ch->script, "\n");
 }
 
@@ -378,7 +382,7 @@ static int write_script(const SweepSpec *spec, const SweepPoint *pts, const char
   for (int pass = 0; pass < 2; pass++) {
     fprintf(out.fp, pass ? "set terminal svg size 900,650 noenhanced\nset output 'sweep.svg'\n"
                          : "set terminal pngcairo size 900,650 noenhanced\nset output 'sweep.png'\n");
-    fprintf(out.fp, "set title '%s: sweep'\nset xlabel '%s'\nset ylabel '%s'\nset grid\nset key top left opaque box\n%s%s",
+    fprintf(out.fp, "set title '%s: sweep'\nset xlabel '%s'\nset ylabel '%s'\nset grid\nset key outside right top box\n%s%s",
             title, spec->axes[spec->x].label, spec->probes[spec->probe], spec->logx ? "set logscale x\n" : "",
             spec->logy ? "set logscale y\n" : "");
     fprintf(out.fp, "plot ");
