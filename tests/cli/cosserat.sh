@@ -32,3 +32,12 @@ expect_failure 2 "bad_coupling.cfg:" -- "$MICA" run $D/bad_coupling.cfg -o "$wor
 expect_failure 2 "coupling number N" -- "$MICA" run $D/bad_coupling.cfg -o "$work/x"
 expect_failure 2 "needs a classical model" -- "$MICA" run $D/nitsche.cfg -o "$work/x"
 expect_failure 2 "mx is not an unknown (or load) of this model" -- "$MICA" run $D/couple_in_2d.cfg -o "$work/x"
+
+# 3-D Cosserat (6 unknowns per particle, Lakes' bone lengths): uniform tension has φ = 0 and no curvature,
+# so the exact solution is the classical one
+run_deck "$work/cube" input/cosserat_cube.cfg
+e=$(json_value error_l2 "$work/cube/summary.json")
+less_than "$e" 1e-4 || fail "3-D Cosserat tension: L2 error $e"
+within "$(json_value corner_ux "$work/cube/summary.json")" "$(awk 'BEGIN { print 10 / (2 * 3500 * 1.3) }')" 1e-4 \
+  "3-D Cosserat tension: corner u_x"
+expect_failure 2 "bad_psi.cfg:10: the Cosserat polar ratio" -- "$MICA" run $D/bad_psi.cfg -o "$work/x"
