@@ -20,6 +20,9 @@ typedef struct RunProblem {
   double time_discretize, time_mls, time_cache_pattern;
 } RunProblem;
 
+/* The model and its constants from material.* (run_material.c). */
+int run_read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt);
+
 /* Builds discretization, MLS, model, conditions and the solid from the deck. */
 int run_problem_build(const MicaDeck *deck, RunProblem *rp);
 void run_problem_free(RunProblem *rp);
