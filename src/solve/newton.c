@@ -86,7 +86,9 @@ static void monitor(const Newton *nw, int step, double t, int it, double rnorm, 
   char rate[32] = "-";
   if (nh >= 3 && h[nh - 1] > 0 && h[nh - 2] > 0 && h[nh - 3] > 0 && h[nh - 2] != h[nh - 3])
     snprintf(rate, sizeof rate, "%.2f", log(h[nh - 1] / h[nh - 2]) / log(h[nh - 2] / h[nh - 3]));
-  printf("  step %d t %.4g  it %d  |R| %.3e  |du| %.3e  rate %s\n", step, t, it, rnorm, dunorm, rate);
+  char increment[32] = "-"; /* no increment before the first solve */
+  if (it > 0) snprintf(increment, sizeof increment, "%.3e", dunorm);
+  printf("  step %d t %.4g  it %d  |R| %.3e  |du| %s  rate %s\n", step, t, it, rnorm, increment, rate);
   fflush(stdout);
 }
 
