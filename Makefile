@@ -1,6 +1,6 @@
 # mica — build, run, test.
 #
-#   make run        install missing Debian packages, build, run input/quickstart.cfg
+#   make run        install missing Debian packages, build, run input/quickstart.cfg (a size-effect sweep)
 #   make test       install, build, run the unit and verification tests
 #   make test SAN=1 the same under AddressSanitizer + UndefinedBehaviorSanitizer
 #   make bench      benchmarks (rates and ratios; never pass/fail on time)
@@ -83,8 +83,9 @@ $(OUT)/bench/%: bench/%.c $(LIB)/libmica.a | deps
 	$(CC) $(CPPFLAGS) $(CFLAGS) $< $(LIB)/libmica.a $(LDFLAGS) $(LDLIBS) -o $@
 
 run: all
-	$(BIN)/mica run input/quickstart.cfg -o out/quickstart
+	$(BIN)/mica sweep input/quickstart.cfg -o out/quickstart
 	@echo "--- out/quickstart/summary.json"; cat out/quickstart/summary.json
+	@echo "--- chart: out/quickstart/sweep.png; table: out/quickstart/sweep.csv"
 
 test: $(BIN)/mica $(TEST_BIN) | deps
 	@MICA_BIN=$(BIN)/mica TEST_DIR=$(OUT)/tests OUT_DIR=$(OUT)/test-out SAN=$(SAN) bash tests/run.sh

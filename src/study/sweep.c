@@ -17,6 +17,7 @@
 
 #include "mica/files.h"
 #include "mica/timer.h"
+#include "run.h"
 #include "sweep.h"
 
 /* Points write no fields and no Newton monitor unless the user's --set says otherwise (these come first). */
@@ -397,6 +398,6 @@ const MicaCommand mica_command_sweep = {
     "summary.json, and sweep.png/.svg: the chosen probe against the x path, one curve per combination of the\n"
     "other paths, with analytic curves and measured points. When material.model is swept, the summary says\n"
     "above which x each model agrees with the classical one within the tolerance.",
-    mica_sweep_schema,
+    mica_run_schema,
     sweep_run,
 };

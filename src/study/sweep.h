@@ -1,6 +1,6 @@
 /* Internal interface of `mica sweep` (src/study/sweep*.c): a run deck solved at every point of a grid (or
  * a zip) of values of some of its settings, each point a `mica run` of the deck loaded again with the
- * point's values as overrides. sweep_schema.c: the deck; sweep_spec.c: reading and checking the `sweep`
+ * point's values as overrides. The deck is the run deck (run_schema.c holds the sweep keys); sweep_spec.c: reading and checking the `sweep`
  * group; sweep.c: the points, the comparison of models, the summary; sweep_output.c: sweep.csv and the
  * chart. */
 #ifndef MICA_SWEEP_H
@@ -8,10 +8,9 @@
 
 #include "mica/command.h"
 
-enum { SWEEP_WHERE_MAX = 256, SWEEP_MAX_POINTS = 100000, SWEEP_SCHEMA_MAX = 512 };
+enum { SWEEP_WHERE_MAX = 256, SWEEP_MAX_POINTS = 100000 };
 
 /* The run schema's keys followed by the sweep group's (filled at program start). */
-extern MicaDeckKey mica_sweep_schema[SWEEP_SCHEMA_MAX];
 
 /* One swept setting: its path and its values, numbers or words (for string settings: material.model). */
 typedef struct SweepAxis {

@@ -65,7 +65,7 @@ int sweep_load(const SweepSpec *spec, int nforced, const char *const *forced, in
   for (int i = 0; i < nforced; i++) all[i] = forced[i];
   for (int i = 0; i < nuser; i++) all[nforced + i] = mica_deck_override_text(spec->deck, i);
   for (int i = 0; i < nextra; i++) all[nforced + nuser + i] = extra[i];
-  const int ierr = mica_deck_load(mica_deck_path(spec->deck), mica_sweep_schema, n, all, deck);
+  const int ierr = mica_deck_load(mica_deck_path(spec->deck), mica_run_schema, n, all, deck);
   free(all);
   return ierr;
 }
