@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "mica/files.h"
+#include "mica/plot.h"
 #include "mls_study.h"
 
 static double relative(double approx, double exact, double scale) {
@@ -116,30 +117,10 @@ cleanup:
   return ierr;
 }
 
-/* Runs gnuplot on the script inside outdir; its messages go to outdir/gnuplot.log. */
-static int run_gnuplot(const char *outdir) {
-  pid_t pid = fork();
-  MICA_CHECK(pid >= 0, MICA_ERR_LIBRARY, "cannot start gnuplot: %s", strerror(errno));
-  if (pid == 0) {
-    if (chdir(outdir) != 0) _exit(126);
-    FILE *log = freopen("gnuplot.log", "w", stderr);
-    (void)log;
-    execlp("gnuplot", "gnuplot", "mls_chart.gp", (char *)NULL);
-    _exit(127);
-  }
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
-  MICA_CHECK(WIFEXITED(status) && WEXITSTATUS(status) != 127, MICA_ERR_LIBRARY,
-             "gnuplot is not installed: run `make deps` (package gnuplot-nox), or set output.chart = false");
-  MICA_CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0, MICA_ERR_LIBRARY,
-             "gnuplot failed drawing the chart (exit %d); see gnuplot.log in the output directory",
-             WIFEXITED(status) ? WEXITSTATUS(status) : -1);
-  return MICA_SUCCESS;
-}
 
 int mls_study_write_chart(const MlsVariantResult *results, int nvariants, const char *title, const char *outdir) {
   MICA_CALL(write_chart_data(results, nvariants, outdir));
   MICA_CALL(write_chart_script(results, nvariants, title, outdir));
-  MICA_CALL(run_gnuplot(outdir));
+  MICA_CALL(mica_gnuplot(outdir, "mls_chart.gp", "output.chart"));
   return MICA_SUCCESS;
 }

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "mica/files.h"
+#include "mica/plot.h"
 #include "sweep.h"
 
 enum { FINE = 201 }; /* samples of an analytic curve */
@@ -401,27 +402,6 @@ cleanup:
   return ierr;
 }
 
-/* Runs gnuplot on the script inside outdir; its messages go to outdir/gnuplot.log. */
-static int run_gnuplot(const char *outdir) {
-  fflush(stdout);
-  pid_t pid = fork();
-  MICA_CHECK(pid >= 0, MICA_ERR_LIBRARY, "cannot start gnuplot: %s", strerror(errno));
-  if (pid == 0) {
-    if (chdir(outdir) != 0) _exit(126);
-    FILE *log = freopen("gnuplot.log", "w", stderr);
-    (void)log;
-    execlp("gnuplot", "gnuplot", "sweep_chart.gp", (char *)NULL);
-    _exit(127);
-  }
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
-  MICA_CHECK(WIFEXITED(status) && WEXITSTATUS(status) != 127, MICA_ERR_LIBRARY,
-             "gnuplot is not installed: run `make deps` (package gnuplot-nox), or set sweep.chart = false");
-  MICA_CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0, MICA_ERR_LIBRARY,
-             "gnuplot failed drawing the chart (exit %d); see gnuplot.log in the output directory",
-             WIFEXITED(status) ? WEXITSTATUS(status) : -1);
-  return MICA_SUCCESS;
-}
 
 int sweep_write_chart(const SweepSpec *spec, const SweepPoint *points, const char *outdir) {
   Chart ch;
@@ -432,7 +412,7 @@ int sweep_write_chart(const SweepSpec *spec, const SweepPoint *points, const cha
   MICA_CALL_CLEANUP(write_analytic_file(spec, points, outdir, &ch));
   MICA_CALL_CLEANUP(write_experiments_file(spec, outdir));
   MICA_CALL_CLEANUP(write_script(spec, points, outdir, &ch));
-  MICA_CALL_CLEANUP(run_gnuplot(outdir));
+  MICA_CALL_CLEANUP(mica_gnuplot(outdir, "sweep_chart.gp", "sweep.chart"));
 cleanup:
   free(ch.curves.first);
   free(ch.npoints);
