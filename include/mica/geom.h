@@ -106,6 +106,10 @@ typedef struct MicaDiscretization {
 int mica_discretization_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
                                const MicaCellSpec *cells, MicaDiscretization **disc);
 int mica_discretization_destroy(MicaDiscretization **disc);
+/* Turns a 2-D section in the (r, z) = (x, y) half-plane into the body of revolution it sweeps about the
+ * y axis: every volume and boundary weight is multiplied by 2πr, so Σ qw is the body's volume and boundary
+ * sums are integrals over surfaces of revolution. MICA_ERR_INPUT if the section is not 2-D or reaches r < 0. */
+int mica_discretization_revolve(MicaDiscretization *disc);
 /* Index of the boundary set with this name, or −1. */
 int mica_discretization_find_set(const MicaDiscretization *disc, const char *name);
 /* The names of the sets, comma-separated, for error messages ("left, right, bottom, top"). */

@@ -22,6 +22,7 @@
 typedef struct MicaShapeCache {
   int dim, order;  /* order 1: N, ∇N; order 2: also ∇∇N */
   long npoints;
+  double *x;    /* [npoints*dim] the points (axisymmetric kinematics need their radius) */
   long *ptr;    /* [npoints+1] */
   long *index;  /* [nnz] particle indices, ascending per point */
   double *N;    /* [nnz] */
@@ -82,13 +83,17 @@ typedef struct MicaSolidOptions {
   MicaFunction *body[MICA_MAX_COMP]; /* body load conjugate to each unknown (forces, couples) per unit
                                         reference volume, or NULL */
   int ramp;                     /* 1: every load and prescribed value is multiplied by the load factor t */
+  int axisymmetric;             /* 1: a 2-D (r, z) section of a body of revolution; the model is evaluated in
+                                   3-D with cylindrical components (r, θ, z), torsion included (docs/theory.md
+                                   §axisymmetric); quadrature weights must already carry 2πr */
 } MicaSolidOptions;
 
 typedef struct MicaSolid {
   const MicaDiscretization *disc;
   const MlsApprox *mls;
   MicaSolidOptions opt;
-  int dim;
+  int dim;                        /* of the geometry and the particles */
+  int model_dim;                  /* of the model's kinematics: dim, or 3 for an axisymmetric solid */
   int ncomp;                      /* unknowns per particle (and per multiplier node) */
   int nq;                         /* length of the generalized kinematics q at a point */
   long nparticles;

@@ -10,19 +10,68 @@
 
 #include "mica/solid.h"
 
-/* Slots of q (model.h layout): value of c at c; ∂_J of c at ncomp + c*dim + J; ∂_h of c after the gradients. */
+/* Slots of q (model.h layout): value of c at c; ∂_J of c at ncomp + c*dim + J; ∂_h of c after the gradients.
+ * dim is the model's dimension, gdim the geometry's: they differ only for axisymmetric solids (3 and 2). */
 typedef struct {
-  int ncomp, dim, nh, order, values;
+  int ncomp, dim, gdim, nh, order, values, axisymmetric;
 } Layout;
 
 static Layout layout_of(const MicaSolid *s) {
-  Layout L = {s->ncomp, s->dim, s->dim * (s->dim + 1) / 2, s->opt.field.ops->order, s->opt.field.ops->uses_values};
+  const int dim = s->model_dim;
+  Layout L = {s->ncomp, dim, s->dim, dim * (dim + 1) / 2, s->opt.field.ops->order, s->opt.field.ops->uses_values,
+              s->opt.axisymmetric};
   return L;
+}
+
+static inline int grad_slot(const Layout *L, int comp, int J) { return L->ncomp + comp * L->dim + J; }
+
+/* Axisymmetric B entries of component comp (docs/theory.md §axisymmetric): the unknowns come in vectors of
+ * three cylindrical components (r, θ, z) that depend on (r, z) only; in the local basis (e_r, e_θ, e_z) the
+ * 3-D gradient of such a vector v is
+ *   ∂v_a/∂r, ∂v_a/∂z in columns r and z, and in column θ: (∇v)_rθ = −v_θ/r, (∇v)_θθ = v_r/r, (∇v)_zθ = 0. */
+static int b_entries_axisymmetric(const Layout *L, const MicaShapeCache *c, long e, double r, int comp, int *slot,
+                                  double *value) {
+  const int local = comp % 3, first = comp - local; /* r, θ or z within its vector */
+  const double N = c->N[e], *dN = c->dN + e * 2;
+  /* On the axis (output at particles with r = 0; never a quadrature point) v_r and v_θ vanish for a regular
+   * field and v/r tends to ∂v/∂r. */
+  const double N_over_r = r > 0 ? N / r : dN[0];
+  int n = 0;
+  if (L->values) slot[n] = comp, value[n++] = N;
+  slot[n] = grad_slot(L, comp, 0), value[n++] = dN[0];
+  slot[n] = grad_slot(L, comp, 2), value[n++] = dN[1];
+  if (local == 0) slot[n] = grad_slot(L, first + 1, 1), value[n++] = N_over_r;  /* (∇v)_θθ = v_r/r */
+  if (local == 1) slot[n] = grad_slot(L, first + 0, 1), value[n++] = -N_over_r; /* (∇v)_rθ = −v_θ/r */
+  return n;
+}
+
+/* The nonzero B entries of particle entry e (at point p) for component c: their slots in q and their values. */
+static int b_entries(const Layout *L, const MicaShapeCache *c, long p, long e, int comp, int *slot, double *value) {
+  if (L->axisymmetric) return b_entries_axisymmetric(L, c, e, c->x[p * 2], comp, slot, value);
+  int n = 0;
+  if (L->values) slot[n] = comp, value[n++] = c->N[e];
+  for (int J = 0; J < L->dim; J++) slot[n] = grad_slot(L, comp, J), value[n++] = c->dN[e * L->dim + J];
+  if (L->order >= 2)
+    for (int h = 0; h < L->nh; h++)
+      slot[n] = L->ncomp * (1 + L->dim) + comp * L->nh + h, value[n++] = c->ddN[e * L->nh + h];
+  return n;
 }
 
 void mica_solid_kinematics(const MicaSolid *s, const MicaShapeCache *c, long p, const double *u, double *q) {
   const Layout L = layout_of(s);
   memset(q, 0, sizeof(double) * (size_t)s->nq);
+  if (L.axisymmetric) { /* q = Σ B u through the entries, which carry the hoop terms; values always */
+    Layout with_values = L;
+    with_values.values = 1;
+    int slot[16];
+    double b[16];
+    for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
+      for (int k = 0; k < L.ncomp; k++) {
+        const int n = b_entries(&with_values, c, p, e, k, slot, b);
+        for (int i = 0; i < n; i++) q[slot[i]] += b[i] * u[c->index[e] * L.ncomp + k];
+      }
+    return;
+  }
   double *grad = q + L.ncomp, *hess = grad + L.ncomp * L.dim;
   for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) {
     const double *ue = u + c->index[e] * L.ncomp, *dN = c->dN + e * L.dim;
@@ -46,24 +95,13 @@ void mica_solid_deformation_gradient(const MicaSolid *s, const MicaShapeCache *c
   }
 }
 
-/* The nonzero B entries of particle entry e for component c: their slots in q and their values. */
-static int b_entries(const Layout *L, const MicaShapeCache *c, long e, int comp, int *slot, double *value) {
-  int n = 0;
-  if (L->values) slot[n] = comp, value[n++] = c->N[e];
-  for (int J = 0; J < L->dim; J++) slot[n] = L->ncomp + comp * L->dim + J, value[n++] = c->dN[e * L->dim + J];
-  if (L->order >= 2)
-    for (int h = 0; h < L->nh; h++)
-      slot[n] = L->ncomp * (1 + L->dim) + comp * L->nh + h, value[n++] = c->ddN[e * L->nh + h];
-  return n;
-}
-
 /* R_kc += w Σ_j s_j B_j(k,c). */
 static void add_internal_force(const Layout *L, const MicaShapeCache *c, long p, const double *sq, double w, double *R) {
   int slot[16];
   double b[16];
   for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
     for (int comp = 0; comp < L->ncomp; comp++) {
-      const int n = b_entries(L, c, e, comp, slot, b);
+      const int n = b_entries(L, c, p, e, comp, slot, b);
       double f = 0;
       for (int i = 0; i < n; i++) f += sq[slot[i]] * b[i];
       R[c->index[e] * L->ncomp + comp] += w * f;
@@ -78,7 +116,7 @@ static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, 
   const long first = c->ptr[p], n = c->ptr[p + 1] - first, m = n * L->ncomp;
   for (long k = 0; k < n; k++)
     for (int comp = 0; comp < L->ncomp; comp++) {
-      const int nb = b_entries(L, c, first + k, comp, slot, b);
+      const int nb = b_entries(L, c, p, first + k, comp, slot, b);
       double *g = G + (k * L->ncomp + comp) * nq;
       for (int j = 0; j < nq; j++) {
         double sum = 0;
@@ -88,7 +126,7 @@ static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, 
     }
   for (long l = 0; l < n; l++)
     for (int d = 0; d < L->ncomp; d++) {
-      const int nb = b_entries(L, c, first + l, d, slot, b);
+      const int nb = b_entries(L, c, p, first + l, d, slot, b);
       for (long row = 0; row < m; row++) {
         const double *g = G + row * nq;
         double sum = 0;

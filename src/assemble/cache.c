@@ -42,6 +42,8 @@ int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x,
   c->order = order >= 2 ? 2 : 1;
   c->npoints = npoints;
   MICA_CALL_CLEANUP(MICA_CALLOC(c->ptr, npoints + 1));
+  MICA_CALL_CLEANUP(MICA_MALLOC(c->x, npoints * c->dim + 1));
+  memcpy(c->x, x, sizeof(double) * (size_t)(npoints * c->dim));
   MICA_CALL_CLEANUP(mls_shape_create(mls, &sh));
   for (long p = 0; p < npoints; p++) {
     ierr = mls_eval(mls, x + p * c->dim, c->order >= 2 ? MLS_HESSIAN : MLS_GRADIENT, sh);
@@ -62,6 +64,7 @@ cleanup:
 int mica_shape_cache_destroy(MicaShapeCache **cache) {
   if (!*cache) return MICA_SUCCESS;
   MICA_FREE((*cache)->ptr);
+  MICA_FREE((*cache)->x);
   MICA_FREE((*cache)->index);
   MICA_FREE((*cache)->N);
   MICA_FREE((*cache)->dN);
@@ -74,5 +77,6 @@ size_t mica_shape_cache_bytes(const MicaShapeCache *c) {
   if (!c) return 0;
   const size_t entries = (size_t)c->ptr[c->npoints];
   const size_t per_entry = (size_t)(1 + c->dim + (c->order >= 2 ? mls_num_hess(c->dim) : 0));
-  return sizeof(long) * (size_t)(c->npoints + 1) + entries * (sizeof(long) + sizeof(double) * per_entry);
+  return (sizeof(long) + sizeof(double) * (size_t)c->dim) * (size_t)(c->npoints + 1) +
+         entries * (sizeof(long) + sizeof(double) * per_entry);
 }

@@ -120,6 +120,23 @@ static long largest_clique(const MicaSolid *s) {
   return largest + 4; /* + the multiplier nodes of one boundary element */
 }
 
+/* An axisymmetric solid: a 2-D section, a first-order model whose unknowns are vectors of three components. */
+static int check_axisymmetric(const MicaSolid *s) {
+  const MicaSolidOptions *opt = &s->opt;
+  MICA_CHECK(s->dim == 2, MICA_ERR_INPUT, "an axisymmetric solid needs a 2-D (r, z) section; this geometry is %d-D",
+             s->dim);
+  MICA_CHECK(opt->field.ops->order == 1 && s->ncomp % 3 == 0, MICA_ERR_INPUT,
+             "model '%s' has no axisymmetric form (it needs %s): use a 3-D run", opt->field.ops->name,
+             opt->field.ops->order == 1 ? "vector unknowns" : "second derivatives in cylindrical coordinates");
+  MICA_CHECK(!opt->bc_method->needs_model_traction, MICA_ERR_INPUT,
+             "bc.method = \"%s\" is not available for axisymmetric solids: use \"lagrange\" or \"penalty\"",
+             opt->bc_method->name);
+  for (long p = 0; p < s->disc->nquad; p++)
+    MICA_CHECK(s->disc->qx[p * 2] > 0, MICA_ERR_INPUT,
+               "an axisymmetric section lies in x = r ≥ 0; quadrature point %ld has r = %g", p + 1, s->disc->qx[p * 2]);
+  return MICA_SUCCESS;
+}
+
 /* The model and the boundary method must fit together and in the fixed-size scratch of a point. */
 static int check_model(const MicaSolidOptions *opt, int ncomp, int nq) {
   MICA_CHECK(ncomp <= MICA_MAX_COMP && nq <= 128, MICA_ERR_ARGUMENT, "model '%s' has too many unknowns",
@@ -141,14 +158,16 @@ int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, cons
   s->mls = mls;
   s->opt = *opt;
   s->dim = disc->dim;
-  s->ncomp = opt->field.ops->ncomp(s->dim);
-  s->nq = mica_field_model_nq(&opt->field, s->dim);
+  s->model_dim = opt->axisymmetric ? 3 : s->dim;
+  s->ncomp = opt->field.ops->ncomp(s->model_dim);
+  s->nq = mica_field_model_nq(&opt->field, s->model_dim);
   s->nparticles = disc->nparticles;
   s->ndirichlet = ndirichlet;
   s->dirichlet = dirichlet;
   s->ntraction = ntraction;
   s->traction = traction;
   MICA_CALL_CLEANUP(check_model(opt, s->ncomp, s->nq));
+  if (opt->axisymmetric) MICA_CALL_CLEANUP(check_axisymmetric(s));
   MICA_CALL_CLEANUP(mica_shape_cache_create(mls, disc->nquad, disc->qx, opt->field.ops->order, "volume quadrature",
                                             &s->volume));
   MICA_CALL_CLEANUP(build_boundary_caches(s));

@@ -1,6 +1,7 @@
 /* MicaDiscretization: create (dispatching to the shape maps or to a Gmsh mesh), destroy, and the lookups
  * of boundary sets by name. */
 #include <stdio.h>
+#include <math.h>
 #include <string.h>
 
 #include "geom_private.h"
@@ -86,6 +87,23 @@ int mica_discretization_destroy(MicaDiscretization **disc) {
   MICA_FREE(d->qx);
   MICA_FREE(d->qw);
   MICA_FREE(*disc);
+  return MICA_SUCCESS;
+}
+
+int mica_discretization_revolve(MicaDiscretization *d) {
+  const double two_pi = 8 * atan(1.0);
+  MICA_CHECK(d->dim == 2, MICA_ERR_INPUT, "an axisymmetric body needs a 2-D (r, z) section; this geometry is %d-D",
+             d->dim);
+  for (long p = 0; p < d->nparticles; p++)
+    MICA_CHECK(d->x[p * 2] >= 0, MICA_ERR_INPUT,
+               "an axisymmetric section lies in x = r ≥ 0; particle %ld is at r = %g", p + 1, d->x[p * 2]);
+  d->volume = 0;
+  for (long p = 0; p < d->nquad; p++) {
+    d->qw[p] *= two_pi * d->qx[p * 2];
+    d->volume += d->qw[p];
+  }
+  for (int s = 0; s < d->nsets; s++)
+    for (long p = 0; p < d->sets[s].n; p++) d->sets[s].w[p] *= two_pi * d->sets[s].x[p * 2];
   return MICA_SUCCESS;
 }
 

@@ -173,22 +173,38 @@ static int read_components(const MicaDeck *deck, const char *element, const char
   return MICA_SUCCESS;
 }
 
-/* The model's names truncated to its ncomp unknowns. */
-static int model_names(const MicaFieldModel *m, int dim, int traction, const char **names) {
-  const char *const *all = traction ? m->ops->traction_names(dim) : m->ops->component_names(dim);
+static const char *const ALL_UNKNOWNS[] = {"ux", "uy", "uz", "phix", "phiy", "phiz", "ur", "utheta", "phir", "phitheta", NULL};
+static const char *const ALL_TRACTIONS[] = {"tx", "ty", "tz", "mx", "my", "mz", "tr", "ttheta", "mr", "mtheta", NULL};
+
+/* Axisymmetric solids name their cylindrical components (r, θ, z) of the model's 3-D vectors. */
+static const char *const CYLINDRICAL_UNKNOWNS[] = {"ur", "utheta", "uz", "phir", "phitheta", "phiz", NULL};
+static const char *const CYLINDRICAL_TRACTIONS[] = {"tr", "ttheta", "tz", "mr", "mtheta", "mz", NULL};
+
+int run_model_dim(const RunProblem *rp) { return rp->axisymmetric ? 3 : rp->disc->dim; }
+
+/* The deck's names of the model's ncomp unknowns (or of their conjugate tractions), NULL-terminated. */
+static int model_names(const RunProblem *rp, const MicaFieldModel *m, int traction, const char **names) {
+  const int dim = run_model_dim(rp);
+  const char *const *all = rp->axisymmetric ? (traction ? CYLINDRICAL_TRACTIONS : CYLINDRICAL_UNKNOWNS)
+                           : traction       ? m->ops->traction_names(dim)
+                                            : m->ops->component_names(dim);
   const int n = m->ops->ncomp(dim);
   for (int c = 0; c < n; c++) names[c] = all[c];
   names[n] = NULL;
   return n;
 }
 
-static const char *const ALL_UNKNOWNS[] = {"ux", "uy", "uz", "phix", "phiy", "phiz", NULL};
-static const char *const ALL_TRACTIONS[] = {"tx", "ty", "tz", "mx", "my", "mz", NULL};
-
-static int read_dirichlet(const MicaDeck *deck, const MicaDiscretization *disc, const MicaFieldModel *m, int *count,
-                          MicaDirichlet **out) {
+const char *run_unknown_name(const RunProblem *rp, int c) {
   const char *names[MICA_MAX_COMP + 1];
-  model_names(m, disc->dim, 0, names);
+  model_names(rp, &rp->solid->opt.field, 0, names);
+  return names[c];
+}
+
+static int read_dirichlet(const MicaDeck *deck, const RunProblem *rp, const MicaFieldModel *m, int *count,
+                          MicaDirichlet **out) {
+  const MicaDiscretization *disc = rp->disc;
+  const char *names[MICA_MAX_COMP + 1];
+  model_names(rp, m, 0, names);
   *count = mica_deck_list_length(deck, "bcs.dirichlet");
   MICA_CALL(MICA_CALLOC(*out, *count > 0 ? *count : 1));
   for (int i = 0; i < *count; i++) {
@@ -205,10 +221,11 @@ static int read_dirichlet(const MicaDeck *deck, const MicaDiscretization *disc, 
   return MICA_SUCCESS;
 }
 
-static int read_tractions(const MicaDeck *deck, const MicaDiscretization *disc, const MicaFieldModel *m, int *count,
+static int read_tractions(const MicaDeck *deck, const RunProblem *rp, const MicaFieldModel *m, int *count,
                           MicaTraction **out) {
+  const MicaDiscretization *disc = rp->disc;
   const char *names[MICA_MAX_COMP + 1];
-  model_names(m, disc->dim, 1, names);
+  model_names(rp, m, 1, names);
   *count = mica_deck_list_length(deck, "bcs.traction");
   MICA_CALL(MICA_CALLOC(*out, *count > 0 ? *count : 1));
   for (int i = 0; i < *count; i++) {
@@ -225,14 +242,14 @@ static int read_tractions(const MicaDeck *deck, const MicaDiscretization *disc, 
 }
 
 /* Body loads by unknown: loads.b<axis> for a displacement u<axis>, loads.c<axis> for a micro-rotation
- * phi<axis> (a body couple). */
-static int read_body_force(const MicaDeck *deck, int dim, const MicaFieldModel *m, MicaFunction **body) {
+ * phi<axis> (a body couple); <axis> is x, y, z or, axisymmetric, r, theta, z. */
+static int read_body_force(const MicaDeck *deck, const RunProblem *rp, const MicaFieldModel *m, MicaFunction **body) {
   const char *names[MICA_MAX_COMP + 1];
-  const int ncomp = model_names(m, dim, 0, names);
+  const int ncomp = model_names(rp, m, 0, names);
   for (int c = 0; c < ncomp; c++) {
     char path[32];
     const int rotation = names[c][0] == 'p'; /* "phix": a couple; "ux": a force */
-    snprintf(path, sizeof path, "loads.%c%c", rotation ? 'c' : 'b', names[c][strlen(names[c]) - 1]);
+    snprintf(path, sizeof path, "loads.%c%s", rotation ? 'c' : 'b', names[c] + (rotation ? 3 : 1));
     if (mica_deck_has(deck, path)) MICA_CALL(mica_deck_function(deck, path, &body[c]));
   }
   return MICA_SUCCESS;
@@ -254,7 +271,7 @@ static int read_bc_method(const MicaDeck *deck, MicaSolidOptions *opt) {
 static int read_exact(const MicaDeck *deck, RunProblem *rp, const MicaFieldModel *m) {
   const int dim = rp->disc->dim;
   const char *names[MICA_MAX_COMP + 1];
-  rp->ncomp = model_names(m, dim, 0, names);
+  rp->ncomp = model_names(rp, m, 0, names);
   for (int c = 0; c < rp->ncomp; c++) {
     char path[32];
     snprintf(path, sizeof path, "exact.%s", names[c]);
@@ -275,17 +292,35 @@ static int read_exact(const MicaDeck *deck, RunProblem *rp, const MicaFieldModel
 
 /* ---- building the problem ------------------------------------------------------------------------------- */
 
+/* Only first-order models of vector unknowns have an axisymmetric form here (Hessians in cylindrical
+ * coordinates are not implemented). Checked before the conditions, whose names depend on it. */
+static int check_axisymmetric_model(const MicaDeck *deck, const MicaFieldModel *m) {
+  if (m->ops->order == 1 && m->ops->ncomp(3) % 3 == 0) return MICA_SUCCESS;
+  char where[256];
+  mica_deck_where(deck, "material.model", where, sizeof where);
+  MICA_ERROR(MICA_ERR_INPUT, "%s: model '%s' has no axisymmetric form (it needs second derivatives in cylindrical "
+             "coordinates): use a plane or 3-D run", where, m->ops->name);
+}
+
 static int build_solid(const MicaDeck *deck, RunProblem *rp) {
   MicaSolidOptions opt;
   memset(&opt, 0, sizeof opt);
   MicaDirichlet *dirichlet = NULL;
   MicaTraction *traction = NULL;
   int ndirichlet = 0, ntraction = 0, ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(run_read_material(deck, rp->disc->dim, &opt));
+  opt.axisymmetric = rp->axisymmetric;
+  MICA_CALL_CLEANUP(run_read_material(deck, run_model_dim(rp), &opt));
+  if (rp->axisymmetric) MICA_CALL_CLEANUP(check_axisymmetric_model(deck, &opt.field));
   MICA_CALL_CLEANUP(read_bc_method(deck, &opt));
-  MICA_CALL_CLEANUP(read_body_force(deck, rp->disc->dim, &opt.field, opt.body));
-  MICA_CALL_CLEANUP(read_dirichlet(deck, rp->disc, &opt.field, &ndirichlet, &dirichlet));
-  MICA_CALL_CLEANUP(read_tractions(deck, rp->disc, &opt.field, &ntraction, &traction));
+  if (rp->axisymmetric && opt.bc_method->needs_model_traction) {
+    char where[256];
+    mica_deck_where(deck, "bc.method", where, sizeof where);
+    MICA_ERROR(MICA_ERR_INPUT, "%s: bc.method = \"%s\" is not available for axisymmetric solids: use \"lagrange\" or "
+               "\"penalty\"", where, opt.bc_method->name);
+  }
+  MICA_CALL_CLEANUP(read_body_force(deck, rp, &opt.field, opt.body));
+  MICA_CALL_CLEANUP(read_dirichlet(deck, rp, &opt.field, &ndirichlet, &dirichlet));
+  MICA_CALL_CLEANUP(read_tractions(deck, rp, &opt.field, &ntraction, &traction));
   long order;
   MICA_CALL_CLEANUP(mica_deck_int(deck, "mls.order", &order));
   opt.basis_order = (int)order;
@@ -305,6 +340,20 @@ cleanup:
   return ierr;
 }
 
+/* geometry.axisymmetric: the 2-D section in (x, y) = (r, z) is revolved about the y axis. */
+static int read_axisymmetric(const MicaDeck *deck, RunProblem *rp) {
+  MICA_CALL(mica_deck_bool(deck, "geometry.axisymmetric", &rp->axisymmetric));
+  if (!rp->axisymmetric) return MICA_SUCCESS;
+  int ierr = mica_discretization_revolve(rp->disc);
+  if (ierr) {
+    char where[256];
+    mica_deck_where(deck, "geometry.axisymmetric", where, sizeof where);
+    mica_error_prefix("%s", where);
+    return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  }
+  return MICA_SUCCESS;
+}
+
 int run_problem_build(const MicaDeck *deck, RunProblem *rp) {
   MicaShapeSpec shape;
   MicaLayoutSpec layout;
@@ -317,6 +366,7 @@ int run_problem_build(const MicaDeck *deck, RunProblem *rp) {
   MICA_CALL(read_layout(deck, shape.dim, shape.kind == MICA_SHAPE_GMSH, &layout, &cells));
   double start = mica_wtime();
   MICA_CALL(mica_discretization_create(&shape, &layout, &cells, &rp->disc));
+  MICA_CALL(read_axisymmetric(deck, rp));
   rp->time_discretize = mica_wtime() - start;
   MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
   start = mica_wtime();

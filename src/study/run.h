@@ -16,9 +16,15 @@ typedef struct RunProblem {
   MicaFunction *exact[MICA_MAX_COMP];      /* exact unknowns (displacements, micro-rotations), or NULL */
   MicaFunction *exact_grad[MICA_MAX_COMP][3]; /* their gradients ∂v_c/∂X_J */
   int has_exact, ncomp;
+  int axisymmetric;             /* geometry.axisymmetric: a 2-D (r, z) section, 3-D model, cylindrical components */
   MicaShapeCache *at_particles; /* shape functions at the particles, for output (built on first use) */
   double time_discretize, time_mls, time_cache_pattern;
 } RunProblem;
+
+/* The dimension of the model's kinematics (3 for an axisymmetric section) and the deck's name of unknown c
+ * ("ux", "phiz"; axisymmetric "ur", "utheta", ...). */
+int run_model_dim(const RunProblem *rp);
+const char *run_unknown_name(const RunProblem *rp, int c);
 
 /* The model and its constants from material.* (run_material.c). */
 int run_read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt);

@@ -21,10 +21,10 @@ static int stresses(const RunProblem *rp, const double *q, double *sigma, double
   const MicaSolid *s = rp->solid;
   const MicaFieldModel *m = &s->opt.field;
   memset(strain, 0, sizeof(double) * 9);
-  MICA_CALL(m->ops->stress(m, s->dim, q, sigma, couple));
+  MICA_CALL(m->ops->stress(m, s->model_dim, q, sigma, couple));
   if (m->classical) {
     double F[9], sig[9];
-    const int dim = s->dim;
+    const int dim = s->model_dim;
     for (int a = 0; a < dim; a++)
       for (int J = 0; J < dim; J++) F[a * dim + J] = (a == J) + q[s->ncomp + a * dim + J];
     MICA_CALL(mica_model_stress_strain(m->classical, &m->material, dim, F, sig, strain));
@@ -32,15 +32,37 @@ static int stresses(const RunProblem *rp, const double *q, double *sigma, double
   return MICA_SUCCESS;
 }
 
-/* The exact unknowns and their gradients at x (q layout: values, then gradients). */
+/* Values and geometric gradients (q2: values, then ∂_J of each unknown in the geometry's dim) into the model's
+ * layout q. The same unless the solid is axisymmetric: then the gradients go to columns r and z of the 3-D
+ * gradient, and column θ gets the hoop terms of each vector, (∇v)_rθ = −v_θ/r, (∇v)_θθ = v_r/r (theory.md). */
+static void to_model_layout(const RunProblem *rp, const double *x, const double *q2, double *q) {
+  const int dim = rp->disc->dim, mdim = run_model_dim(rp), ncomp = rp->solid->ncomp;
+  if (!rp->axisymmetric) {
+    memcpy(q, q2, sizeof(double) * (size_t)(ncomp * (1 + dim)));
+    return;
+  }
+  memset(q, 0, sizeof(double) * (size_t)(ncomp * (1 + mdim)));
+  for (int c = 0; c < ncomp; c++) {
+    q[c] = q2[c];
+    q[ncomp + c * mdim + 0] = q2[ncomp + c * dim + 0];
+    q[ncomp + c * mdim + 2] = q2[ncomp + c * dim + 1];
+  }
+  for (int first = 0; first < ncomp; first += 3) {
+    q[ncomp + first * mdim + 1] = -q2[first + 1] / x[0];
+    q[ncomp + (first + 1) * mdim + 1] = q2[first] / x[0];
+  }
+}
+
+/* The exact unknowns and their gradients at x (q layout of the model: values, then gradients). */
 static void exact_at(const RunProblem *rp, const double *x, double *q) {
   const int dim = rp->disc->dim, ncomp = rp->ncomp;
-  double p[3] = {0, 0, 0};
+  double p[3] = {0, 0, 0}, q2[64];
   memcpy(p, x, sizeof(double) * (size_t)dim);
   for (int c = 0; c < ncomp; c++) {
-    q[c] = mica_function_eval(rp->exact[c], p, 1.0);
-    for (int J = 0; J < dim; J++) q[ncomp + c * dim + J] = mica_function_eval(rp->exact_grad[c][J], p, 1.0);
+    q2[c] = mica_function_eval(rp->exact[c], p, 1.0);
+    for (int J = 0; J < dim; J++) q2[ncomp + c * dim + J] = mica_function_eval(rp->exact_grad[c][J], p, 1.0);
   }
+  to_model_layout(rp, x, q2, q);
 }
 
 /* ---- fields at the particles ---------------------------------------------------------------------------- */
@@ -58,7 +80,7 @@ static int fields_alloc(const RunProblem *rp, long n, ParticleFields *f) {
   MICA_CALL(MICA_CALLOC(f->strain, n * 9));
   MICA_CALL(MICA_CALLOC(f->stress, n * 9));
   MICA_CALL(MICA_CALLOC(f->mises, n));
-  if (rp->solid->ncomp > rp->disc->dim) {
+  if (rp->solid->ncomp > rp->solid->model_dim) {
     MICA_CALL(MICA_CALLOC(f->rotation, n * 3));
     MICA_CALL(MICA_CALLOC(f->couple, n * 9));
   }
@@ -66,25 +88,45 @@ static int fields_alloc(const RunProblem *rp, long n, ParticleFields *f) {
   return MICA_SUCCESS;
 }
 
+/* For the files, an axisymmetric solid's (r, θ, z) components are written in the section's frame (r, z, θ):
+ * x and y in the section, the third out of it. */
+static void to_file_frame(const RunProblem *rp, const double *v, int n, double *out) {
+  static const int section[3] = {0, 2, 1};
+  if (n == 3)
+    for (int a = 0; a < 3; a++) out[a] = v[rp->axisymmetric ? section[a] : a];
+  else
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++)
+        out[a * 3 + b] = rp->axisymmetric ? v[section[a] * 3 + section[b]] : v[a * 3 + b];
+}
+
 static int fields_compute(RunProblem *rp, const double *u, ParticleFields *f) {
   const MicaSolid *s = rp->solid;
-  const int dim = rp->disc->dim, ncomp = s->ncomp;
+  const int dim = rp->disc->dim, mdim = s->model_dim, ncomp = s->ncomp;
   const long n = rp->disc->nparticles;
   if (!rp->at_particles)
     MICA_CALL(mica_shape_cache_create(rp->mls, n, rp->disc->x, s->opt.field.ops->order, "output at particle",
                                       &rp->at_particles));
   MICA_CALL(fields_alloc(rp, n, f));
-  double q[128], qe[64], couple[9];
+  double q[128], qe[128], couple[9], v[3], sigma[9], strain[9];
   for (long i = 0; i < n; i++) {
     mica_solid_kinematics(s, rp->at_particles, i, u, q);
-    for (int a = 0; a < dim; a++) f->disp[i * 3 + a] = q[a];
-    if (f->rotation) /* 2-D: φ_z is the only micro-rotation */
-      for (int c = dim; c < ncomp; c++) f->rotation[i * 3 + (ncomp - dim == 1 ? 2 : c - dim)] = q[c];
-    MICA_CALL(stresses(rp, q, f->stress + i * 9, f->couple ? f->couple + i * 9 : couple, f->strain + i * 9));
-    f->mises[i] = von_mises(f->stress + i * 9);
+    for (int a = 0; a < 3; a++) v[a] = a < mdim ? q[a] : 0;
+    to_file_frame(rp, v, 3, f->disp + i * 3);
+    if (f->rotation) { /* 2-D: φ_z is the only micro-rotation */
+      for (int a = 0; a < 3; a++) v[a] = 0;
+      for (int c = mdim; c < ncomp; c++) v[ncomp - mdim == 1 ? 2 : c - mdim] = q[c];
+      to_file_frame(rp, v, 3, f->rotation + i * 3);
+    }
+    MICA_CALL(stresses(rp, q, sigma, couple, strain));
+    to_file_frame(rp, sigma, 9, f->stress + i * 9);
+    to_file_frame(rp, strain, 9, f->strain + i * 9);
+    if (f->couple) to_file_frame(rp, couple, 9, f->couple + i * 9);
+    f->mises[i] = von_mises(sigma);
     if (rp->has_exact) {
       exact_at(rp, rp->disc->x + i * dim, qe);
-      for (int a = 0; a < dim; a++) f->error[i * 3 + a] = q[a] - qe[a];
+      for (int a = 0; a < 3; a++) v[a] = a < mdim ? q[a] - qe[a] : 0;
+      to_file_frame(rp, v, 3, f->error + i * 3);
     }
   }
   return MICA_SUCCESS;
@@ -134,11 +176,11 @@ int run_output_finish(RunOutput *out) {
 int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary) {
   if (!rp->has_exact) return MICA_SUCCESS;
   const MicaSolid *s = rp->solid;
-  const int dim = s->dim, ncomp = s->ncomp, nq = s->nq, nvg = ncomp * (1 + dim);
+  const int dim = s->dim, mdim = s->model_dim, ncomp = s->ncomp, nq = s->nq, nvg = ncomp * (1 + mdim);
   const MicaShapeCache *c = s->volume;
   double *D0 = NULL, q0[128] = {0}, W0, s0[128];
   MICA_CALL(MICA_MALLOC(D0, nq * nq));
-  int ierr = s->opt.field.ops->eval(&s->opt.field, dim, q0, &W0, s0, D0);
+  int ierr = s->opt.field.ops->eval(&s->opt.field, mdim, q0, &W0, s0, D0);
   double l2[2] = {0, 0}, h1[2] = {0, 0}, en[2] = {0, 0};
   for (long p = 0; p < c->npoints && !ierr; p++) {
     double q[128], qe[128] = {0}, e[128] = {0};
@@ -165,64 +207,115 @@ int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary) {
 /* ---- probes ------------------------------------------------------------------------------------------------ */
 
 /* The value of a named field at a point: an unknown by its name ("ux", "phiz"), a strain e.., a force
- * stress s.. or couple stress m.. component (first index the one contracted with the normal), or mises. */
+ * stress s.. or couple stress m.. component (first index the one contracted with the normal; axes x, y, z or,
+ * axisymmetric, r, t = θ, z), or mises. */
 static double probe_field(const RunProblem *rp, const char *field, const double *q, const double *strain,
                           const double *sigma, const double *couple) {
-  static const char *const axes = "xyz";
-  const MicaFieldModel *m = &rp->solid->opt.field;
-  const char *const *names = m->ops->component_names(rp->disc->dim);
+  const char *axes = rp->axisymmetric ? "rtz" : "xyz";
   for (int c = 0; c < rp->solid->ncomp; c++)
-    if (!strcmp(field, names[c])) return q[c];
+    if (!strcmp(field, run_unknown_name(rp, c))) return q[c];
   if (!strcmp(field, "mises")) return von_mises(sigma);
   const double *tensor = field[0] == 'e' ? strain : field[0] == 'm' ? couple : sigma;
   const int i = (int)(strchr(axes, field[1]) - axes), j = (int)(strchr(axes, field[2]) - axes);
   return tensor[i * 3 + j];
 }
 
-static int probe_one(RunProblem *rp, int i, const double *u, MlsShape *sh, MicaJson *summary) {
-  const MicaDeck *deck = rp->deck;
+/* Does this model (in this dimension, plain or axisymmetric) have the probe's field? */
+static int probe_field_exists(const RunProblem *rp, const char *field) {
+  const char *axes = rp->axisymmetric ? "rtz" : "xyz";
+  for (int c = 0; c < rp->solid->ncomp; c++)
+    if (!strcmp(field, run_unknown_name(rp, c))) return 1;
+  if (!strcmp(field, "mises")) return 1;
+  return (field[0] == 's' || field[0] == 'e' || field[0] == 'm') && strlen(field) == 3 && strchr(axes, field[1]) &&
+         strchr(axes, field[2]);
+}
+
+/* The kinematics q (model layout) at a point from its MLS shape functions. */
+static void probe_kinematics(const RunProblem *rp, const double *x, const MlsShape *sh, const double *u, double *q) {
   const MicaSolid *s = rp->solid;
   const int dim = rp->disc->dim, ncomp = s->ncomp, nh = dim * (dim + 1) / 2;
+  double q2[128] = {0};
+  for (long k = 0; k < sh->n; k++)
+    for (int c = 0; c < ncomp; c++) {
+      const double uk = u[sh->index[k] * ncomp + c];
+      q2[c] += sh->N[k] * uk;
+      for (int J = 0; J < dim; J++) q2[ncomp + c * dim + J] += sh->dN[J * sh->n + k] * uk;
+      if (s->opt.field.ops->order >= 2)
+        for (int h = 0; h < nh; h++) q2[ncomp * (1 + dim) + c * nh + h] += sh->ddN[h * sh->n + k] * uk;
+    }
+  if (rp->axisymmetric)
+    to_model_layout(rp, x, q2, q);
+  else
+    memcpy(q, q2, sizeof(double) * (size_t)s->nq);
+}
+
+/* The strain energy of the whole body, Σ_p w_p W(q_p) over the volume quadrature (with 2πr if axisymmetric). */
+static int strain_energy(const RunProblem *rp, const double *u, double *energy) {
+  const MicaSolid *s = rp->solid;
+  double q[128], W;
+  *energy = 0;
+  for (long p = 0; p < s->volume->npoints; p++) {
+    mica_solid_kinematics(s, s->volume, p, u, q);
+    MICA_CALL(s->opt.field.ops->eval(&s->opt.field, s->model_dim, q, &W, NULL, NULL));
+    *energy += rp->disc->qw[p] * W;
+  }
+  return MICA_SUCCESS;
+}
+
+/* The raw value of a point probe: the field at the deck's point. */
+static int probe_at_point(RunProblem *rp, int i, const char *name, const char *field, const double *u, MlsShape *sh,
+                          double *raw) {
+  const MicaSolid *s = rp->solid;
+  const int dim = rp->disc->dim;
   char path[96], where[256];
-  const char *name, *field;
-  double point[3] = {0, 0, 0}, scale;
-  int n;
-  snprintf(path, sizeof path, "output.probes.[%d].name", i);
-  MICA_CALL(mica_deck_string(deck, path, &name));
-  snprintf(path, sizeof path, "output.probes.[%d].field", i);
-  MICA_CALL(mica_deck_string(deck, path, &field));
-  snprintf(path, sizeof path, "output.probes.[%d].scale", i);
-  MICA_CALL(mica_deck_float(deck, path, &scale));
+  double point[3] = {0, 0, 0};
+  int n = 0;
   snprintf(path, sizeof path, "output.probes.[%d].point", i);
-  MICA_CALL(mica_deck_floats(deck, path, point, 3, &n));
-  mica_deck_where(deck, path, where, sizeof where);
+  mica_deck_where(rp->deck, path, where, sizeof where);
+  if (!mica_deck_has(rp->deck, path)) {
+    snprintf(path, sizeof path, "output.probes.[%d]", i);
+    mica_deck_where(rp->deck, path, where, sizeof where);
+    MICA_ERROR(MICA_ERR_INPUT, "%s: probe '%s' needs a point (only field = \"energy\" has none)", where, name);
+  }
+  MICA_CALL(mica_deck_floats(rp->deck, path, point, 3, &n));
   MICA_CHECK(n == dim, MICA_ERR_INPUT, "%s: probe '%s' needs a point with %d coordinates", where, name, dim);
-  const char *const *names = s->opt.field.ops->component_names(dim);
-  int is_unknown = 0, is_tensor = (field[0] == 's' || field[0] == 'e' || field[0] == 'm') && strlen(field) == 3;
-  for (int c = 0; c < ncomp; c++) is_unknown |= !strcmp(field, names[c]);
-  MICA_CHECK(is_unknown || is_tensor || !strcmp(field, "mises"), MICA_ERR_INPUT,
-             "%s: probe '%s' asks for %s, which this model in %d-D does not have", where, name, field, dim);
-  MICA_CHECK(!(field[0] == 'e' && is_tensor && !s->opt.field.classical), MICA_ERR_INPUT,
+  MICA_CHECK(probe_field_exists(rp, field), MICA_ERR_INPUT,
+             "%s: probe '%s' asks for %s, which this model in %d-D%s does not have", where, name, field, dim,
+             rp->axisymmetric ? " (axisymmetric: axes r, t, z)" : "");
+  MICA_CHECK(!(field[0] == 'e' && strlen(field) == 3 && !s->opt.field.classical), MICA_ERR_INPUT,
              "%s: probe '%s': strains are reported for classical models only", where, name);
+  MICA_CHECK(!rp->axisymmetric || point[0] > 0, MICA_ERR_INPUT,
+             "%s: probe '%s': an axisymmetric probe needs r > 0 (the hoop terms divide by r)", where, name);
   int ierr = mls_eval(rp->mls, point, s->opt.field.ops->order >= 2 ? MLS_HESSIAN : MLS_GRADIENT, sh);
   if (ierr) {
     mica_error_prefix("%s: probe '%s'", where, name);
     return mica_error_trace(__FILE__, __LINE__, __func__, ierr == MICA_ERR_NUMERIC ? MICA_ERR_INPUT : ierr);
   }
   double q[128] = {0}, sigma[9], couple[9] = {0}, strain[9];
-  for (long k = 0; k < sh->n; k++)
-    for (int c = 0; c < ncomp; c++) {
-      const double uk = u[sh->index[k] * ncomp + c];
-      q[c] += sh->N[k] * uk;
-      for (int J = 0; J < dim; J++) q[ncomp + c * dim + J] += sh->dN[J * sh->n + k] * uk;
-      if (s->opt.field.ops->order >= 2)
-        for (int h = 0; h < nh; h++) q[ncomp * (1 + dim) + c * nh + h] += sh->ddN[h * sh->n + k] * uk;
-    }
+  probe_kinematics(rp, point, sh, u, q);
   MICA_CALL(stresses(rp, q, sigma, couple, strain));
+  *raw = probe_field(rp, field, q, strain, sigma, couple);
+  return MICA_SUCCESS;
+}
+
+static int probe_one(RunProblem *rp, int i, const double *u, MlsShape *sh, MicaJson *summary) {
+  const MicaDeck *deck = rp->deck;
+  char path[96];
+  const char *name, *field;
+  double scale, raw;
   int inverse;
+  snprintf(path, sizeof path, "output.probes.[%d].name", i);
+  MICA_CALL(mica_deck_string(deck, path, &name));
+  snprintf(path, sizeof path, "output.probes.[%d].field", i);
+  MICA_CALL(mica_deck_string(deck, path, &field));
+  snprintf(path, sizeof path, "output.probes.[%d].scale", i);
+  MICA_CALL(mica_deck_float(deck, path, &scale));
   snprintf(path, sizeof path, "output.probes.[%d].inverse", i);
   MICA_CALL(mica_deck_bool(deck, path, &inverse));
-  const double raw = probe_field(rp, field, q, strain, sigma, couple);
+  if (!strcmp(field, "energy"))
+    MICA_CALL(strain_energy(rp, u, &raw));
+  else
+    MICA_CALL(probe_at_point(rp, i, name, field, u, sh, &raw));
   MICA_CHECK(!inverse || raw != 0, MICA_ERR_NUMERIC, "probe '%s': %s is 0 at the point; it has no inverse", name, field);
   const double value = inverse ? scale / raw : scale * raw;
   MICA_CALL(mica_json_number(summary, name, value));

@@ -383,7 +383,7 @@ static int write_script(const SweepSpec *spec, const SweepPoint *pts, const char
   for (int pass = 0; pass < 2; pass++) {
     fprintf(out.fp, pass ? "set terminal svg size 900,650 noenhanced\nset output 'sweep.svg'\n"
                          : "set terminal pngcairo size 900,650 noenhanced\nset output 'sweep.png'\n");
-    fprintf(out.fp, "set title '%s: sweep'\nset xlabel '%s'\nset ylabel '%s'\nset grid\nset key outside right top box\n%s%s",
+    fprintf(out.fp, "set title '%s: sweep'\nset xlabel '%s'\nset ylabel '%s'\nset grid\nset key below box\n%s%s",
             title, spec->axes[spec->x].label, spec->probes[spec->probe], spec->logx ? "set logscale x\n" : "",
             spec->logy ? "set logscale y\n" : "");
     fprintf(out.fp, "plot ");
