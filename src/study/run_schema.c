@@ -51,7 +51,7 @@ const MicaDeckKey mica_run_schema[] = {
     {"quadrature.cells", MICA_KEY_INTS, NULL, 1, 1e6, NULL, 2, 3,
      "background cells per parameter axis (default: particles.count − 1)"},
     {"material.model", MICA_KEY_CHOICE, "\"linear\"", NOLIMIT, "linear|svk|neohooke|neohooke-cook|cosserat|micromorph|strain-gradient|couple-stress", 0, 0,
-     "continuum model (docs/theory.md §models); cosserat: small-strain micropolar (u, φ); micromorph: gradient micromorph χ = F; strain-gradient, couple-stress: small strain with length material.l"},
+     "continuum model (docs/theory.md §models); cosserat: small-strain micropolar (u, φ); micromorph: gradient micromorph χ = F, J^(−1/3) F or R(Φ) (material.micro_kind); strain-gradient, couple-stress: small strain with length material.l"},
     {"material.micro_model", MICA_KEY_CHOICE, "\"svk\"", NOLIMIT, "linear|svk|neohooke|neohooke-cook", 0, 0,
      "micromorph: the micro energy ψ (a classical model with material.E, material.nu)"},
     {"material.micro_kind", MICA_KEY_CHOICE, "\"F\"", NOLIMIT, "F|isochoric|rotation", 0, 0,
