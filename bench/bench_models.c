@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "mica/cosserat.h"
+#include "mica/micromorph.h"
 #include "mica/model.h"
 #include "mica/random.h"
 #include "mica/timer.h"
@@ -53,6 +54,14 @@ static int add_cases(int dim, Case *cases) {
   mica_material_set(&mica_model_svk, 1000, 0.3, plane, &mat);
   cases[n].name = "micromorph (svk, micro box)";
   mica_micromorph_set(&cases[n++].model, dim, &mica_model_svk, &mat, box);
+  cases[n].name = "mm isochoric (svk, line)";
+  mica_micromorph_isochoric_set(&cases[n++].model, dim, &mica_model_svk, &mat, line);
+  cases[n].name = "mm isochoric (svk, box)";
+  mica_micromorph_isochoric_set(&cases[n++].model, dim, &mica_model_svk, &mat, box);
+  cases[n].name = "mm rotation (svk, line)";
+  mica_micromorph_rotation_set(&cases[n++].model, dim, &mica_model_svk, &mat, line, 0.5);
+  cases[n].name = "mm rotation (svk, box)";
+  mica_micromorph_rotation_set(&cases[n++].model, dim, &mica_model_svk, &mat, box, 0.5);
   mica_material_set(&mica_model_linear, 1000, 0.3, plane, &mat);
   cases[n].name = "strain-gradient";
   mica_strain_gradient_set(&cases[n++].model, &mat, 0.1, 0);

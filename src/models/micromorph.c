@@ -12,15 +12,14 @@
  * The micro-space dimension is the smallest that carries a scene's size effect: a beam bent across its
  * thickness needs one micro axis along the thickness.
  *
- * param[] layout: [0..2] micro size per axis x, y, z (0: no extent), [3] micro Gauss points per axis.
+ * param[] layout: src/models/micromorph_private.h. The other kinds: micromorph_isochoric.c, micromorph_rotation.c.
  */
 #include <math.h>
 #include <string.h>
 
 #include "mica/geom.h"
 #include "mica/model.h"
-
-enum { MAX_MICRO_POINTS = 27, MICRO_GAUSS = 3 };
+#include "micromorph_private.h"
 
 static int micromorph_ncomp(int dim) { return dim; }
 
@@ -38,7 +37,7 @@ static const char *const *micromorph_tractions(int dim) {
 
 /* Micro Gauss points Y_g (dim components) and weights w_g summing to 1 over the micro box. 3 points per micro
  * axis integrate a micro energy quartic in Y (SVK with F̂ affine in Y) exactly. */
-static int micro_points(const MicaFieldModel *m, int dim, double (*Y)[3], double *w) {
+int mica_micromorph_points_(const MicaFieldModel *m, int dim, double (*Y)[3], double *w) {
   double x[MICRO_GAUSS], wx[MICRO_GAUSS];
   mica_gauss_legendre(MICRO_GAUSS, x, wx);
   int axes[3], naxes = 0;
@@ -79,8 +78,8 @@ static void micro_map(int dim, const double *Y, int nq, double *M) {
 
 static int micromorph_eval(const MicaFieldModel *m, int dim, const double *q, double *W, double *s, double *D) {
   const int d2 = dim * dim, nq = mica_field_model_nq(m, dim);
-  double Y[MAX_MICRO_POINTS][3], w[MAX_MICRO_POINTS], M[9 * 48], F[9], P[9], A[81], psi;
-  const int n = micro_points(m, dim, Y, w);
+  double Y[MICRO_MAX_POINTS][3], w[MICRO_MAX_POINTS], M[9 * 48], F[9], P[9], A[81], psi;
+  const int n = mica_micromorph_points_(m, dim, Y, w);
   if (W) *W = 0;
   if (s) memset(s, 0, sizeof(double) * (size_t)nq);
   if (D) memset(D, 0, sizeof(double) * (size_t)(nq * nq));
@@ -129,17 +128,22 @@ const MicaFieldModelOps mica_field_micromorph = {
     micromorph_stress,
 };
 
-int mica_micromorph_set(MicaFieldModel *m, int dim, const MicaModelOps *micro_energy, const MicaMaterial *material,
-                        const double *sizes) {
+int mica_micromorph_init_(MicaFieldModel *m, const MicaFieldModelOps *ops, int dim, const MicaModelOps *micro_energy,
+                          const MicaMaterial *material, const double *sizes) {
   for (int K = 0; K < dim; K++)
     MICA_CHECK(sizes[K] >= 0 && isfinite(sizes[K]), MICA_ERR_INPUT,
                "micro-space size along %c is %g; sizes must be positive (0: no micro extent along that axis)", 'x' + K,
                sizes[K]);
   memset(m, 0, sizeof *m);
-  m->ops = &mica_field_micromorph;
+  m->ops = ops;
   m->classical = micro_energy;
   m->material = *material;
   for (int K = 0; K < dim; K++) m->param[K] = sizes[K];
   m->param[3] = MICRO_GAUSS;
   return MICA_SUCCESS;
+}
+
+int mica_micromorph_set(MicaFieldModel *m, int dim, const MicaModelOps *micro_energy, const MicaMaterial *material,
+                        const double *sizes) {
+  return mica_micromorph_init_(m, &mica_field_micromorph, dim, micro_energy, material, sizes);
 }

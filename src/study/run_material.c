@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "mica/cosserat.h"
+#include "mica/micromorph.h"
 #include "run.h"
 
 /* A classical model: E and ν, plane strain or stress in 2-D, adapted as a field model. */
@@ -74,7 +75,30 @@ static int read_cosserat(const MicaDeck *deck, int dim, MicaFieldModel *field) {
   return MICA_SUCCESS;
 }
 
-/* Gradient micromorph (χ = F): a classical micro energy (material.micro_model with E, ν) averaged over the
+/* The kind of χ (material.micro_kind): F, J^(−1/3) F or R(Φ) with the coupling number material.N. */
+static int set_micromorph_kind(const MicaDeck *deck, int dim, const MicaModelOps *micro, const MicaMaterial *material,
+                               const double *sizes, MicaFieldModel *field) {
+  const char *kind;
+  char where[256];
+  MICA_CALL(mica_deck_string(deck, "material.micro_kind", &kind));
+  if (!strcmp(kind, "F")) return mica_micromorph_set(field, dim, micro, material, sizes);
+  if (!strcmp(kind, "isochoric")) return mica_micromorph_isochoric_set(field, dim, micro, material, sizes);
+  mica_deck_where(deck, "material.micro_kind", where, sizeof where);
+  MICA_CHECK(mica_deck_has(deck, "material.N"), MICA_ERR_INPUT,
+             "%s: micro_kind = \"rotation\" needs the coupling number material.N in [0, 1) (κ_c = 2GN²/(1 − N²))", where);
+  double N;
+  MICA_CALL(mica_deck_float(deck, "material.N", &N));
+  const int no_axes = sizes[0] == 0 && sizes[1] == 0 && sizes[2] == 0;
+  mica_deck_where(deck, no_axes ? "material.micro_kind" : "material.N", where, sizeof where);
+  int ierr = mica_micromorph_rotation_set(field, dim, micro, material, sizes, N);
+  if (ierr) {
+    mica_error_prefix("%s", where);
+    return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  }
+  return MICA_SUCCESS;
+}
+
+/* Gradient micromorph (χ = F, J^(−1/3) F or R(Φ)): a classical micro energy (material.micro_model with E, ν) averaged over the
  * micro space: one size per axis named in material.micro_axes. */
 static int read_micromorph(const MicaDeck *deck, int dim, MicaFieldModel *field) {
   const char *micro_name, *axes;
@@ -100,7 +124,7 @@ static int read_micromorph(const MicaDeck *deck, int dim, MicaFieldModel *field)
                "the axis out of material.micro_axes)", where, axes[i], given[i]);
     sizes[K] = given[i];
   }
-  return mica_micromorph_set(field, dim, micro, &classical.material, sizes);
+  return set_micromorph_kind(deck, dim, micro, &classical.material, sizes, field);
 }
 
 /* Strain gradient / modified couple stress: E, ν (plane strain in 2-D) and the length material.l. */
@@ -148,7 +172,9 @@ int run_read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt) {
   MICA_CALL(mica_deck_string(deck, "material.model", &name));
   if (!strcmp(name, "cosserat")) return read_cosserat(deck, dim, &opt->field);
   if (!strcmp(name, "micromorph")) {
-    MICA_CALL(check_second_derivatives(deck));
+    const char *kind;
+    MICA_CALL(mica_deck_string(deck, "material.micro_kind", &kind));
+    if (strcmp(kind, "rotation")) MICA_CALL(check_second_derivatives(deck)); /* the rotation kind is first order */
     return read_micromorph(deck, dim, &opt->field);
   }
   if (!strcmp(name, "strain-gradient") || !strcmp(name, "couple-stress")) {
