@@ -46,11 +46,17 @@ void mica_solid_deformation_gradient(const MicaSolid *s, const MicaShapeCache *c
   }
 }
 
-/* The nonzero B entries of particle entry e for component c: their slots in q and their values. */
-static int b_entries(const Layout *L, const MicaShapeCache *c, long e, int comp, int *slot, double *value) {
+/* Gradients of the test functions: VCI's corrected ones when the cache has them (Petrov–Galerkin), else the
+ * MLS gradients, which the trial functions always use (they keep the reproducing property). */
+static const double *test_gradients(const MicaShapeCache *c) { return c->dN_test ? c->dN_test : c->dN; }
+
+/* The nonzero B entries of particle entry e for component c, with gradients dN (trial or test): their slots
+ * in q and their values. */
+static int b_entries(const Layout *L, const MicaShapeCache *c, const double *dN, long e, int comp, int *slot,
+                     double *value) {
   int n = 0;
   if (L->values) slot[n] = comp, value[n++] = c->N[e];
-  for (int J = 0; J < L->dim; J++) slot[n] = L->ncomp + comp * L->dim + J, value[n++] = c->dN[e * L->dim + J];
+  for (int J = 0; J < L->dim; J++) slot[n] = L->ncomp + comp * L->dim + J, value[n++] = dN[e * L->dim + J];
   if (L->order >= 2)
     for (int h = 0; h < L->nh; h++)
       slot[n] = L->ncomp * (1 + L->dim) + comp * L->nh + h, value[n++] = c->ddN[e * L->nh + h];
@@ -63,14 +69,15 @@ static void add_internal_force(const Layout *L, const MicaShapeCache *c, long p,
   double b[16];
   for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
     for (int comp = 0; comp < L->ncomp; comp++) {
-      const int n = b_entries(L, c, e, comp, slot, b);
+      const int n = b_entries(L, c, test_gradients(c), e, comp, slot, b);
       double f = 0;
       for (int i = 0; i < n; i++) f += sq[slot[i]] * b[i];
       R[c->index[e] * L->ncomp + comp] += w * f;
     }
 }
 
-/* Ke[(k c),(l d)] = w Σ_ij B_i(k,c) D_ij B_j(l,d) through G_(k c)[j] = Σ_i B_i(k,c) D_ij. */
+/* Ke[(k c),(l d)] = w Σ_ij B_i(k,c) D_ij B_j(l,d) through G_(k c)[j] = Σ_i B_i(k,c) D_ij; rows are test
+ * functions, columns trial functions. */
 static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, int nq, const double *D, double w,
                               double *G, double *Ke) {
   int slot[16];
@@ -78,7 +85,7 @@ static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, 
   const long first = c->ptr[p], n = c->ptr[p + 1] - first, m = n * L->ncomp;
   for (long k = 0; k < n; k++)
     for (int comp = 0; comp < L->ncomp; comp++) {
-      const int nb = b_entries(L, c, first + k, comp, slot, b);
+      const int nb = b_entries(L, c, test_gradients(c), first + k, comp, slot, b);
       double *g = G + (k * L->ncomp + comp) * nq;
       for (int j = 0; j < nq; j++) {
         double sum = 0;
@@ -88,7 +95,7 @@ static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, 
     }
   for (long l = 0; l < n; l++)
     for (int d = 0; d < L->ncomp; d++) {
-      const int nb = b_entries(L, c, first + l, d, slot, b);
+      const int nb = b_entries(L, c, c->dN, first + l, d, slot, b);
       for (long row = 0; row < m; row++) {
         const double *g = G + row * nq;
         double sum = 0;
