@@ -98,6 +98,9 @@ typedef struct MicaDiscretization {
   int nsets;
   MicaBoundarySet *sets;
   double volume;    /* Σ qw: the body's area (2-D) or volume (3-D) */
+  long boundary_uncovered; /* boundary faces of a Gmsh mesh in no set or in several, plus set elements inside
+                              the body; 0 when the sets cover the boundary exactly once (always, for the
+                              built-in shapes), as VCI's boundary sums need */
 } MicaDiscretization;
 
 /* Builds particles, cells and quadrature points. Errors (MICA_ERR_INPUT): sizes, counts < 2, a polygon that

@@ -28,6 +28,8 @@ typedef struct MicaShapeCache {
   double *N;    /* [nnz] */
   double *dN;   /* [nnz*dim] */
   double *ddN;  /* [nnz*nh] packed Hessians (order 2), else NULL */
+  double *dN_test; /* [nnz*dim] VCI-corrected gradients of the test functions (mica_vci_correct), else NULL:
+                      the test functions are the trial functions */
   long max_support;
 } MicaShapeCache;
 
@@ -39,6 +41,16 @@ int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x,
                             MicaShapeCache **cache);
 int mica_shape_cache_destroy(MicaShapeCache **cache);
 size_t mica_shape_cache_bytes(const MicaShapeCache *cache);
+
+/* Variationally consistent integration (docs/theory.md §VCI; Chen, Hillman & Rüter 2013): fills
+ * volume->dN_test with ∇̃N_I = ∇N_I + Σ_β ξ_Iβ q_β, q_β the monomials of degree ≤ n − 1 (n = consistency,
+ * the MLS basis order, at least 1), with ξ such that every particle satisfies the discrete divergence identity
+ *   Σ_vol w (∇̃N_I p + N_I ∇p) = Σ_∂Ω w N_I p n   for every monomial p of degree ≤ n − 1.
+ * volume must be the cache at disc's volume points; the boundary sum runs over all of disc's sets, which
+ * must cover the boundary once (disc->boundary_uncovered = 0). First derivatives only (a cache of order 2
+ * keeps its Hessians uncorrected). A particle whose support holds too few volume points to fix ξ is a
+ * MICA_ERR_NUMERIC error naming it. */
+int mica_vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume);
 
 /* ---- Boundary conditions ------------------------------------------------------------------------------- */
 
@@ -86,6 +98,8 @@ typedef struct MicaSolidOptions {
   int axisymmetric;             /* 1: a 2-D (r, z) section of a body of revolution; the model is evaluated in
                                    3-D with cylindrical components (r, θ, z), torsion included (docs/theory.md
                                    §axisymmetric); quadrature weights must already carry 2πr */
+  int vci;                      /* 1: variationally consistent test gradients in the volume (Petrov–Galerkin:
+                                   the tangent is unsymmetric), first-order models only */
 } MicaSolidOptions;
 
 typedef struct MicaSolid {
@@ -107,6 +121,7 @@ typedef struct MicaSolid {
   long *multiplier_offset;        /* [ndirichlet]: first multiplier node of condition c (lagrange) */
   long nmultiplier_nodes;
   MicaSparse *K;                  /* the tangent, pattern built once */
+  double time_vci;                /* seconds spent on the VCI correction (0 without it) */
   double *work;                   /* per-point scratch: element matrices */
   long *work_nodes;               /* per-point scratch: clique node lists */
 } MicaSolid;
@@ -118,6 +133,10 @@ int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, cons
                       int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
                       MicaSolid **solid);
 int mica_solid_destroy(MicaSolid **solid);
+
+/* 1 if the tangent is symmetric positive definite (CHOLMOD applies): the boundary method keeps it so and the
+ * test functions are the trial functions (no VCI). */
+int mica_solid_symmetric_definite(const MicaSolid *s);
 
 /* Residual R(u; t) = internal − external forces + boundary-method terms, and (if K != NULL) the tangent
  * into K (zeroed first). */

@@ -29,10 +29,10 @@ static inline int grad_slot(const Layout *L, int comp, int J) { return L->ncomp 
  * three cylindrical components (r, θ, z) that depend on (r, z) only; in the local basis (e_r, e_θ, e_z) the
  * 3-D gradient of such a vector v is
  *   ∂v_a/∂r, ∂v_a/∂z in columns r and z, and in column θ: (∇v)_rθ = −v_θ/r, (∇v)_θθ = v_r/r, (∇v)_zθ = 0. */
-static int b_entries_axisymmetric(const Layout *L, const MicaShapeCache *c, long e, double r, int comp, int *slot,
-                                  double *value) {
+static int b_entries_axisymmetric(const Layout *L, const MicaShapeCache *c, const double *dN_all, long e, double r,
+                                  int comp, int *slot, double *value) {
   const int local = comp % 3, first = comp - local; /* r, θ or z within its vector */
-  const double N = c->N[e], *dN = c->dN + e * 2;
+  const double N = c->N[e], *dN = dN_all + e * 2;
   /* On the axis (output at particles with r = 0; never a quadrature point) v_r and v_θ vanish for a regular
    * field and v/r tends to ∂v/∂r. */
   const double N_over_r = r > 0 ? N / r : dN[0];
@@ -45,12 +45,14 @@ static int b_entries_axisymmetric(const Layout *L, const MicaShapeCache *c, long
   return n;
 }
 
-/* The nonzero B entries of particle entry e (at point p) for component c: their slots in q and their values. */
-static int b_entries(const Layout *L, const MicaShapeCache *c, long p, long e, int comp, int *slot, double *value) {
-  if (L->axisymmetric) return b_entries_axisymmetric(L, c, e, c->x[p * 2], comp, slot, value);
+/* The nonzero B entries of particle entry e (at point p) for component c, with gradients dN (the trial
+ * functions' c->dN, or the test functions', which VCI corrects): their slots in q and their values. */
+static int b_entries(const Layout *L, const MicaShapeCache *c, const double *dN, long p, long e, int comp, int *slot,
+                     double *value) {
+  if (L->axisymmetric) return b_entries_axisymmetric(L, c, dN, e, c->x[p * 2], comp, slot, value);
   int n = 0;
   if (L->values) slot[n] = comp, value[n++] = c->N[e];
-  for (int J = 0; J < L->dim; J++) slot[n] = grad_slot(L, comp, J), value[n++] = c->dN[e * L->dim + J];
+  for (int J = 0; J < L->dim; J++) slot[n] = grad_slot(L, comp, J), value[n++] = dN[e * L->dim + J];
   if (L->order >= 2)
     for (int h = 0; h < L->nh; h++)
       slot[n] = L->ncomp * (1 + L->dim) + comp * L->nh + h, value[n++] = c->ddN[e * L->nh + h];
@@ -67,7 +69,7 @@ void mica_solid_kinematics(const MicaSolid *s, const MicaShapeCache *c, long p, 
     double b[16];
     for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
       for (int k = 0; k < L.ncomp; k++) {
-        const int n = b_entries(&with_values, c, p, e, k, slot, b);
+        const int n = b_entries(&with_values, c, c->dN, p, e, k, slot, b);
         for (int i = 0; i < n; i++) q[slot[i]] += b[i] * u[c->index[e] * L.ncomp + k];
       }
     return;
@@ -95,20 +97,25 @@ void mica_solid_deformation_gradient(const MicaSolid *s, const MicaShapeCache *c
   }
 }
 
+/* Gradients of the test functions: VCI's corrected ones when the cache has them (Petrov–Galerkin), else the
+ * MLS gradients, which the trial functions always use (they keep the reproducing property). */
+static const double *test_gradients(const MicaShapeCache *c) { return c->dN_test ? c->dN_test : c->dN; }
+
 /* R_kc += w Σ_j s_j B_j(k,c). */
 static void add_internal_force(const Layout *L, const MicaShapeCache *c, long p, const double *sq, double w, double *R) {
   int slot[16];
   double b[16];
   for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
     for (int comp = 0; comp < L->ncomp; comp++) {
-      const int n = b_entries(L, c, p, e, comp, slot, b);
+      const int n = b_entries(L, c, test_gradients(c), p, e, comp, slot, b);
       double f = 0;
       for (int i = 0; i < n; i++) f += sq[slot[i]] * b[i];
       R[c->index[e] * L->ncomp + comp] += w * f;
     }
 }
 
-/* Ke[(k c),(l d)] = w Σ_ij B_i(k,c) D_ij B_j(l,d) through G_(k c)[j] = Σ_i B_i(k,c) D_ij. */
+/* Ke[(k c),(l d)] = w Σ_ij B_i(k,c) D_ij B_j(l,d) through G_(k c)[j] = Σ_i B_i(k,c) D_ij; rows are test
+ * functions, columns trial functions. */
 static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, int nq, const double *D, double w,
                               double *G, double *Ke) {
   int slot[16];
@@ -116,7 +123,7 @@ static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, 
   const long first = c->ptr[p], n = c->ptr[p + 1] - first, m = n * L->ncomp;
   for (long k = 0; k < n; k++)
     for (int comp = 0; comp < L->ncomp; comp++) {
-      const int nb = b_entries(L, c, p, first + k, comp, slot, b);
+      const int nb = b_entries(L, c, test_gradients(c), p, first + k, comp, slot, b);
       double *g = G + (k * L->ncomp + comp) * nq;
       for (int j = 0; j < nq; j++) {
         double sum = 0;
@@ -126,7 +133,7 @@ static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, 
     }
   for (long l = 0; l < n; l++)
     for (int d = 0; d < L->ncomp; d++) {
-      const int nb = b_entries(L, c, p, first + l, d, slot, b);
+      const int nb = b_entries(L, c, c->dN, p, first + l, d, slot, b);
       for (long row = 0; row < m; row++) {
         const double *g = G + row * nq;
         double sum = 0;

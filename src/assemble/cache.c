@@ -69,6 +69,7 @@ int mica_shape_cache_destroy(MicaShapeCache **cache) {
   MICA_FREE((*cache)->N);
   MICA_FREE((*cache)->dN);
   MICA_FREE((*cache)->ddN);
+  MICA_FREE((*cache)->dN_test);
   MICA_FREE(*cache);
   return MICA_SUCCESS;
 }
@@ -76,7 +77,8 @@ int mica_shape_cache_destroy(MicaShapeCache **cache) {
 size_t mica_shape_cache_bytes(const MicaShapeCache *c) {
   if (!c) return 0;
   const size_t entries = (size_t)c->ptr[c->npoints];
-  const size_t per_entry = (size_t)(1 + c->dim + (c->order >= 2 ? mls_num_hess(c->dim) : 0));
+  const size_t per_entry =
+      (size_t)(1 + c->dim + (c->order >= 2 ? mls_num_hess(c->dim) : 0) + (c->dN_test ? c->dim : 0));
   return (sizeof(long) + sizeof(double) * (size_t)c->dim) * (size_t)(c->npoints + 1) +
          entries * (sizeof(long) + sizeof(double) * per_entry);
 }

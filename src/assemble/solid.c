@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "mica/solid.h"
+#include "mica/timer.h"
 
 /* Does any condition use boundary set `set`? */
 static int set_is_used(const MicaSolid *s, int set) {
@@ -141,10 +142,25 @@ static int check_axisymmetric(const MicaSolid *s) {
 static int check_model(const MicaSolidOptions *opt, int ncomp, int nq) {
   MICA_CHECK(ncomp <= MICA_MAX_COMP && nq <= 128, MICA_ERR_ARGUMENT, "model '%s' has too many unknowns",
              opt->field.ops->name);
+  MICA_CHECK(!opt->vci || opt->field.ops->order == 1, MICA_ERR_INPUT,
+             "quadrature.vci corrects first derivatives only; model '%s' uses second derivatives",
+             opt->field.ops->name);
   MICA_CHECK(opt->field.ops == &mica_field_classical || !opt->bc_method->needs_model_traction, MICA_ERR_INPUT,
              "bc.method = \"%s\" needs a classical model; model '%s' has generalized tractions: use \"lagrange\" or "
              "\"penalty\"", opt->bc_method->name, opt->field.ops->name);
   return MICA_SUCCESS;
+}
+
+/* VCI: corrected test gradients in the volume cache (vci.c), timed for the summary. */
+static int apply_vci(MicaSolid *s) {
+  const double start = mica_wtime();
+  MICA_CALL(mica_vci_correct(s->disc, s->mls, s->opt.basis_order, s->volume));
+  s->time_vci = mica_wtime() - start;
+  return MICA_SUCCESS;
+}
+
+int mica_solid_symmetric_definite(const MicaSolid *s) {
+  return s->opt.bc_method->symmetric_definite && !s->volume->dN_test;
 }
 
 int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, const MicaSolidOptions *opt,
@@ -170,6 +186,7 @@ int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, cons
   if (opt->axisymmetric) MICA_CALL_CLEANUP(check_axisymmetric(s));
   MICA_CALL_CLEANUP(mica_shape_cache_create(mls, disc->nquad, disc->qx, opt->field.ops->order, "volume quadrature",
                                             &s->volume));
+  if (opt->vci) MICA_CALL_CLEANUP(apply_vci(s));
   MICA_CALL_CLEANUP(build_boundary_caches(s));
   MICA_CALL_CLEANUP(number_multipliers(s));
   s->ndof = (s->nparticles + s->nmultiplier_nodes) * s->ncomp;

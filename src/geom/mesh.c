@@ -476,6 +476,46 @@ cleanup:
   return ierr;
 }
 
+/* ---- does the union of the sets cover the boundary once? ---- */
+
+/* Keys of the set elements, one per (element, physical group of dimension dim − 1 holding it); allocated. */
+static int held_faces(const MeshContext *ctx, FaceKey **held, long *n) {
+  const GmshMesh *mesh = ctx->mesh;
+  const int *tags;
+  long count = 0;
+  for (long e = 0; e < mesh->nelements; e++)
+    if (gmsh_element_dim(mesh->type[e]) == ctx->dim - 1)
+      count += gmsh_entity_physicals(mesh, mesh->entity_dim[e], mesh->entity_tag[e], &tags);
+  MICA_CALL(MICA_MALLOC(*held, count));
+  *n = 0;
+  for (long e = 0; e < mesh->nelements; e++) {
+    if (gmsh_element_dim(mesh->type[e]) != ctx->dim - 1) continue;
+    const long groups = gmsh_entity_physicals(mesh, mesh->entity_dim[e], mesh->entity_tag[e], &tags);
+    for (long k = 0; k < groups; k++)
+      (*held)[(*n)++] = make_key(&mesh->node[mesh->node_start[e]], gmsh_element_nodes(mesh->type[e]), e);
+  }
+  qsort(*held, (size_t)*n, sizeof **held, compare_face);
+  return MICA_SUCCESS;
+}
+
+/* Boundary faces (sides of exactly one volume element) held by no set or by several, plus held faces inside
+ * the body (sides of two). VCI's boundary sums need 0. Both lists are sorted: one merged pass. */
+static int count_uncovered(const MeshContext *ctx, long *uncovered) {
+  FaceKey *held = NULL;
+  long nheld = 0, h = 0;
+  MICA_CALL(held_faces(ctx, &held, &nheld));
+  *uncovered = 0;
+  for (long i = 0, j; i < ctx->nfaces; i = j) {
+    for (j = i + 1; j < ctx->nfaces && compare_face(&ctx->faces[j], &ctx->faces[i]) == 0; j++) continue;
+    while (h < nheld && compare_face(&held[h], &ctx->faces[i]) < 0) h++;
+    long times = 0;
+    for (; h < nheld && compare_face(&held[h], &ctx->faces[i]) == 0; h++) times++;
+    *uncovered += j - i == 1 ? times != 1 : times;
+  }
+  MICA_FREE(held);
+  return MICA_SUCCESS;
+}
+
 /* ---- the whole mesh ---- */
 
 static int make_rules(const GmshMesh *mesh, int dim, int order, int boundary_order, Rule rules[TYPE_MAX]) {
@@ -501,6 +541,7 @@ int geom_mesh_discretize(const GmshMesh *mesh, int order, int boundary_order, Mi
   MICA_CALL_CLEANUP(face_table(mesh, dim, &faces, &nfaces));
   const MeshContext ctx = {mesh, dim, rules, faces, nfaces};
   MICA_CALL_CLEANUP(mesh_boundary(&ctx, disc));
+  MICA_CALL_CLEANUP(count_uncovered(&ctx, &disc->boundary_uncovered));
 cleanup:
   free_rules(rules);
   MICA_FREE(faces);

@@ -35,7 +35,7 @@ static int assemble(Newton *nw, double t, const double *u, int with_tangent) {
 static int choose_linear_solver(Newton *nw) {
   const MicaLinearSolverOps *ops = nw->opt->linear;
   nw->auto_linear = ops == NULL;
-  if (!ops) ops = nw->s->opt.bc_method->symmetric_definite ? &mica_linear_cholmod : &mica_linear_umfpack;
+  if (!ops) ops = mica_solid_symmetric_definite(nw->s) ? &mica_linear_cholmod : &mica_linear_umfpack;
   MICA_CALL(mica_linear_solver_create(ops, &nw->linear));
   nw->stats->linear_name = ops->name;
   return MICA_SUCCESS;

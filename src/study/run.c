@@ -302,6 +302,24 @@ static int check_axisymmetric_model(const MicaDeck *deck, const MicaFieldModel *
              "coordinates): use a plane or 3-D run", where, m->ops->name);
 }
 
+/* quadrature.vci: first-order models only, and boundary sets that cover the whole boundary once. */
+static int read_vci(const MicaDeck *deck, const MicaDiscretization *disc, MicaSolidOptions *opt) {
+  MICA_CALL(mica_deck_bool(deck, "quadrature.vci", &opt->vci));
+  if (!opt->vci) return MICA_SUCCESS;
+  char where[256];
+  mica_deck_where(deck, "quadrature.vci", where, sizeof where);
+  MICA_CHECK(opt->field.ops->order == 1, MICA_ERR_INPUT,
+             "%s: quadrature.vci corrects first derivatives only, and model '%s' uses second derivatives", where,
+             opt->field.ops->name);
+  MICA_CHECK(!opt->axisymmetric, MICA_ERR_INPUT,
+             "%s: quadrature.vci is not available for axisymmetric solids (the divergence identity would need the "
+             "hoop terms and 2πr weights)", where);
+  MICA_CHECK(disc->boundary_uncovered == 0, MICA_ERR_INPUT,
+             "%s: quadrature.vci needs boundary sets (physical groups) that cover the whole boundary once; %ld "
+             "boundary faces of the mesh are in no set or in several", where, disc->boundary_uncovered);
+  return MICA_SUCCESS;
+}
+
 static int build_solid(const MicaDeck *deck, RunProblem *rp) {
   MicaSolidOptions opt;
   memset(&opt, 0, sizeof opt);
@@ -324,6 +342,7 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp) {
   long order;
   MICA_CALL_CLEANUP(mica_deck_int(deck, "mls.order", &order));
   opt.basis_order = (int)order;
+  MICA_CALL_CLEANUP(read_vci(deck, rp->disc, &opt));
   const double start = mica_wtime();
   ierr = mica_study_mls_input(mica_solid_create(rp->disc, rp->mls, &opt, ndirichlet, dirichlet, ntraction, traction,
                                                 &rp->solid));
@@ -426,6 +445,8 @@ static int add_counts(const RunProblem *rp, MicaJson *summary) {
   MICA_CALL(mica_json_number(summary, "time_discretize", rp->time_discretize));
   MICA_CALL(mica_json_number(summary, "time_mls_setup", rp->time_mls));
   MICA_CALL(mica_json_number(summary, "time_cache_and_pattern", rp->time_cache_pattern));
+  MICA_CALL(mica_json_bool(summary, "vci", s->opt.vci));
+  MICA_CALL(mica_json_number(summary, "time_vci", s->time_vci)); /* part of time_cache_and_pattern */
   return MICA_SUCCESS;
 }
 
@@ -436,6 +457,7 @@ static void print_counts(const RunProblem *rp) {
          rp->disc->nparticles, rp->disc->ncells, rp->disc->nquad, boundary_points(rp->disc), s->ndof, s->K->nnz,
          (double)s->volume->ptr[s->volume->npoints] / (double)s->volume->npoints, s->volume->max_support,
          (double)cache_bytes(s) / 1e6, (double)(s->K->nnz * 16) / 1e6);
+  if (s->opt.vci) printf("VCI: corrected test gradients in %.3g s\n", s->time_vci);
   fflush(stdout);
 }
 
@@ -457,9 +479,10 @@ static int read_newton(const MicaDeck *deck, const MicaSolid *s, MicaNewtonOptio
   opt->linear = strcmp(linear, "auto") ? mica_linear_solver_find(linear) : NULL;
   char where[256];
   mica_deck_where(deck, "solver.linear", where, sizeof where);
-  MICA_CHECK(!(opt->linear == &mica_linear_cholmod && !s->opt.bc_method->symmetric_definite), MICA_ERR_INPUT,
-             "%s: CHOLMOD needs a symmetric positive definite tangent, which bc.method = \"%s\" does not give; "
-             "use \"umfpack\" or \"auto\"", where, s->opt.bc_method->name);
+  MICA_CHECK(!(opt->linear == &mica_linear_cholmod && !mica_solid_symmetric_definite(s)), MICA_ERR_INPUT,
+             "%s: CHOLMOD needs a symmetric positive definite tangent, which bc.method = \"%s\"%s does not give; "
+             "use \"umfpack\" or \"auto\"", where, s->opt.bc_method->name,
+             s->opt.vci ? " with quadrature.vci (unsymmetric: Petrov–Galerkin)" : "");
   return MICA_SUCCESS;
 }
 

@@ -51,6 +51,9 @@ const MicaDeckKey mica_run_schema[] = {
     {"quadrature.order", MICA_KEY_INT, "4", 1, 20, NULL, 0, 0, "Gauss points per direction in each background cell"},
     {"quadrature.boundary_order", MICA_KEY_INT, "0", 0, 20, NULL, 0, 0,
      "Gauss points per direction on boundary edges/faces (0: quadrature.order)"},
+    {"quadrature.vci", MICA_KEY_BOOL, "false", NOLIMIT, NULL, 0, 0,
+     "variationally consistent integration: corrected test gradients pass the patch test of the basis order "
+     "(first-order models; unsymmetric tangent)"},
     {"quadrature.cells", MICA_KEY_INTS, NULL, 1, 1e6, NULL, 2, 3,
      "background cells per parameter axis (default: particles.count − 1)"},
     {"material.model", MICA_KEY_CHOICE, "\"linear\"", NOLIMIT, "linear|svk|neohooke|neohooke-cook|cosserat|micromorph|strain-gradient|couple-stress", 0, 0,

@@ -48,4 +48,5 @@ expect_failure 2 "has no axisymmetric form" -- "$MICA" run input/beam_gradient.c
 expect_failure 2 "needs r > 0" -- "$MICA" run input/bone_torsion.cfg -o "$out/bad5" --set 'output.probes.[1].point=["0", "L/2"]'
 sed 's/{ name = "ur_inner"; point = \["a", "h\/2"\]; field = "ur"; }/{ name = "ur_inner"; field = "ur"; }/' input/lame_axisymmetric.cfg > "$out/no_point.cfg"
 expect_failure 2 "needs a point" -- "$MICA" run "$out/no_point.cfg" -o "$out/bad6"
+expect_failure 2 "not available for axisymmetric solids" -- "$MICA" run input/lame_axisymmetric.cfg -o "$out/bad7" --set quadrature.vci=true
 echo "axisymmetric: all checks passed"

@@ -1,0 +1,195 @@
+/* Variationally consistent integration, VCI (docs/theory.md §VCI; Chen, Hillman & Rüter 2013, IJNME 95):
+ * the test-function gradients at the volume quadrature points are corrected,
+ *   ∇̃_d N_I(x) = ∇_d N_I(x) + Σ_β ξ_Iβd q_β(x),
+ * with q_β the monomials of degree ≤ n − 1, so that each particle satisfies the discrete divergence
+ * identity for every such monomial p_α:
+ *   Σ_vol w (∇̃_d N_I p_α + N_I ∂_d p_α) = Σ_∂Ω w N_I p_α n_d.
+ * Per particle this is one small SPD system A_I ξ_Id = r_Id for every direction d, with the Gram matrix
+ * A_αβ = Σ_vol w q_α q_β over the volume points in the particle's support, factored once (Cholesky,
+ * LAPACK) for all d. The monomials are taken in the particle's local coordinates s = (x − x_I)/ρ_I (its
+ * support radii), which span the same space and keep A well conditioned. */
+#include <lapacke.h> /* it includes complex.h, whose macro I rules out that name: particles are `part` */
+#include <string.h>
+
+#include "mica/solid.h"
+
+enum { VCI_MAX_TERMS = 10 }; /* monomials of degree ≤ 2 in 3-D (basis order 3) */
+
+/* The monomials of total degree ≤ degree in dim variables, by their exponents. */
+typedef struct {
+  int dim, m;
+  int exponent[VCI_MAX_TERMS][3];
+} Monomials;
+
+static int monomials_init(int dim, int degree, Monomials *b) {
+  b->dim = dim, b->m = 0;
+  for (int total = 0; total <= degree; total++)
+    for (int i = total; i >= 0; i--)
+      for (int j = total - i; j >= 0; j--) {
+        const int k = total - i - j;
+        if (dim == 2 && k > 0) continue;
+        MICA_CHECK(b->m < VCI_MAX_TERMS, MICA_ERR_ARGUMENT, "VCI: degree %d in %d-D has too many monomials", degree,
+                   dim);
+        b->exponent[b->m][0] = i, b->exponent[b->m][1] = j, b->exponent[b->m][2] = k;
+        b->m++;
+      }
+  return MICA_SUCCESS;
+}
+
+static double power(double x, int e) {
+  double r = 1.0;
+  while (e-- > 0) r *= x;
+  return r;
+}
+
+/* q[a] = q_a(s) and, if dq, dq[d*m + a] = ∂q_a/∂s_d. */
+static void monomials_eval(const Monomials *b, const double *s, double *q, double *dq) {
+  for (int a = 0; a < b->m; a++) {
+    const int *e = b->exponent[a];
+    double f[3] = {1.0, 1.0, 1.0};
+    for (int d = 0; d < b->dim; d++) f[d] = power(s[d], e[d]);
+    q[a] = f[0] * f[1] * f[2];
+    if (!dq) continue;
+    for (int d = 0; d < b->dim; d++) {
+      double g = e[d] ? e[d] * power(s[d], e[d] - 1) : 0.0;
+      for (int k = 0; k < b->dim; k++)
+        if (k != d) g *= f[k];
+      dq[d * b->m + a] = g;
+    }
+  }
+}
+
+/* Particle I's local coordinates of x. */
+static void local_coordinates(const MlsApprox *mls, long part, const double *x, double *s) {
+  const int dim = mls_dim(mls);
+  const double *xI = mls_particles(mls) + part * dim, *rho = mls_radii(mls) + part * dim;
+  for (int d = 0; d < dim; d++) s[d] = (x[d] - xI[d]) / rho[d];
+}
+
+/* Per particle: the Gram matrix A (m × m), the right-hand sides r (m × dim, column d for direction d,
+ * overwritten by ξ) and the number of volume points in the support. */
+typedef struct {
+  Monomials basis;
+  double *A, *r;
+  long *npoints;
+} Systems;
+
+/* A_I += w q qᵀ and r_Id −= w (∂_d N_I q + N_I ∂_d q) at every volume point, for every supporting I. */
+static void add_volume(const MicaDiscretization *disc, const MlsApprox *mls, const MicaShapeCache *c, Systems *sys) {
+  const int dim = c->dim, m = sys->basis.m;
+  const double *radii = mls_radii(mls);
+  double s[3], q[VCI_MAX_TERMS], dq[3 * VCI_MAX_TERMS];
+  for (long p = 0; p < c->npoints; p++) {
+    const double w = disc->qw[p];
+    for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) {
+      const long part = c->index[e];
+      double *A = sys->A + part * m * m, *r = sys->r + part * m * dim;
+      local_coordinates(mls, part, disc->qx + p * dim, s);
+      monomials_eval(&sys->basis, s, q, dq);
+      for (int a = 0; a < m; a++)
+        for (int b = 0; b < m; b++) A[a * m + b] += w * q[a] * q[b];
+      for (int d = 0; d < dim; d++)
+        for (int a = 0; a < m; a++)
+          r[d * m + a] -= w * (c->dN[e * dim + d] * q[a] + c->N[e] * dq[d * m + a] / radii[part * dim + d]);
+      sys->npoints[part]++;
+    }
+  }
+}
+
+/* r_Id += w N_I q n_d at every point of every boundary set (together: the whole boundary, once). */
+static int add_boundary(const MicaDiscretization *disc, const MlsApprox *mls, Systems *sys) {
+  const int dim = disc->dim, m = sys->basis.m;
+  MlsShape *sh = NULL;
+  int ierr = MICA_SUCCESS;
+  double s[3], q[VCI_MAX_TERMS];
+  MICA_CALL(mls_shape_create(mls, &sh));
+  for (int k = 0; k < disc->nsets; k++) {
+    const MicaBoundarySet *set = &disc->sets[k];
+    for (long p = 0; p < set->n; p++) {
+      ierr = mls_eval(mls, set->x + p * dim, MLS_VALUES, sh);
+      if (ierr) {
+        mica_error_prefix("VCI: boundary set '%s' point %ld of %ld", set->name, p + 1, set->n);
+        goto cleanup;
+      }
+      for (long j = 0; j < sh->n; j++) {
+        const long part = sh->index[j];
+        double *r = sys->r + part * m * dim;
+        local_coordinates(mls, part, set->x + p * dim, s);
+        monomials_eval(&sys->basis, s, q, NULL);
+        for (int d = 0; d < dim; d++)
+          for (int a = 0; a < m; a++) r[d * m + a] += set->w[p] * sh->N[j] * q[a] * set->normal[p * dim + d];
+      }
+    }
+  }
+cleanup:
+  mls_shape_destroy(&sh);
+  return ierr;
+}
+
+/* ξ_I = A_I⁻¹ r_I by Cholesky, for every direction at once. A particle with no volume point in its support
+ * has no volume term to correct (ξ = 0). */
+static int solve_particle(const MlsApprox *mls, long part, Systems *sys) {
+  const int dim = mls_dim(mls), m = sys->basis.m;
+  double *A = sys->A + part * m * m, *r = sys->r + part * m * dim;
+  if (sys->npoints[part] == 0) {
+    memset(r, 0, sizeof(double) * (size_t)(m * dim));
+    return MICA_SUCCESS;
+  }
+  lapack_int info = LAPACKE_dpotrf_work(LAPACK_COL_MAJOR, 'L', m, A, m);
+  if (info == 0) info = LAPACKE_dpotrs_work(LAPACK_COL_MAJOR, 'L', m, dim, A, m, r, m);
+  if (info != 0) {
+    const double *x = mls_particles(mls) + part * dim;
+    MICA_ERROR(MICA_ERR_NUMERIC,
+               "VCI: particle %ld at (%g, %g, %g) has %ld volume quadrature points in its support, which do not "
+               "determine its %d correction terms (LAPACK info %d); raise quadrature.order or mls.dilation",
+               part + 1, x[0], x[1], dim == 3 ? x[2] : 0.0, sys->npoints[part], m, (int)info);
+  }
+  return MICA_SUCCESS;
+}
+
+/* dN_test = dN + Σ_β ξ_Iβd q_β at every volume point. */
+static void correct_gradients(const MicaDiscretization *disc, const MlsApprox *mls, const Systems *sys,
+                              MicaShapeCache *c) {
+  const int dim = c->dim, m = sys->basis.m;
+  double s[3], q[VCI_MAX_TERMS];
+  for (long p = 0; p < c->npoints; p++)
+    for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) {
+      const long part = c->index[e];
+      const double *xi = sys->r + part * m * dim;
+      local_coordinates(mls, part, disc->qx + p * dim, s);
+      monomials_eval(&sys->basis, s, q, NULL);
+      for (int d = 0; d < dim; d++) {
+        double sum = 0.0;
+        for (int a = 0; a < m; a++) sum += xi[d * m + a] * q[a];
+        c->dN_test[e * dim + d] = c->dN[e * dim + d] + sum;
+      }
+    }
+}
+
+int mica_vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume) {
+  MICA_CHECK(volume->npoints == disc->nquad && volume->dim == disc->dim, MICA_ERR_ARGUMENT,
+             "mica_vci_correct: the cache is not at the discretization's volume points");
+  MICA_CHECK(disc->boundary_uncovered == 0, MICA_ERR_INPUT,
+             "VCI needs boundary sets that cover the whole boundary once; %ld boundary faces are in no set or in "
+             "several", disc->boundary_uncovered);
+  const int dim = disc->dim;
+  const long np = mls_num_particles(mls), nnz = volume->ptr[volume->npoints];
+  Systems sys = {0};
+  int ierr = MICA_SUCCESS;
+  MICA_CALL(monomials_init(dim, (n > 1 ? n : 1) - 1, &sys.basis));
+  const int m = sys.basis.m;
+  MICA_CALL_CLEANUP(MICA_CALLOC(sys.A, np * m * m));
+  MICA_CALL_CLEANUP(MICA_CALLOC(sys.r, np * m * dim));
+  MICA_CALL_CLEANUP(MICA_CALLOC(sys.npoints, np));
+  add_volume(disc, mls, volume, &sys);
+  MICA_CALL_CLEANUP(add_boundary(disc, mls, &sys));
+  for (long part = 0; part < np; part++) MICA_CALL_CLEANUP(solve_particle(mls, part, &sys));
+  MICA_FREE(volume->dN_test);
+  MICA_CALL_CLEANUP(MICA_MALLOC(volume->dN_test, nnz * dim));
+  correct_gradients(disc, mls, &sys, volume);
+cleanup:
+  MICA_FREE(sys.A);
+  MICA_FREE(sys.r);
+  MICA_FREE(sys.npoints);
+  return ierr;
+}
