@@ -45,6 +45,9 @@ static int add_cases(int dim, Case *cases) {
   }
   cases[n].name = "cosserat";
   mica_cosserat_set_technical(&cases[n++].model, dim, 1000, 0.3, 0.5, 0.1, 0.1, 1.0);
+  cases[n].name = "cosserat-finite";
+  mica_cosserat_set_technical(&cases[n].model, dim, 1000, 0.3, 0.5, 0.1, 0.1, 1.0);
+  mica_cosserat_finite_set(&cases[n++].model);
   mica_material_set(&mica_model_linear, 1000, 0.3, plane, &mat);
   const double line[3] = {0, 0.5, 0}, box[3] = {0.5, 0.5, dim == 3 ? 0.5 : 0};
   cases[n].name = "micromorph (linear, micro line)";
@@ -77,7 +80,7 @@ int main(void) {
     const int n = add_cases(dim, cases);
     const double base = time_eval(&cases[0].model, dim, 200000);
     for (int i = 0; i < n; i++) {
-      const long reps = i < 5 ? 200000 : 5000;
+      const long reps = i < 6 ? 200000 : 5000;
       const double t = time_eval(&cases[i].model, dim, reps);
       printf("%d-D  %-34s  nq %3d  %9.0f ns  ratio %7.1f\n", dim, cases[i].name,
              mica_field_model_nq(&cases[i].model, dim), t * 1e9, t / base);

@@ -35,4 +35,20 @@ int mica_cosserat_set_eringen(MicaFieldModel *m, int dim, double lambda, double 
 int mica_cosserat_set_technical(MicaFieldModel *m, int dim, double G, double nu, double N, double l_t, double l_b,
                                 double psi);
 
+/* ---- Cosserat with finite rotations (src/models/cosserat_finite.c) ------------------------------------------
+ *
+ * Same unknowns, names and constants as the small-strain model, but φ is the total rotation vector Φ (2-D: the
+ * angle φ_z) and the kinematics are finite: F = I + ∇u, R = exp(skew Φ) (mica/rotation.h), stretch
+ * E = RᵀF − I, wryness Γ_kJ = T_km(Φ) Φ_m,J (Rᵀ ∂_J R = skew Γ_J), and W is the small-strain energy above with
+ * ε_kl ← E_lk, κ_kl ← Γ_kl. Invariant under superposed rigid rotations (R → QR, F → QF); at q = 0 the tangent
+ * is the small-strain one. order 1, finite = 1, uses_values = 1. The tangent is the exact Hessian: symmetric,
+ * possibly indefinite away from equilibrium. In 3-D eval fails with MICA_ERR_NUMERIC at |Φ| ≥ 2π (T singular);
+ * in 2-D every angle is allowed. stress() returns the force and couple stress per deformed area in the deformed
+ * frame, face index first: σ = J⁻¹ F Sᵀ Rᵀ, m = J⁻¹ F Mᵀ Rᵀ (S = ∂W/∂E, M = ∂W/∂Γ). */
+extern const MicaFieldModelOps mica_field_cosserat_finite;
+
+/* Switches a model whose constants were set by mica_cosserat_set_eringen or mica_cosserat_set_technical (same
+ * checks, same param layout) to finite rotations. MICA_ERR_ARGUMENT if m is not such a model. */
+int mica_cosserat_finite_set(MicaFieldModel *m);
+
 #endif

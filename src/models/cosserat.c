@@ -1,5 +1,5 @@
 /* The small-strain Cosserat (micropolar) field model, Eringen's linear theory (mica/cosserat.h,
- * docs/theory-cosserat.md):
+ * docs/theory.md §Cosserat):
  *   ε_kl = u_l,k + e_lkm φ_m,       κ_kl = φ_k,l,
  *   σ_kl = λ ε_rr δ_kl + (μ + κ) ε_kl + μ ε_lk,       m_kl = α κ_rr δ_kl + β κ_kl + γ κ_lk,
  *   W = ½ σ_kl ε_kl + ½ m_kl κ_lk,

@@ -171,6 +171,10 @@ int run_read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt) {
   const char *name;
   MICA_CALL(mica_deck_string(deck, "material.model", &name));
   if (!strcmp(name, "cosserat")) return read_cosserat(deck, dim, &opt->field);
+  if (!strcmp(name, "cosserat-finite")) { /* the same constants, then finite rotations */
+    MICA_CALL(read_cosserat(deck, dim, &opt->field));
+    return mica_cosserat_finite_set(&opt->field);
+  }
   if (!strcmp(name, "micromorph")) {
     const char *kind;
     MICA_CALL(mica_deck_string(deck, "material.micro_kind", &kind));
