@@ -33,7 +33,8 @@ typedef struct {
 
 /* ---- slots of q ---- */
 
-static int ncomp_of(int dim) { return dim == 2 ? 3 : dim == 3 ? NC3 : 0; }
+int mica_rotation_model_ncomp_(int dim) { return dim == 2 ? 3 : dim == 3 ? NC3 : 0; }
+static int ncomp_of(int dim) { return mica_rotation_model_ncomp_(dim); }
 static int nq_of(int dim) { return ncomp_of(dim) * (1 + dim); }
 
 /* ∂_J v_c in the 3-D q. */
@@ -178,8 +179,10 @@ static const char *const names3[] = {"ux", "uy", "uz", "phix", "phiy", "phiz", N
 static const char *const tractions2[] = {"tx", "ty", "mz", NULL};
 static const char *const tractions3[] = {"tx", "ty", "tz", "mx", "my", "mz", NULL};
 
-static const char *const *component_names(int dim) { return dim == 2 ? names2 : dim == 3 ? names3 : NULL; }
-static const char *const *traction_names(int dim) { return dim == 2 ? tractions2 : dim == 3 ? tractions3 : NULL; }
+const char *const *mica_rotation_model_components_(int dim) { return dim == 2 ? names2 : dim == 3 ? names3 : NULL; }
+const char *const *mica_rotation_model_tractions_(int dim) {
+  return dim == 2 ? tractions2 : dim == 3 ? tractions3 : NULL;
+}
 
 const MicaFieldModelOps mica_field_cosserat = {
     .name = "cosserat",
@@ -187,8 +190,8 @@ const MicaFieldModelOps mica_field_cosserat = {
     .finite = 0,
     .uses_values = 1, /* φ enters ε */
     .ncomp = ncomp_of,
-    .component_names = component_names,
-    .traction_names = traction_names,
+    .component_names = mica_rotation_model_components_,
+    .traction_names = mica_rotation_model_tractions_,
     .eval = cosserat_eval,
     .stress = cosserat_stress,
 };

@@ -42,7 +42,7 @@ typedef struct {
 
 /* ---- slots of q (the 3-D layout of cosserat.c; the 2-D slots are a subset) ---- */
 
-static int ncomp_of(int dim) { return dim == 2 ? 3 : dim == 3 ? NC3 : 0; }
+static int ncomp_of(int dim) { return mica_rotation_model_ncomp_(dim); }
 static int nq_of(int dim) { return ncomp_of(dim) * (1 + dim); }
 static int grad3(int c, int J) { return NC3 + 3 * c + J; }
 
@@ -284,22 +284,14 @@ static int finite_stress(const MicaFieldModel *m, int dim, const double *q, doub
   return MICA_SUCCESS;
 }
 
-static const char *const names2[] = {"ux", "uy", "phiz", NULL};
-static const char *const names3[] = {"ux", "uy", "uz", "phix", "phiy", "phiz", NULL};
-static const char *const tractions2[] = {"tx", "ty", "mz", NULL};
-static const char *const tractions3[] = {"tx", "ty", "tz", "mx", "my", "mz", NULL};
-
-static const char *const *component_names(int dim) { return dim == 2 ? names2 : dim == 3 ? names3 : NULL; }
-static const char *const *traction_names(int dim) { return dim == 2 ? tractions2 : dim == 3 ? tractions3 : NULL; }
-
 const MicaFieldModelOps mica_field_cosserat_finite = {
     .name = "cosserat-finite",
     .order = 1,
     .finite = 1,
     .uses_values = 1, /* R depends on Φ */
     .ncomp = ncomp_of,
-    .component_names = component_names,
-    .traction_names = traction_names,
+    .component_names = mica_rotation_model_components_,
+    .traction_names = mica_rotation_model_tractions_,
     .eval = finite_eval,
     .stress = finite_stress,
 };

@@ -18,6 +18,7 @@
 #include "mica/micromorph.h"
 #include "mica/rotation.h"
 #include "micromorph_private.h"
+#include "models_private.h"
 
 enum { NZ = 21, Z_PHI = 9, Z_GRAD = 12 }; /* z = [F₃ (9) | Φ (3) | Φ_k,L at 12 + 3k + L] */
 
@@ -258,19 +259,7 @@ static int rotation_eval(const MicaFieldModel *m, int dim, const double *q, doub
   return MICA_SUCCESS;
 }
 
-static int rotation_ncomp(int dim) { return dim == 2 ? 3 : 6; }
-
-static const char *const *rotation_components(int dim) {
-  static const char *const names2[] = {"ux", "uy", "phiz", NULL}, *const names3[] = {"ux", "uy", "uz", "phix", "phiy",
-                                                                                      "phiz", NULL};
-  return dim == 2 ? names2 : names3;
-}
-
-static const char *const *rotation_tractions(int dim) {
-  static const char *const names2[] = {"tx", "ty", "mz", NULL}, *const names3[] = {"tx", "ty", "tz", "mx", "my", "mz",
-                                                                                    NULL};
-  return dim == 2 ? names2 : names3;
-}
+static int rotation_ncomp(int dim) { return mica_rotation_model_ncomp_(dim); }
 
 /* Output: the Cauchy stress of ψ at the macro F (the micro-space centre); the couple stress is not reported. */
 static int rotation_stress(const MicaFieldModel *m, int dim, const double *q, double *sigma, double *couple) {
@@ -288,8 +277,8 @@ const MicaFieldModelOps mica_field_micromorph_rotation = {
     .finite = 1,
     .uses_values = 1, /* Φ enters R */
     .ncomp = rotation_ncomp,
-    .component_names = rotation_components,
-    .traction_names = rotation_tractions,
+    .component_names = mica_rotation_model_components_,
+    .traction_names = mica_rotation_model_tractions_,
     .eval = rotation_eval,
     .stress = rotation_stress,
 };

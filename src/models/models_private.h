@@ -121,6 +121,13 @@ static inline void a_add_ik_jl(int dim, double c, const double X[9], const doubl
         for (int L = 0; L < dim; L++) A[a_index(dim, i, J, k, L)] += c * X[3 * i + k] * Y[3 * J + L];
 }
 
+/* ---- Unknowns of the models with rotations (cosserat.c) ----
+ * Displacements and a rotation (small-strain or total): 2-D ux, uy, phiz (tractions tx, ty, mz); 3-D ux..uz,
+ * phix..phiz (tx..tz, mx..mz). Shared by the Cosserat models and the micromorph kind χ = R(Φ). */
+int mica_rotation_model_ncomp_(int dim);
+const char *const *mica_rotation_model_components_(int dim);
+const char *const *mica_rotation_model_tractions_(int dim);
+
 /* ---- Checks (model.c) ---- */
 
 /* dim is 2 or 3; in 2-D, plane stress only for a model that supports it. MICA_ERR_ARGUMENT otherwise: a
