@@ -79,6 +79,12 @@ int mica_deck_function(const MicaDeck *deck, const char *path, MicaFunction **f)
  * a value the checks could not see (a radius too small for the basis, say). */
 int mica_deck_where(const MicaDeck *deck, const char *path, char *buf, int size);
 
+/* The resolved values of every setting that lies within one of the scopes (groups such as "geometry" or
+ * single paths such as "bc.method"; lists of groups are left out), as text "path=value;...", numbers as the
+ * getters evaluate them (parameters applied, defaults filled). Equal texts mean equal settings: a sweep
+ * compares them to know what it may reuse. The caller frees *text. */
+int mica_deck_fingerprint(const MicaDeck *deck, int nscopes, const char *const *scopes, char **text);
+
 /* Writes the resolved deck (overrides applied, defaults filled) to path, atomically. */
 int mica_deck_write_resolved(const MicaDeck *deck, const char *path);
 

@@ -23,4 +23,7 @@ void mica_out_abort(MicaOutFile *out);
 /* dir + "/" + name into a new string. */
 int mica_path_join(const char *dir, const char *name, char **path);
 
+/* rm -r path (a file, or a directory and everything in it); what cannot be removed stays. */
+void mica_remove_tree(const char *path);
+
 #endif

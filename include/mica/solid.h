@@ -31,6 +31,7 @@ typedef struct MicaShapeCache {
   double *dN_test; /* [nnz*dim] VCI-corrected gradients of the test functions (mica_vci_correct), else NULL:
                       the test functions are the trial functions */
   long max_support;
+  int refs;     /* holders: a cache may be shared by the solids of consecutive runs (mica_shape_cache_share) */
 } MicaShapeCache;
 
 #define MICA_MAX_COMP 6 /* unknowns per particle: 3-D Cosserat */
@@ -39,7 +40,11 @@ typedef struct MicaShapeCache {
  * x[npoints*dim]; an MLS failure names the point (label and number). */
 int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x, int order, const char *label,
                             MicaShapeCache **cache);
+/* Releases the caller's hold (NULLs *cache); the cache is freed when its last holder releases it. */
 int mica_shape_cache_destroy(MicaShapeCache **cache);
+/* Adds a holder and returns the cache: shape functions are read-only once built, so solids on the same
+ * discretization and MLS may share them. */
+MicaShapeCache *mica_shape_cache_share(MicaShapeCache *cache);
 size_t mica_shape_cache_bytes(const MicaShapeCache *cache);
 
 /* Variationally consistent integration (docs/theory.md §VCI; Chen, Hillman & Rüter 2013): fills
@@ -121,7 +126,8 @@ typedef struct MicaSolid {
   long *multiplier_offset;        /* [ndirichlet]: first multiplier node of condition c (lagrange) */
   long nmultiplier_nodes;
   MicaSparse *K;                  /* the tangent, pattern built once */
-  double time_vci;                /* seconds spent on the VCI correction (0 without it) */
+  double time_vci;                /* seconds spent on the VCI correction (0 without it, or shared) */
+  int caches_built, caches_shared; /* shape-function caches computed for this solid / taken from a donor */
   double *work;                   /* per-point scratch: element matrices */
   long *work_nodes;               /* per-point scratch: clique node lists */
 } MicaSolid;
@@ -132,6 +138,13 @@ typedef struct MicaSolid {
 int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, const MicaSolidOptions *opt,
                       int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
                       MicaSolid **solid);
+/* The same, taking the shape-function caches (volume, and boundary sets) from donor where donor was built on
+ * the same discretization and MLS with the same derivative order (and, for the volume, the same VCI
+ * setting): a run that changes only the model's constants, the loads or the conditions computes no shape
+ * function. The caches are shared, so donor may be destroyed before or after the new solid. */
+int mica_solid_create_sharing(const MicaDiscretization *disc, const MlsApprox *mls, const MicaSolidOptions *opt,
+                              int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
+                              const MicaSolid *donor, MicaSolid **solid);
 int mica_solid_destroy(MicaSolid **solid);
 
 /* 1 if the tangent is symmetric positive definite (CHOLMOD applies): the boundary method keeps it so and the

@@ -38,6 +38,7 @@ int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x,
   int ierr = MICA_SUCCESS;
   long cap = 0;
   MICA_CALL(MICA_CALLOC(c, 1));
+  c->refs = 1;
   c->dim = mls_dim(mls);
   c->order = order >= 2 ? 2 : 1;
   c->npoints = npoints;
@@ -61,8 +62,17 @@ cleanup:
   return ierr;
 }
 
+MicaShapeCache *mica_shape_cache_share(MicaShapeCache *cache) {
+  cache->refs++;
+  return cache;
+}
+
 int mica_shape_cache_destroy(MicaShapeCache **cache) {
   if (!*cache) return MICA_SUCCESS;
+  if (--(*cache)->refs > 0) { /* another holder still uses it */
+    *cache = NULL;
+    return MICA_SUCCESS;
+  }
   MICA_FREE((*cache)->ptr);
   MICA_FREE((*cache)->x);
   MICA_FREE((*cache)->index);

@@ -36,16 +36,29 @@ static int boundary_spacing(MicaSolid *s, int set) {
   return MICA_SUCCESS;
 }
 
-static int build_boundary_caches(MicaSolid *s) {
+/* The donor's cache of boundary set `set`, if it can serve s: same discretization, MLS and derivative order. */
+static MicaShapeCache *donor_boundary(const MicaSolid *s, const MicaSolid *donor, int set) {
+  if (!donor || donor->disc != s->disc || donor->mls != s->mls || !donor->boundary[set]) return NULL;
+  return donor->boundary[set]->order == s->volume->order ? donor->boundary[set] : NULL;
+}
+
+static int build_boundary_caches(MicaSolid *s, const MicaSolid *donor) {
   const MicaDiscretization *disc = s->disc;
   MICA_CALL(MICA_CALLOC(s->boundary, disc->nsets));
   MICA_CALL(MICA_CALLOC(s->boundary_h, disc->nsets));
   for (int set = 0; set < disc->nsets; set++) {
     if (!set_is_used(s, set)) continue;
-    char label[96];
-    snprintf(label, sizeof label, "boundary set '%s'", disc->sets[set].name);
-    MICA_CALL(mica_shape_cache_create(s->mls, disc->sets[set].n, disc->sets[set].x, s->opt.field.ops->order, label,
-                                      &s->boundary[set]));
+    MicaShapeCache *shared = donor_boundary(s, donor, set);
+    if (shared) {
+      s->boundary[set] = mica_shape_cache_share(shared);
+      s->caches_shared++;
+    } else {
+      char label[96];
+      snprintf(label, sizeof label, "boundary set '%s'", disc->sets[set].name);
+      MICA_CALL(mica_shape_cache_create(s->mls, disc->sets[set].n, disc->sets[set].x, s->opt.field.ops->order, label,
+                                        &s->boundary[set]));
+      s->caches_built++;
+    }
     MICA_CALL(boundary_spacing(s, set));
   }
   return MICA_SUCCESS;
@@ -163,9 +176,32 @@ int mica_solid_symmetric_definite(const MicaSolid *s) {
   return s->opt.bc_method->symmetric_definite && !s->volume->dN_test;
 }
 
+/* The volume cache: the donor's when it was built for the same discretization, MLS, derivative order and
+ * test functions (VCI or not); otherwise built, and corrected for VCI. */
+static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
+  const MicaSolidOptions *opt = &s->opt;
+  const int order = opt->field.ops->order >= 2 ? 2 : 1;
+  if (donor && donor->disc == s->disc && donor->mls == s->mls && donor->volume->order == order &&
+      !donor->volume->dN_test == !opt->vci) {
+    s->volume = mica_shape_cache_share(donor->volume);
+    s->caches_shared++;
+    return MICA_SUCCESS;
+  }
+  MICA_CALL(mica_shape_cache_create(s->mls, s->disc->nquad, s->disc->qx, order, "volume quadrature", &s->volume));
+  s->caches_built++;
+  if (opt->vci) MICA_CALL(apply_vci(s));
+  return MICA_SUCCESS;
+}
+
 int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, const MicaSolidOptions *opt,
                       int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
                       MicaSolid **out) {
+  return mica_solid_create_sharing(disc, mls, opt, ndirichlet, dirichlet, ntraction, traction, NULL, out);
+}
+
+int mica_solid_create_sharing(const MicaDiscretization *disc, const MlsApprox *mls, const MicaSolidOptions *opt,
+                              int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
+                              const MicaSolid *donor, MicaSolid **out) {
   *out = NULL;
   MicaSolid *s;
   MICA_CALL(MICA_CALLOC(s, 1));
@@ -184,10 +220,8 @@ int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, cons
   s->traction = traction;
   MICA_CALL_CLEANUP(check_model(opt, s->ncomp, s->nq));
   if (opt->axisymmetric) MICA_CALL_CLEANUP(check_axisymmetric(s));
-  MICA_CALL_CLEANUP(mica_shape_cache_create(mls, disc->nquad, disc->qx, opt->field.ops->order, "volume quadrature",
-                                            &s->volume));
-  if (opt->vci) MICA_CALL_CLEANUP(apply_vci(s));
-  MICA_CALL_CLEANUP(build_boundary_caches(s));
+  MICA_CALL_CLEANUP(volume_cache(s, donor));
+  MICA_CALL_CLEANUP(build_boundary_caches(s, donor));
   MICA_CALL_CLEANUP(number_multipliers(s));
   s->ndof = (s->nparticles + s->nmultiplier_nodes) * s->ncomp;
   MICA_CALL_CLEANUP(build_pattern(s));

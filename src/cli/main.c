@@ -115,22 +115,9 @@ static int parse_arguments(int argc, char **argv, Invocation *inv, int *done) {
   return 0;
 }
 
-/* Removes the staging directory and the files in it (it holds no subdirectories). */
-static void remove_staging(const char *staging) {
-  DIR *dir = opendir(staging);
-  if (!dir) return;
-  struct dirent *entry;
-  while ((entry = readdir(dir))) {
-    if (!strcmp(entry->d_name, ".") || !strcmp(entry->d_name, "..")) continue;
-    char *path = NULL;
-    if (mica_path_join(staging, entry->d_name, &path) == MICA_SUCCESS) unlink(path);
-    free(path);
-  }
-  closedir(dir);
-  rmdir(staging);
-}
-
-/* Moves every file of the staging directory into outdir (each rename is atomic). */
+/* Moves every entry of the staging directory into outdir (each rename is atomic). A directory (a sweep's
+ * points/) replaces the one of an earlier run, which rename() cannot do while it holds files: the old one
+ * goes just before the new one moves in, so a failed run leaves it untouched. */
 static int publish_staging(const char *staging, const char *outdir) {
   DIR *dir = opendir(staging);
   MICA_CHECK(dir, MICA_ERR_IO, "cannot read the staging directory %s", staging);
@@ -139,8 +126,10 @@ static int publish_staging(const char *staging, const char *outdir) {
   while ((entry = readdir(dir)) && ierr == MICA_SUCCESS) {
     if (!strcmp(entry->d_name, ".") || !strcmp(entry->d_name, "..")) continue;
     char *from = NULL, *to = NULL;
+    struct stat info;
     ierr = mica_path_join(staging, entry->d_name, &from);
     if (!ierr) ierr = mica_path_join(outdir, entry->d_name, &to);
+    if (!ierr && stat(from, &info) == 0 && S_ISDIR(info.st_mode)) mica_remove_tree(to);
     if (!ierr && rename(from, to) != 0)
       ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_IO, "cannot move %s to %s", from, to);
     free(from);
@@ -191,7 +180,7 @@ static int run_command(const Invocation *inv) {
   MICA_CALL_CLEANUP(publish_staging(staging, outdir));
   printf("results in %s/ (summary.json, resolved.cfg)\n", outdir);
 cleanup:
-  if (ierr && staging) remove_staging(staging);
+  if (ierr && staging) mica_remove_tree(staging);
   if (ierr && !outdir_existed) rmdir(outdir); /* only if empty: never removes results */
   free(path);
   free(staging);

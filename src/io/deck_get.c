@@ -317,3 +317,84 @@ int mica_deck_where(const MicaDeck *deck, const char *path, char *buf, int size)
     snprintf(buf, (size_t)size, "%s", deck->path);
   return MICA_SUCCESS;
 }
+
+/* ---- fingerprints ---- */
+
+/* Appends "path=value;" to the growing text (*text, *length, *capacity). */
+static int append_text(char **text, size_t *length, size_t *capacity, const char *piece) {
+  const size_t n = strlen(piece);
+  if (*length + n + 1 > *capacity) {
+    size_t grown = *capacity ? *capacity : 256;
+    while (*length + n + 1 > grown) grown *= 2;
+    char *bigger = realloc(*text, grown);
+    MICA_CHECK(bigger, MICA_ERR_MEMORY, "cannot grow a deck fingerprint to %zu bytes", grown);
+    *text = bigger, *capacity = grown;
+  }
+  memcpy(*text + *length, piece, n + 1);
+  *length += n;
+  return MICA_SUCCESS;
+}
+
+/* The resolved value of one scalar or array setting as text: numbers as the getters evaluate them. */
+static int value_text(const MicaDeck *deck, const MicaDeckKey *key, char *buf, size_t size) {
+  if (!mica_deck_has(deck, key->path)) {
+    snprintf(buf, size, "-");
+    return MICA_SUCCESS;
+  }
+  double values[64];
+  long ints[64];
+  const char *word;
+  int count = 0, flag;
+  size_t used = 0;
+  buf[0] = '\0';
+  switch (key->type) {
+  case MICA_KEY_BOOL:
+    MICA_CALL(mica_deck_bool(deck, key->path, &flag));
+    snprintf(buf, size, "%d", flag);
+    return MICA_SUCCESS;
+  case MICA_KEY_STRING:
+  case MICA_KEY_CHOICE:
+  case MICA_KEY_FUNCTION:
+    MICA_CALL(mica_deck_string(deck, key->path, &word));
+    snprintf(buf, size, "\"%s\"", word);
+    return MICA_SUCCESS;
+  case MICA_KEY_INT:
+  case MICA_KEY_INTS:
+    MICA_CALL(mica_deck_ints(deck, key->path, ints, 64, &count));
+    for (int i = 0; i < count; i++) values[i] = (double)ints[i];
+    break;
+  case MICA_KEY_FLOAT:
+  case MICA_KEY_FLOATS:
+    MICA_CALL(mica_deck_floats(deck, key->path, values, 64, &count));
+    break;
+  default:
+    return MICA_SUCCESS; /* groups and lists: their members are keys of their own */
+  }
+  for (int i = 0; i < count && used + 32 < size; i++) {
+    char number[32];
+    deck_format_number(values[i], number, sizeof number);
+    used += (size_t)snprintf(buf + used, size - used, "%s%s", i ? "," : "", number);
+  }
+  return MICA_SUCCESS;
+}
+
+int mica_deck_fingerprint(const MicaDeck *deck, int nscopes, const char *const *scopes, char **text) {
+  size_t length = 0, capacity = 0;
+  *text = NULL;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(append_text(text, &length, &capacity, ""));
+  for (const MicaDeckKey *key = deck->schema; key->path; key++) {
+    int inside = 0;
+    for (int i = 0; i < nscopes; i++) inside |= deck_path_within(scopes[i], key->path);
+    if (!inside || strstr(key->path, "[]")) continue;
+    char value[2048], piece[2600];
+    MICA_CALL_CLEANUP(value_text(deck, key, value, sizeof value));
+    snprintf(piece, sizeof piece, "%s=%s;", key->path, value);
+    MICA_CALL_CLEANUP(append_text(text, &length, &capacity, piece));
+  }
+  return MICA_SUCCESS;
+cleanup:
+  free(*text);
+  *text = NULL;
+  return ierr;
+}

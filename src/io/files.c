@@ -2,6 +2,7 @@
  * place only after every byte was written, so a failed run never leaves a half-written result behind. */
 #include "mica/files.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
@@ -124,4 +125,23 @@ void mica_out_abort(MicaOutFile *out) {
   if (out->fp) fclose(out->fp);
   if (out->tmp_path) unlink(out->tmp_path);
   forget(out);
+}
+
+void mica_remove_tree(const char *path) {
+  struct stat info;
+  if (lstat(path, &info) != 0) return;
+  if (!S_ISDIR(info.st_mode)) {
+    unlink(path);
+    return;
+  }
+  DIR *dir = opendir(path);
+  struct dirent *entry;
+  while (dir && (entry = readdir(dir))) {
+    if (!strcmp(entry->d_name, ".") || !strcmp(entry->d_name, "..")) continue;
+    char *child = NULL;
+    if (mica_path_join(path, entry->d_name, &child) == MICA_SUCCESS) mica_remove_tree(child);
+    free(child);
+  }
+  if (dir) closedir(dir);
+  rmdir(path);
 }

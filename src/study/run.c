@@ -320,7 +320,7 @@ static int read_vci(const MicaDeck *deck, const MicaDiscretization *disc, MicaSo
   return MICA_SUCCESS;
 }
 
-static int build_solid(const MicaDeck *deck, RunProblem *rp) {
+static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *donor) {
   MicaSolidOptions opt;
   memset(&opt, 0, sizeof opt);
   MicaDirichlet *dirichlet = NULL;
@@ -344,8 +344,8 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp) {
   opt.basis_order = (int)order;
   MICA_CALL_CLEANUP(read_vci(deck, rp->disc, &opt));
   const double start = mica_wtime();
-  ierr = mica_study_mls_input(mica_solid_create(rp->disc, rp->mls, &opt, ndirichlet, dirichlet, ntraction, traction,
-                                                &rp->solid));
+  ierr = mica_study_mls_input(mica_solid_create_sharing(rp->disc, rp->mls, &opt, ndirichlet, dirichlet, ntraction,
+                                                        traction, donor, &rp->solid));
   rp->time_cache_pattern = mica_wtime() - start;
   return ierr; /* the solid owns the conditions now, whether or not it was built */
 cleanup:
@@ -373,14 +373,13 @@ static int read_axisymmetric(const MicaDeck *deck, RunProblem *rp) {
   return MICA_SUCCESS;
 }
 
-int run_problem_build(const MicaDeck *deck, RunProblem *rp) {
+/* Discretization (revolved for an axisymmetric section) and MLS approximation. */
+static int build_geometry(const MicaDeck *deck, RunProblem *rp) {
   MicaShapeSpec shape;
   MicaLayoutSpec layout;
   MicaCellSpec cells;
   MlsOptions mls_opt;
   char mesh[1024];
-  memset(rp, 0, sizeof *rp);
-  rp->deck = deck;
   MICA_CALL(read_shape(deck, &shape, mesh, sizeof mesh));
   MICA_CALL(read_layout(deck, shape.dim, shape.kind == MICA_SHAPE_GMSH, &layout, &cells));
   double start = mica_wtime();
@@ -391,16 +390,109 @@ int run_problem_build(const MicaDeck *deck, RunProblem *rp) {
   start = mica_wtime();
   MICA_CALL(mica_study_mls_input(mls_create(rp->disc->dim, rp->disc->nparticles, rp->disc->x, &mls_opt, &rp->mls)));
   rp->time_mls = mica_wtime() - start;
-  MICA_CALL(build_solid(deck, rp));
+  return MICA_SUCCESS;
+}
+
+/* ---- reuse between runs ---------------------------------------------------------------------------------- */
+
+/* What the discretization and the MLS approximation depend on: the deck file (Gmsh paths are relative to
+ * it) and every setting of these groups. A run whose fingerprint equals the last one's reuses them. */
+static const char *const geometry_scopes[] = {"geometry", "particles", "quadrature", "mls", "problem.method"};
+
+struct RunReuse {
+  char *key;                    /* fingerprint of the last discretization and MLS (NULL: none kept) */
+  MicaDiscretization *disc;
+  MlsApprox *mls;
+  MicaSolid *solid;             /* the last solid built on them: it lends its shape caches to the next */
+  MicaShapeCache *at_particles; /* the output's shape functions at the particles */
+};
+
+static int reuse_key(const MicaDeck *deck, char **key) {
+  char *settings = NULL;
+  MICA_CALL(mica_deck_fingerprint(deck, (int)(sizeof geometry_scopes / sizeof *geometry_scopes), geometry_scopes,
+                                  &settings));
+  const size_t size = strlen(settings) + strlen(mica_deck_path(deck)) + 2;
+  int ierr = MICA_MALLOC(*key, size);
+  if (!ierr) snprintf(*key, size, "%s|%s", mica_deck_path(deck), settings);
+  free(settings);
+  return ierr;
+}
+
+/* Forgets everything kept: the solid first (it refers to the discretization and MLS). */
+static void reuse_clear(RunReuse *reuse) {
+  mica_solid_destroy(&reuse->solid);
+  mica_shape_cache_destroy(&reuse->at_particles);
+  mls_destroy(&reuse->mls);
+  mica_discretization_destroy(&reuse->disc);
+  free(reuse->key);
+  reuse->key = NULL;
+}
+
+int run_reuse_create(RunReuse **reuse) { return MICA_CALLOC(*reuse, 1); }
+
+int run_reuse_destroy(RunReuse **reuse) {
+  if (!*reuse) return MICA_SUCCESS;
+  reuse_clear(*reuse);
+  MICA_FREE(*reuse);
+  return MICA_SUCCESS;
+}
+
+/* The kept discretization and MLS if the deck's fingerprint matches (key is then freed), else new ones,
+ * kept for the next run once they are built (key is then owned by reuse). */
+static int take_or_build_geometry(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse, char *key) {
+  if (reuse->key && !strcmp(key, reuse->key)) {
+    free(key);
+    rp->disc = reuse->disc, rp->mls = reuse->mls;
+    rp->at_particles = reuse->at_particles, reuse->at_particles = NULL;
+    rp->reused_geometry = 1;
+    return MICA_SUCCESS;
+  }
+  reuse_clear(reuse);
+  rp->owns_geometry = 1;
+  int ierr = build_geometry(deck, rp);
+  if (ierr) {
+    free(key);
+    return ierr;
+  }
+  reuse->key = key, reuse->disc = rp->disc, reuse->mls = rp->mls;
+  rp->owns_geometry = 0;
+  return MICA_SUCCESS;
+}
+
+int run_problem_build_reusing(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse) {
+  memset(rp, 0, sizeof *rp);
+  rp->deck = deck;
+  rp->reuse = reuse;
+  if (reuse) {
+    char *key = NULL;
+    MICA_CALL(reuse_key(deck, &key));
+    MICA_CALL(take_or_build_geometry(deck, rp, reuse, key));
+  } else {
+    rp->owns_geometry = 1;
+    MICA_CALL(build_geometry(deck, rp));
+  }
+  MICA_CALL(build_solid(deck, rp, reuse ? reuse->solid : NULL));
   MICA_CALL(read_exact(deck, rp, &rp->solid->opt.field));
   return MICA_SUCCESS;
 }
 
+int run_problem_build(const MicaDeck *deck, RunProblem *rp) { return run_problem_build_reusing(deck, rp, NULL); }
+
+/* With reuse, the solid and the output cache pass to it (a run that built no solid leaves the kept one). */
 void run_problem_free(RunProblem *rp) {
+  RunReuse *reuse = rp->reuse;
+  if (reuse && rp->solid) {
+    mica_solid_destroy(&reuse->solid);
+    reuse->solid = rp->solid, rp->solid = NULL;
+  }
+  if (reuse && !reuse->at_particles && !rp->owns_geometry)
+    reuse->at_particles = rp->at_particles, rp->at_particles = NULL;
   mica_solid_destroy(&rp->solid);
-  mls_destroy(&rp->mls);
-  mica_discretization_destroy(&rp->disc);
   mica_shape_cache_destroy(&rp->at_particles);
+  if (rp->owns_geometry) {
+    mls_destroy(&rp->mls);
+    mica_discretization_destroy(&rp->disc);
+  }
   for (int a = 0; a < MICA_MAX_COMP; a++) {
     mica_function_destroy(&rp->exact[a]);
     for (int J = 0; J < 3; J++) mica_function_destroy(&rp->exact_grad[a][J]);
@@ -447,6 +539,9 @@ static int add_counts(const RunProblem *rp, MicaJson *summary) {
   MICA_CALL(mica_json_number(summary, "time_cache_and_pattern", rp->time_cache_pattern));
   MICA_CALL(mica_json_bool(summary, "vci", s->opt.vci));
   MICA_CALL(mica_json_number(summary, "time_vci", s->time_vci)); /* part of time_cache_and_pattern */
+  MICA_CALL(mica_json_bool(summary, "reused_discretization", rp->reused_geometry));
+  MICA_CALL(mica_json_int(summary, "shape_caches_built", s->caches_built));
+  MICA_CALL(mica_json_int(summary, "shape_caches_shared", s->caches_shared));
   return MICA_SUCCESS;
 }
 
@@ -509,7 +604,7 @@ static int add_newton_stats(const MicaNewtonStats *st, MicaJson *summary) {
   return MICA_SUCCESS;
 }
 
-static int run_solve(const MicaDeck *deck, const char *outdir, MicaJson *summary) {
+int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summary, RunReuse *reuse) {
   RunProblem rp;
   MicaNewtonOptions nopt;
   MicaNewtonStats stats;
@@ -517,7 +612,7 @@ static int run_solve(const MicaDeck *deck, const char *outdir, MicaJson *summary
   double *u = NULL;
   int ierr = MICA_SUCCESS;
   memset(&stats, 0, sizeof stats);
-  MICA_CALL_CLEANUP(run_problem_build(deck, &rp));
+  MICA_CALL_CLEANUP(run_problem_build_reusing(deck, &rp, reuse));
   print_counts(&rp);
   MICA_CALL_CLEANUP(add_counts(&rp, summary));
   MICA_CALL_CLEANUP(read_newton(deck, rp.solid, &nopt));
@@ -538,6 +633,10 @@ cleanup:
   free(u);
   run_problem_free(&rp);
   return ierr;
+}
+
+static int run_solve(const MicaDeck *deck, const char *outdir, MicaJson *summary) {
+  return run_solve_reusing(deck, outdir, summary, NULL);
 }
 
 static int run_check(const MicaDeck *deck, const char *outdir, MicaJson *summary) {

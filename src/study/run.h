@@ -7,6 +7,13 @@
 
 extern const MicaDeckKey mica_run_schema[];
 
+/* What consecutive runs (a sweep's points) keep between them: the discretization and MLS approximation of
+ * the last run while the settings they depend on do not change, and its solid, whose shape-function caches
+ * the next solid shares when its model needs the same derivatives (run.c: geometry_scopes). */
+typedef struct RunReuse RunReuse;
+int run_reuse_create(RunReuse **reuse);
+int run_reuse_destroy(RunReuse **reuse);
+
 /* Everything a run builds from its deck, and the times of the phases that built it. */
 typedef struct RunProblem {
   const MicaDeck *deck;
@@ -19,6 +26,9 @@ typedef struct RunProblem {
   int axisymmetric;             /* geometry.axisymmetric: a 2-D (r, z) section, 3-D model, cylindrical components */
   MicaShapeCache *at_particles; /* shape functions at the particles, for output (built on first use) */
   double time_discretize, time_mls, time_cache_pattern;
+  RunReuse *reuse;              /* NULL: a single run */
+  int owns_geometry;            /* 1: disc and mls are this run's to free (else reuse keeps them) */
+  int reused_geometry;          /* 1: disc and mls came from the previous run */
 } RunProblem;
 
 /* The dimension of the model's kinematics (3 for an axisymmetric section) and the deck's name of unknown c
@@ -29,9 +39,14 @@ const char *run_unknown_name(const RunProblem *rp, int c);
 /* The model and its constants from material.* (run_material.c). */
 int run_read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt);
 
-/* Builds discretization, MLS, model, conditions and the solid from the deck. */
+/* Builds discretization, MLS, model, conditions and the solid from the deck; with reuse, takes what the
+ * previous run left there when it fits, and leaves this run's parts there in run_problem_free. */
 int run_problem_build(const MicaDeck *deck, RunProblem *rp);
+int run_problem_build_reusing(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse);
 void run_problem_free(RunProblem *rp);
+
+/* `mica run` on a checked deck, reusing what the previous run left in reuse (NULL: nothing). */
+int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summary, RunReuse *reuse);
 
 /* Output: per-step VTU files and the PVD collection, error norms, probes, summary members. */
 typedef struct RunOutput {

@@ -104,8 +104,11 @@ static int fields_compute(RunProblem *rp, const double *u, ParticleFields *f) {
   const MicaSolid *s = rp->solid;
   const int dim = rp->disc->dim, mdim = s->model_dim, ncomp = s->ncomp;
   const long n = rp->disc->nparticles;
+  const int order = s->opt.field.ops->order >= 2 ? 2 : 1;
+  if (rp->at_particles && rp->at_particles->order != order) /* kept from a run of another model */
+    mica_shape_cache_destroy(&rp->at_particles);
   if (!rp->at_particles)
-    MICA_CALL(mica_shape_cache_create(rp->mls, n, rp->disc->x, s->opt.field.ops->order, "output at particle",
+    MICA_CALL(mica_shape_cache_create(rp->mls, n, rp->disc->x, order, "output at particle",
                                       &rp->at_particles));
   MICA_CALL(fields_alloc(rp, n, f));
   double q[128], qe[128], couple[9], v[3], sigma[9], strain[9];

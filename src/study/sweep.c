@@ -5,7 +5,6 @@
  * that fails is recorded and the sweep goes on; the sweep fails only when every point does. Results:
  * sweep.csv (one row per point), summary.json (counts, and how the models compare when material.model is
  * swept), sweep.png/.svg (the probe against x, with analytic curves and measured points). */
-#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -24,38 +23,6 @@
 static const char *const point_defaults[] = {"output.vtu=false", "output.monitor=false"};
 
 /* ---- directories ------------------------------------------------------------------------------------ */
-
-/* rm -r: the command line's staging cleanup removes files only, and a sweep's points are directories. */
-static void remove_tree(const char *path) {
-  struct stat info;
-  if (lstat(path, &info) != 0) return;
-  if (S_ISDIR(info.st_mode)) {
-    DIR *dir = opendir(path);
-    struct dirent *entry;
-    while (dir && (entry = readdir(dir))) {
-      if (!strcmp(entry->d_name, ".") || !strcmp(entry->d_name, "..")) continue;
-      char *child = NULL;
-      if (mica_path_join(path, entry->d_name, &child) == MICA_SUCCESS) remove_tree(child);
-      free(child);
-    }
-    if (dir) closedir(dir);
-    rmdir(path);
-  } else {
-    unlink(path);
-  }
-}
-
-/* The command line moves each entry of its staging directory into DIR with rename(), which cannot replace
- * a non-empty directory: on success, an earlier sweep's DIR/points goes just before the new one moves in
- * (a failed sweep leaves it untouched). */
-static void clear_published_points(const char *outdir) {
-  const char *slash = strrchr(outdir, '/');
-  const char *name = slash ? slash + 1 : outdir;
-  if (strncmp(name, ".staging-", 9) != 0) return;
-  char parent[4096];
-  snprintf(parent, sizeof parent, "%.*s/points", slash ? (int)(slash - outdir) : 1, slash ? outdir : ".");
-  remove_tree(parent);
-}
 
 static int point_dir(const char *outdir, long p, char **dir) {
   char name[64];
@@ -87,8 +54,9 @@ static void overrides_free(PointOverrides *o) {
   free(o->list);
 }
 
-/* mica_command_run.run with stdout in dir/run.log: the run's own lines would drown the progress. */
-static int run_logged(const MicaDeck *deck, const char *dir, MicaJson *summary) {
+/* `mica run` with stdout in dir/run.log (the run's own lines would drown the progress), reusing what the
+ * previous point built when its settings leave it unchanged. */
+static int run_logged(const MicaDeck *deck, const char *dir, MicaJson *summary, RunReuse *reuse) {
   char *log = NULL;
   MICA_CALL(mica_path_join(dir, "run.log", &log));
   fflush(stdout);
@@ -101,7 +69,7 @@ static int run_logged(const MicaDeck *deck, const char *dir, MicaJson *summary) 
     MICA_ERROR(MICA_ERR_IO, "cannot write %s/run.log: %s", dir, strerror(error));
   }
   close(fd);
-  const int ierr = mica_command_run.run(deck, dir, summary);
+  const int ierr = run_solve_reusing(deck, dir, summary, reuse);
   fflush(stdout);
   dup2(saved, STDOUT_FILENO);
   close(saved);
@@ -120,11 +88,12 @@ static int add_point_header(MicaJson *json, const SweepSpec *spec, long p, const
 }
 
 /* Loads and solves point p; the error code is the point's (a failure of the run, not of the sweep). */
-static int point_solve(const SweepSpec *spec, const char *dir, const PointOverrides *o, MicaJson *json) {
+static int point_solve(const SweepSpec *spec, const char *dir, const PointOverrides *o, MicaJson *json,
+                       RunReuse *reuse) {
   MicaDeck *deck = NULL;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(sweep_load(spec, 2, point_defaults, spec->naxes, o->list, &deck));
-  MICA_CALL_CLEANUP(run_logged(deck, dir, json));
+  MICA_CALL_CLEANUP(run_logged(deck, dir, json, reuse));
 cleanup:
   mica_deck_destroy(&deck);
   return ierr;
@@ -137,6 +106,21 @@ static int record_failure(SweepPoint *pt, int ierr) {
   strcpy(pt->message, message);
   mica_error_clear();
   return MICA_SUCCESS;
+}
+
+/* What the point spent building its problem, and whether it computed shape functions. */
+static void read_setup(const MicaJson *json, SweepPoint *pt) {
+  static const char *const phases[] = {"time_discretize", "time_mls_setup", "time_cache_and_pattern"};
+  pt->setup = 0;
+  for (int i = 0; i < 3; i++) {
+    double t = NAN;
+    if (mica_json_get_number(json, phases[i], &t) != MICA_SUCCESS) mica_error_clear();
+    pt->setup += t;
+  }
+  if (mica_json_get_number(json, "shape_caches_built", &pt->caches_built) != MICA_SUCCESS) {
+    pt->caches_built = NAN;
+    mica_error_clear();
+  }
 }
 
 static void read_probes(const SweepSpec *spec, const MicaJson *json, SweepPoint *pt) {
@@ -165,7 +149,7 @@ cleanup:
 }
 
 /* Runs point p into outdir/points/<p+1>/. Only the sweep's own failures (files, memory) are returned. */
-static int run_point(const SweepSpec *spec, long p, const char *outdir, SweepPoint *pt) {
+static int run_point(const SweepSpec *spec, long p, const char *outdir, RunReuse *reuse, SweepPoint *pt) {
   PointOverrides o = {NULL, NULL};
   MicaJson *json = NULL;
   char *dir = NULL, *path = NULL;
@@ -177,10 +161,11 @@ static int run_point(const SweepSpec *spec, long p, const char *outdir, SweepPoi
   MICA_CALL_CLEANUP(mica_path_join(dir, "summary.json", &path));
   MICA_CALL_CLEANUP(mica_json_create(&json));
   MICA_CALL_CLEANUP(add_point_header(json, spec, p, &o));
-  const int failed = point_solve(spec, dir, &o, json);
+  const int failed = point_solve(spec, dir, &o, json, reuse);
   pt->time = mica_wtime() - start;
+  if (failed) MICA_CALL_CLEANUP(record_failure(pt, failed)); /* first: reading the summary clears errors */
+  read_setup(json, pt);
   if (failed) {
-    MICA_CALL_CLEANUP(record_failure(pt, failed));
     MICA_CALL_CLEANUP(write_failure_summary(spec, p, &o, pt, path));
   } else {
     read_probes(spec, json, pt);
@@ -321,22 +306,46 @@ static void points_free(const SweepSpec *spec, SweepPoint **pts) {
   MICA_FREE(*pts);
 }
 
-/* Every point, in order; *nfailed counts the failures. With no success, the first failure is the error. */
+/* Every point, in order, each reusing what the previous one built when it can; *nfailed counts the
+ * failures. With no success, the first failure is the error. */
 static int run_points(const SweepSpec *spec, SweepPoint *pts, const char *outdir, long *nfailed) {
   const double start = mica_wtime();
   long first_failure = -1;
+  RunReuse *reuse = NULL;
+  int ierr = MICA_SUCCESS;
   *nfailed = 0;
+  MICA_CALL(run_reuse_create(&reuse));
   for (long p = 0; p < spec->npoints; p++) {
-    MICA_CALL(run_point(spec, p, outdir, &pts[p]));
+    MICA_CALL_CLEANUP(run_point(spec, p, outdir, reuse, &pts[p]));
     if (pts[p].status) {
       ++*nfailed;
       if (first_failure < 0) first_failure = p;
     }
     print_progress(spec, p, &pts[p], mica_wtime() - start);
   }
-  if (*nfailed < spec->npoints) return MICA_SUCCESS;
-  MICA_ERROR(pts[first_failure].status, "every point of the sweep failed (%ld); point %ld: %s", spec->npoints,
-             first_failure + 1, pts[first_failure].message);
+  if (*nfailed == spec->npoints)
+    ierr = mica_error_set(__FILE__, __LINE__, __func__, pts[first_failure].status,
+                          "every point of the sweep failed (%ld); point %ld: %s", spec->npoints, first_failure + 1,
+                          pts[first_failure].message);
+cleanup:
+  run_reuse_destroy(&reuse);
+  return ierr;
+}
+
+/* How much the points reused: those that computed no shape function, and the setup time of the first
+ * point against the mean of the reusing ones (the saving a sweep over material settings gets). */
+static int add_reuse(const SweepSpec *spec, const SweepPoint *pts, MicaJson *summary) {
+  long reusing = 0;
+  double reused_setup = 0;
+  for (long p = 0; p < spec->npoints; p++)
+    if (!pts[p].status && pts[p].caches_built == 0) reusing++, reused_setup += pts[p].setup;
+  MICA_CALL(mica_json_int(summary, "points_sharing_shape_functions", reusing));
+  if (!reusing || pts[0].status) return MICA_SUCCESS;
+  MICA_CALL(mica_json_number(summary, "setup_first_point", pts[0].setup));
+  MICA_CALL(mica_json_number(summary, "setup_sharing_points_mean", reused_setup / (double)reusing));
+  printf("reuse: %ld of %ld points computed no shape function; setup %.3g s on the first point, %.3g s mean on "
+         "those\n", reusing, spec->npoints, pts[0].setup, reused_setup / (double)reusing);
+  return MICA_SUCCESS;
 }
 
 /* The chart is drawn last and is not the result: when gnuplot fails, the sweep's numbers still stand. */
@@ -375,13 +384,13 @@ static int sweep_run(const MicaDeck *deck, const char *outdir, MicaJson *summary
   MICA_CALL_CLEANUP(run_points(&spec, pts, outdir, &nfailed));
   MICA_CALL_CLEANUP(sweep_write_csv(&spec, pts, outdir));
   MICA_CALL_CLEANUP(add_summary(&spec, nfailed, summary));
+  MICA_CALL_CLEANUP(add_reuse(&spec, pts, summary));
   MICA_CALL_CLEANUP(compare_models(&spec, pts, summary));
   MICA_CALL_CLEANUP(draw_chart(&spec, pts, outdir, summary));
   printf("sweep: %ld of %ld points ok, %ld failed%s\n", spec.npoints - nfailed, spec.npoints, nfailed,
          nfailed ? " (see sweep.csv and points/<n>/summary.json)" : "");
-  clear_published_points(outdir);
 cleanup:
-  if (ierr && points) remove_tree(points);
+  if (ierr && points) mica_remove_tree(points);
   free(points);
   points_free(&spec, &pts);
   sweep_spec_free(&spec);

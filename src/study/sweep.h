@@ -55,6 +55,8 @@ typedef struct SweepPoint {
   double time;      /* seconds, loading and solving */
   int status;       /* MICA_SUCCESS, or the error code of the failure */
   char *message;    /* the failure's message, or NULL */
+  double setup;     /* seconds building discretization, MLS, shape caches and pattern (NAN if it failed) */
+  double caches_built; /* shape-function caches the point computed (0: it shared the previous point's) */
 } SweepPoint;
 
 int sweep_spec_read(const MicaDeck *deck, SweepSpec *spec);

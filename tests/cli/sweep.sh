@@ -97,6 +97,49 @@ deck stiff 'sweep = { tolerance = 1e-3; parameters = ( { path = "material.model"
 [ "$(json_value svk "$work/stiff_never/summary.json")" = never ] || fail "svk should never agree within 1e-6"
 ok "svk agrees with linear above E = 1e5 within 1e-3, never within 1e-6"
 
+# ---- reuse: a point that changes only the model, its constants or the loads builds no discretization, MLS
+# or shape function; it shares the previous point's, and gives exactly what a run of its own gives ------------
+s="$work/stiff/summary.json"
+[ "$(json_value points_sharing_shape_functions "$s")" = 5 ] \
+  || fail "stiff: 5 of 6 points should share shape functions, not $(json_value points_sharing_shape_functions "$s")"
+at_least "$(json_value shape_caches_built "$work/stiff/points/1/summary.json")" 1 "stiff: point 1 computes its shape functions"
+for n in 2 3 4 5 6; do
+  p="$work/stiff/points/$n/summary.json"
+  [ "$(json_value reused_discretization "$p")/$(json_value shape_caches_built "$p")" = true/0 ] \
+    || fail "stiff point $n should reuse the discretization and build no cache: $(grep -E 'reused|caches' "$p")"
+done
+grep -q "^reuse: 5 of 6 points computed no shape function; setup [0-9.e-]* s on the first point" "$work/stiff.log" \
+  || fail "no reuse line in the sweep log: $(tail -n 4 "$work/stiff.log")"
+for n in 2 6; do  # the second point (same model as the first) and the last (svk after linear)
+  row=$(awk -F, -v n=$n '$1 == n' "$work/stiff/sweep.csv")
+  model=$(echo "$row" | cut -d, -f2 | tr -d '"'); E=$(echo "$row" | cut -d, -f3); swept=$(echo "$row" | cut -d, -f4)
+  "$MICA" run "$work/stiff.cfg" -o "$work/stiff_alone_$n" --set material.model=$model --set parameters.E=$E \
+    > /dev/null 2>&1 || fail "stiff point $n alone failed"
+  alone=$(json_value tip_uy "$work/stiff_alone_$n/summary.json")
+  awk -v a="$alone" -v b="$swept" 'BEGIN { exit !(a == b) }' \
+    || fail "stiff point $n: swept tip_uy $swept differs from the run alone $alone"
+done
+ok "sharing points give the digits of a run alone"
+# every point of the demo changes L: nothing is shared
+[ "$(json_value points_sharing_shape_functions "$work/demo/summary.json")" = 0 ] || fail "demo: no point may share"
+for n in 1 2; do
+  [ "$(json_value reused_discretization "$work/demo/points/$n/summary.json")" = false ] || fail "demo point $n reused"
+done
+# a model that needs Hessians (strain gradient) does not take a first-order model's caches, nor lends its own
+deck orders 'sweep = { parameters = ( { path = "material.model"; words = "strain-gradient, linear, strain-gradient"; } ); };'
+"$MICA" sweep "$work/orders.cfg" -o "$work/orders" --set material.l=0.2 --set bc.method=penalty > "$work/orders.log" 2>&1 \
+  || fail "orders sweep failed: $(tail -n 3 "$work/orders.log")"
+for n in 1 2 3; do
+  p="$work/orders/points/$n/summary.json"
+  [ "$(json_value reused_discretization "$p")" = $([ $n = 1 ] && echo false || echo true) ] || fail "orders point $n: reuse flag"
+  at_least "$(json_value shape_caches_built "$p")" 2 "orders point $n computes the caches of its derivative order"
+done
+"$MICA" run "$work/orders.cfg" -o "$work/orders_alone" --set material.l=0.2 --set bc.method=penalty \
+  --set material.model=strain-gradient > /dev/null 2>&1 || fail "strain-gradient run alone failed"
+[ "$(json_value tip_uy "$work/orders_alone/summary.json")" = "$(json_value tip_uy "$work/orders/points/3/summary.json")" ] \
+  || fail "orders point 3 differs from the run alone"
+ok "reuse follows the derivative order: strain gradient after linear rebuilds, and matches a run alone"
+
 # ---- bad sweep decks: exit 2 with the line ----------------------------------------------------------------
 bad() {  # bad NAME SWEEP_GROUP MESSAGE: exit 2, a message that starts with the sweep group's line
   deck "$1" "$2"
