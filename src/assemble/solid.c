@@ -21,7 +21,7 @@ static int set_is_used(const MicaSolid *s, int set) {
  * and Nitsche scale their parameter as α E / h. */
 static int boundary_spacing(MicaSolid *s, int set) {
   const MicaShapeCache *c = s->boundary[set];
-  const double *spacing = mls_spacing(s->mls);
+  const double *spacing = s->approx.ops->spacing(s->approx.ctx);
   MICA_CALL(MICA_MALLOC(s->boundary_h[set], c->npoints));
   for (long p = 0; p < c->npoints; p++) {
     double sum_w = 0, sum_h = 0;
@@ -44,8 +44,8 @@ static int build_boundary_caches(MicaSolid *s) {
     if (!set_is_used(s, set)) continue;
     char label[96];
     snprintf(label, sizeof label, "boundary set '%s'", disc->sets[set].name);
-    MICA_CALL(mica_shape_cache_create(s->mls, disc->sets[set].n, disc->sets[set].x, s->opt.field.ops->order, label,
-                                      &s->boundary[set]));
+    MICA_CALL(s->approx.ops->points(s->approx.ctx, disc->sets[set].n, disc->sets[set].x, disc->sets[set].cell,
+                                    s->opt.field.ops->order, label, &s->boundary[set]));
     MICA_CALL(boundary_spacing(s, set));
   }
   return MICA_SUCCESS;
@@ -138,10 +138,16 @@ static int check_axisymmetric(const MicaSolid *s) {
   return MICA_SUCCESS;
 }
 
-/* The model and the boundary method must fit together and in the fixed-size scratch of a point. */
-static int check_model(const MicaSolidOptions *opt, int ncomp, int nq) {
+/* The model, the approximation and the boundary method must fit together and in the fixed-size scratch of a
+ * point. */
+static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, int ncomp, int nq) {
   MICA_CHECK(ncomp <= MICA_MAX_COMP && nq <= 128, MICA_ERR_ARGUMENT, "model '%s' has too many unknowns",
              opt->field.ops->name);
+  MICA_CHECK(opt->field.ops->order <= approx->ops->max_order, MICA_ERR_INPUT,
+             "model '%s' needs derivatives of order %d, which the %s approximation does not provide (it is C%d)",
+             opt->field.ops->name, opt->field.ops->order, approx->ops->name, approx->ops->max_order - 1);
+  MICA_CHECK(!opt->vci || approx->ops == &mica_approx_mls, MICA_ERR_INPUT,
+             "quadrature.vci corrects MLS gradients; the %s approximation has none to correct", approx->ops->name);
   MICA_CHECK(!opt->vci || opt->field.ops->order == 1, MICA_ERR_INPUT,
              "quadrature.vci corrects first derivatives only; model '%s' uses second derivatives",
              opt->field.ops->name);
@@ -163,7 +169,7 @@ int mica_solid_symmetric_definite(const MicaSolid *s) {
   return s->opt.bc_method->symmetric_definite && !s->volume->dN_test;
 }
 
-int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, const MicaSolidOptions *opt,
+int mica_solid_create(const MicaDiscretization *disc, const MicaApprox *approx, const MicaSolidOptions *opt,
                       int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
                       MicaSolid **out) {
   *out = NULL;
@@ -171,7 +177,8 @@ int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, cons
   MICA_CALL(MICA_CALLOC(s, 1));
   int ierr = MICA_SUCCESS;
   s->disc = disc;
-  s->mls = mls;
+  s->approx = *approx;
+  s->mls = approx->ops == &mica_approx_mls ? approx->ctx : NULL;
   s->opt = *opt;
   s->dim = disc->dim;
   s->model_dim = opt->axisymmetric ? 3 : s->dim;
@@ -182,10 +189,10 @@ int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, cons
   s->dirichlet = dirichlet;
   s->ntraction = ntraction;
   s->traction = traction;
-  MICA_CALL_CLEANUP(check_model(opt, s->ncomp, s->nq));
+  MICA_CALL_CLEANUP(check_model(opt, approx, s->ncomp, s->nq));
   if (opt->axisymmetric) MICA_CALL_CLEANUP(check_axisymmetric(s));
-  MICA_CALL_CLEANUP(mica_shape_cache_create(mls, disc->nquad, disc->qx, opt->field.ops->order, "volume quadrature",
-                                            &s->volume));
+  MICA_CALL_CLEANUP(approx->ops->points(approx->ctx, disc->nquad, disc->qx, disc->qcell, opt->field.ops->order,
+                                        "volume quadrature", &s->volume));
   if (opt->vci) MICA_CALL_CLEANUP(apply_vci(s));
   MICA_CALL_CLEANUP(build_boundary_caches(s));
   MICA_CALL_CLEANUP(number_multipliers(s));
