@@ -337,6 +337,35 @@ static int check_fe_model(const MicaDeck *deck, const RunProblem *rp, const Mica
   return MICA_SUCCESS;
 }
 
+/* Lagrange multipliers on Q1/hex8 elements live on the displacement nodes of the boundary: where two conditions
+ * on the same component meet at a node, both constrain its value, the constraints are linearly dependent and
+ * the saddle-point matrix is singular. Refused (Q2 has more trace nodes than multiplier nodes and is not
+ * affected; neither are penalty and Nitsche). */
+static int check_fe_multipliers(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt, int n,
+                                const MicaDirichlet *c) {
+  if (!rp->fe || rp->fe->order != 1 || !opt->bc_method->needs_multipliers) return MICA_SUCCESS;
+  const int dim = rp->disc->dim;
+  for (int i = 0; i < n; i++)
+    for (int j = i + 1; j < n; j++) {
+      const MicaBoundarySet *a = &rp->disc->sets[c[i].set], *b = &rp->disc->sets[c[j].set];
+      if (!(c[i].mask & c[j].mask)) continue;
+      for (long va = 0; va < a->nvertices; va++)
+        for (long vb = 0; vb < b->nvertices; vb++) {
+          double r = 0;
+          for (int d = 0; d < dim; d++) r = fmax(r, fabs(a->vertex_x[va * dim + d] - b->vertex_x[vb * dim + d]));
+          if (r > 0) continue;
+          char where[256];
+          mica_deck_where(deck, "bc.method", where, sizeof where);
+          MICA_ERROR(MICA_ERR_INPUT,
+                     "%s: bc.method = \"lagrange\" with %s elements: the conditions on sets '%s' and '%s' meet at a "
+                     "node and constrain the same component there twice (linearly dependent multipliers, a singular "
+                     "saddle point); use \"nitsche\" or \"penalty\", or elements of order 2",
+                     where, mica_fe_element_name(dim, 1), a->name, b->name);
+        }
+    }
+  return MICA_SUCCESS;
+}
+
 static int build_solid(const MicaDeck *deck, RunProblem *rp) {
   MicaSolidOptions opt;
   memset(&opt, 0, sizeof opt);
@@ -357,6 +386,7 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp) {
   MICA_CALL_CLEANUP(read_body_force(deck, rp, &opt.field, opt.body));
   MICA_CALL_CLEANUP(read_dirichlet(deck, rp, &opt.field, &ndirichlet, &dirichlet));
   MICA_CALL_CLEANUP(read_tractions(deck, rp, &opt.field, &ntraction, &traction));
+  MICA_CALL_CLEANUP(check_fe_multipliers(deck, rp, &opt, ndirichlet, dirichlet));
   long order;
   MICA_CALL_CLEANUP(mica_deck_int(deck, "mls.order", &order));
   opt.basis_order = (int)order;
