@@ -111,37 +111,87 @@ int mica_fe_destroy(MicaFe **fe) {
 
 /* ---- point location ---- */
 
+/* Residual r = x(ξ) − x and its max norm. */
+static double map_residual(const MicaFe *fe, const double *xe, const double *xi, const double *x, double *r,
+                           double *dN) {
+  double N[MICA_FE_MAX_NODES], norm = 0;
+  mica_fe_reference_eval(fe->dim, fe->order, xi, N, dN);
+  for (int d = 0; d < fe->dim; d++) {
+    r[d] = -x[d];
+    for (int a = 0; a < fe->nen; a++) r[d] += N[a] * xe[a * fe->dim + d];
+    norm = fmax(norm, fabs(r[d]));
+  }
+  return norm;
+}
+
+/* Damped Newton on x(ξ) = x from the start in xi; returns the final residual norm in *norm. */
+static int newton(const MicaFe *fe, const double *xe, const double *x, double scale, double *xi, double *norm) {
+  const int dim = fe->dim, nen = fe->nen;
+  double dN[MICA_FE_MAX_NODES * 3], J[9], dNdx[MICA_FE_MAX_NODES * 3], r[3];
+  *norm = map_residual(fe, xe, xi, x, r, dN);
+  for (int it = 0; it < 50 && *norm > 1e-14 * scale; it++) {
+    double det, step[3] = {0, 0, 0}, col[3];
+    if (mica_fe_gradients(dim, nen, xe, dN, J, &det, dNdx)) { /* a singular point of the map: give up here */
+      mica_error_clear();
+      return MICA_SUCCESS;
+    }
+    for (int j = 0; j < dim; j++) { /* Δξ = −J⁻¹ r, (J⁻¹)_jd = cof(J)_dj / det */
+      mica_fe_cofactor_column(dim, J, j, col);
+      for (int d = 0; d < dim; d++) step[j] -= col[d] * r[d] / det;
+    }
+    /* backtracking: halve the step until the residual decreases */
+    double trial[3], rt[3], dNt[MICA_FE_MAX_NODES * 3], tnorm = INFINITY, lambda = 1;
+    for (int cut = 0; cut < 30; cut++, lambda *= 0.5) {
+      for (int d = 0; d < dim; d++) trial[d] = xi[d] + lambda * step[d];
+      tnorm = map_residual(fe, xe, trial, x, rt, dNt);
+      if (tnorm < *norm) break;
+    }
+    if (!(tnorm < *norm)) break; /* stalled at round-off */
+    memcpy(xi, trial, sizeof(double) * (size_t)dim);
+    memcpy(r, rt, sizeof r);
+    memcpy(dN, dNt, sizeof(double) * (size_t)(dim * nen));
+    *norm = tnorm;
+  }
+  return MICA_SUCCESS;
+}
+
+static double outside(int dim, const double *xi) {
+  double e = 0;
+  for (int d = 0; d < dim; d++) e = fmax(e, fabs(xi[d]) - 1);
+  return e;
+}
+
 int mica_fe_inverse_map(const MicaFe *fe, long el, const double *x, double *xi, double *excess) {
   const int dim = fe->dim, nen = fe->nen;
-  double xe[MICA_FE_MAX_NODES * 3], N[MICA_FE_MAX_NODES], dN[MICA_FE_MAX_NODES * 3], J[9];
+  double xe[MICA_FE_MAX_NODES * 3], xin[MICA_FE_MAX_NODES * 3];
   element_coordinates(fe, el, xe);
   double scale = 0;
   for (int d = 0; d < dim; d++) scale = fmax(scale, fe->box[el * 2 * dim + dim + d] - fe->box[el * 2 * dim + d]);
-  for (int d = 0; d < dim; d++) xi[d] = 0;
-  for (int it = 0; it < 50; it++) {
-    double r[3] = {0, 0, 0}, col[3], det;
-    mica_fe_reference_eval(dim, fe->order, xi, N, dN);
-    for (int a = 0; a < nen; a++)
-      for (int d = 0; d < dim; d++) r[d] += N[a] * xe[a * dim + d];
-    double norm = 0;
-    for (int d = 0; d < dim; d++) r[d] -= x[d], norm = fmax(norm, fabs(r[d]));
-    if (norm <= 1e-14 * scale) break;
-    double dNdx[MICA_FE_MAX_NODES * 3];
-    MICA_CALL(mica_fe_gradients(dim, nen, xe, dN, J, &det, dNdx));
-    /* Δξ = −J⁻¹ r, (J⁻¹)_jd = cof(J)_dj / det */
-    double step = 0;
-    for (int j = 0; j < dim; j++) {
-      mica_fe_cofactor_column(dim, J, j, col);
-      double s = 0;
-      for (int d = 0; d < dim; d++) s += col[d] * r[d];
-      xi[j] -= s / det;
-      step = fmax(step, fabs(s / det));
-      xi[j] = fmax(-3.0, fmin(3.0, xi[j])); /* keep Newton from wandering off a far element */
-    }
-    if (step < 1e-15) break;
+  mica_fe_reference_nodes(dim, fe->order, xin);
+  /* Starts: the node nearest to x, the center, then every node. A curved Q2 element's map is not injective
+   * beyond [−1, 1]^dim, and Newton may find a preimage outside; another start finds the one inside. */
+  int order_of_starts[MICA_FE_MAX_NODES + 2], nstarts = 0, nearest = 0;
+  double best_r2 = INFINITY;
+  for (int a = 0; a < nen; a++) {
+    double r2 = 0;
+    for (int d = 0; d < dim; d++) r2 += (xe[a * dim + d] - x[d]) * (xe[a * dim + d] - x[d]);
+    if (r2 < best_r2) best_r2 = r2, nearest = a;
   }
-  *excess = 0;
-  for (int d = 0; d < dim; d++) *excess = fmax(*excess, fabs(xi[d]) - 1);
+  order_of_starts[nstarts++] = nearest;
+  order_of_starts[nstarts++] = -1;
+  for (int a = 0; a < nen; a++)
+    if (a != nearest) order_of_starts[nstarts++] = a;
+  double best = INFINITY;
+  for (int k = 0; k < nstarts; k++) {
+    double trial[3] = {0, 0, 0}, norm;
+    if (order_of_starts[k] >= 0) memcpy(trial, xin + order_of_starts[k] * dim, sizeof(double) * (size_t)dim);
+    MICA_CALL(newton(fe, xe, x, scale, trial, &norm));
+    const double e = norm > 1e-10 * scale ? INFINITY : outside(dim, trial);
+    if (e < best) best = e, memcpy(xi, trial, sizeof(double) * (size_t)dim);
+    if (best <= 1e-12) break;
+  }
+  if (best == INFINITY) memset(xi, 0, sizeof(double) * (size_t)dim);
+  *excess = best;
   return MICA_SUCCESS;
 }
 
