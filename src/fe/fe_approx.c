@@ -40,8 +40,9 @@ static int point_shape(const MicaFe *fe, const double *x, long given, long p, Mi
     MICA_CALL(mica_fe_locate(fe, x, &el, xi));
   else
     MICA_CALL(mica_fe_inverse_map(fe, el, x, xi, &excess));
-  MICA_CHECK(excess <= 1e-8, MICA_ERR_ARGUMENT, "the point (%g, %g) does not lie in its element %ld (ξ off by %g)",
-             x[0], x[1], el + 1, excess);
+  MICA_CHECK(excess <= 1e-8, MICA_ERR_ARGUMENT,
+             "the point (%g, %g, %g) does not lie in its element %ld (ξ off by %g)", x[0], x[1],
+             dim == 3 ? x[2] : 0.0, el + 1, excess);
   const long *nodes = fe->conn + el * nen;
   for (int a = 0; a < nen; a++) memcpy(xe + a * dim, fe->x + nodes[a] * dim, sizeof(double) * (size_t)dim);
   mica_fe_reference_eval(dim, fe->order, xi, N, dN);
