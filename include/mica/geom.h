@@ -85,6 +85,7 @@ typedef struct MicaBoundarySet {
   long nelements;
   int element_size; /* vertices per element: 2 (2-D), 3 or 4 (3-D) */
   long *element_vertices; /* [nelements*element_size], indices into this set's vertices */
+  long *cell;       /* [n] the volume cell (finite element) each point lies on, or NULL if not recorded */
 } MicaBoundarySet;
 
 typedef struct MicaDiscretization {
@@ -95,6 +96,7 @@ typedef struct MicaDiscretization {
   long nquad;
   double *qx;       /* [nquad*dim] volume quadrature points */
   double *qw;       /* [nquad] weights (Jacobian included) */
+  long *qcell;      /* [nquad] the cell (finite element) of each volume point, or NULL if not recorded */
   int nsets;
   MicaBoundarySet *sets;
   double volume;    /* Σ qw: the body's area (2-D) or volume (3-D) */

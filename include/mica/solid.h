@@ -31,10 +31,37 @@ typedef struct MicaShapeCache {
   double *dN_test; /* [nnz*dim] VCI-corrected gradients of the test functions (mica_vci_correct), else NULL:
                       the test functions are the trial functions */
   long max_support;
-  int refs;     /* holders: a cache may be shared by the solids of consecutive runs (mica_shape_cache_share) */
+  int shares;   /* holders beyond the first (0 when allocated): the solids of consecutive runs may share a
+                   cache (mica_shape_cache_share) */
 } MicaShapeCache;
 
 #define MICA_MAX_COMP 6 /* unknowns per particle: 3-D Cosserat */
+
+/* ---- Approximations: where the shape functions come from (ops table) ------------------------------------ */
+
+/* An approximation fills shape caches: MLS (EFG, mica_approx_mls, ctx a const MlsApprox *) or finite
+ * elements on the same nodes (mica_approx_fe of mica/fe.h, ctx a const MicaFe *). The solid, the boundary
+ * methods and the outputs see only the caches. */
+typedef struct MicaApproxOps {
+  const char *name;   /* "efg", "fe": problem.method */
+  int interpolating;  /* 1: N_I(x_J) = δ_IJ, the unknowns are the values at the particles (FE) */
+  int max_order;      /* highest derivative order it provides: 2 (MLS, Hessians), 1 (C0 finite elements) */
+  /* N, ∇N (order 2: and ∇∇N) at x[npoints*dim]; cell[p] is the cell (element) point p lies in, or cell is
+   * NULL and the approximation finds it if it needs it; an error names the point (label and number). */
+  int (*points)(const void *ctx, long npoints, const double *x, const long *cell, int order, const char *label,
+                MicaShapeCache **cache);
+  /* The same at the particles (outputs). */
+  int (*particles)(const void *ctx, int order, MicaShapeCache **cache);
+  /* [nparticles*dim] local particle spacing per axis (penalty and Nitsche scale with 1/h). */
+  const double *(*spacing)(const void *ctx);
+} MicaApproxOps;
+
+typedef struct MicaApprox {
+  const MicaApproxOps *ops;
+  const void *ctx;
+} MicaApprox;
+
+extern const MicaApproxOps mica_approx_mls;
 
 /* Evaluates shape functions with gradients (order 1) or with gradients and Hessians (order 2) at
  * x[npoints*dim]; an MLS failure names the point (label and number). */
@@ -109,7 +136,8 @@ typedef struct MicaSolidOptions {
 
 typedef struct MicaSolid {
   const MicaDiscretization *disc;
-  const MlsApprox *mls;
+  MicaApprox approx;              /* where the shape functions come from */
+  const MlsApprox *mls;           /* approx's MlsApprox if it is MLS (VCI needs it), else NULL */
   MicaSolidOptions opt;
   int dim;                        /* of the geometry and the particles */
   int model_dim;                  /* of the model's kinematics: dim, or 3 for an axisymmetric solid */
@@ -132,17 +160,17 @@ typedef struct MicaSolid {
   long *work_nodes;               /* per-point scratch: clique node lists */
 } MicaSolid;
 
-/* Builds the caches (volume and the boundary sets that carry conditions), the multiplier nodes, and the
- * sparsity pattern. Takes ownership of the condition arrays (allocated with MICA_MALLOC), their functions
- * and the body-force functions, whether it succeeds or fails. */
-int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, const MicaSolidOptions *opt,
+/* Builds the caches (volume and the boundary sets that carry conditions) from the approximation, the
+ * multiplier nodes, and the sparsity pattern. Takes ownership of the condition arrays (allocated with
+ * MICA_MALLOC), their functions and the body-force functions, whether it succeeds or fails. */
+int mica_solid_create(const MicaDiscretization *disc, const MicaApprox *approx, const MicaSolidOptions *opt,
                       int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
                       MicaSolid **solid);
 /* The same, taking the shape-function caches (volume, and boundary sets) from donor where donor was built on
- * the same discretization and MLS with the same derivative order (and, for the volume, the same VCI
+ * the same discretization and approximation with the same derivative order (and, for the volume, the same VCI
  * setting): a run that changes only the model's constants, the loads or the conditions computes no shape
  * function. The caches are shared, so donor may be destroyed before or after the new solid. */
-int mica_solid_create_sharing(const MicaDiscretization *disc, const MlsApprox *mls, const MicaSolidOptions *opt,
+int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *approx, const MicaSolidOptions *opt,
                               int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
                               const MicaSolid *donor, MicaSolid **solid);
 int mica_solid_destroy(MicaSolid **solid);

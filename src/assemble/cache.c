@@ -38,7 +38,6 @@ int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x,
   int ierr = MICA_SUCCESS;
   long cap = 0;
   MICA_CALL(MICA_CALLOC(c, 1));
-  c->refs = 1;
   c->dim = mls_dim(mls);
   c->order = order >= 2 ? 2 : 1;
   c->npoints = npoints;
@@ -63,13 +62,14 @@ cleanup:
 }
 
 MicaShapeCache *mica_shape_cache_share(MicaShapeCache *cache) {
-  cache->refs++;
+  cache->shares++;
   return cache;
 }
 
 int mica_shape_cache_destroy(MicaShapeCache **cache) {
   if (!*cache) return MICA_SUCCESS;
-  if (--(*cache)->refs > 0) { /* another holder still uses it */
+  if ((*cache)->shares > 0) { /* another holder still uses it */
+    (*cache)->shares--;
     *cache = NULL;
     return MICA_SUCCESS;
   }
@@ -92,3 +92,20 @@ size_t mica_shape_cache_bytes(const MicaShapeCache *c) {
   return (sizeof(long) + sizeof(double) * (size_t)c->dim) * (size_t)(c->npoints + 1) +
          entries * (sizeof(long) + sizeof(double) * per_entry);
 }
+
+/* ---- MLS as an approximation (EFG) ---- */
+
+static int mls_points(const void *ctx, long npoints, const double *x, const long *cell, int order, const char *label,
+                      MicaShapeCache **cache) {
+  (void)cell; /* MLS needs no cell: supports come from the neighbor search */
+  return mica_shape_cache_create(ctx, npoints, x, order, label, cache);
+}
+
+static int mls_at_particles(const void *ctx, int order, MicaShapeCache **cache) {
+  const MlsApprox *mls = ctx;
+  return mica_shape_cache_create(mls, mls_num_particles(mls), mls_particles(mls), order, "output at particle", cache);
+}
+
+static const double *mls_particle_spacing(const void *ctx) { return mls_spacing(ctx); }
+
+const MicaApproxOps mica_approx_mls = {"efg", 0, 2, mls_points, mls_at_particles, mls_particle_spacing};

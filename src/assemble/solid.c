@@ -21,7 +21,7 @@ static int set_is_used(const MicaSolid *s, int set) {
  * and Nitsche scale their parameter as α E / h. */
 static int boundary_spacing(MicaSolid *s, int set) {
   const MicaShapeCache *c = s->boundary[set];
-  const double *spacing = mls_spacing(s->mls);
+  const double *spacing = s->approx.ops->spacing(s->approx.ctx);
   MICA_CALL(MICA_MALLOC(s->boundary_h[set], c->npoints));
   for (long p = 0; p < c->npoints; p++) {
     double sum_w = 0, sum_h = 0;
@@ -36,9 +36,14 @@ static int boundary_spacing(MicaSolid *s, int set) {
   return MICA_SUCCESS;
 }
 
-/* The donor's cache of boundary set `set`, if it can serve s: same discretization, MLS and derivative order. */
+/* Can the donor's caches serve s? Built on the same discretization and approximation. */
+static int same_approximation(const MicaSolid *s, const MicaSolid *donor) {
+  return donor && donor->disc == s->disc && donor->approx.ops == s->approx.ops && donor->approx.ctx == s->approx.ctx;
+}
+
+/* The donor's cache of boundary set `set`, if it can serve s: same approximation and derivative order. */
 static MicaShapeCache *donor_boundary(const MicaSolid *s, const MicaSolid *donor, int set) {
-  if (!donor || donor->disc != s->disc || donor->mls != s->mls || !donor->boundary[set]) return NULL;
+  if (!same_approximation(s, donor) || !donor->boundary[set]) return NULL;
   return donor->boundary[set]->order == s->volume->order ? donor->boundary[set] : NULL;
 }
 
@@ -55,8 +60,8 @@ static int build_boundary_caches(MicaSolid *s, const MicaSolid *donor) {
     } else {
       char label[96];
       snprintf(label, sizeof label, "boundary set '%s'", disc->sets[set].name);
-      MICA_CALL(mica_shape_cache_create(s->mls, disc->sets[set].n, disc->sets[set].x, s->opt.field.ops->order, label,
-                                        &s->boundary[set]));
+      MICA_CALL(s->approx.ops->points(s->approx.ctx, disc->sets[set].n, disc->sets[set].x, disc->sets[set].cell,
+                                      s->opt.field.ops->order, label, &s->boundary[set]));
       s->caches_built++;
     }
     MICA_CALL(boundary_spacing(s, set));
@@ -151,10 +156,16 @@ static int check_axisymmetric(const MicaSolid *s) {
   return MICA_SUCCESS;
 }
 
-/* The model and the boundary method must fit together and in the fixed-size scratch of a point. */
-static int check_model(const MicaSolidOptions *opt, int ncomp, int nq) {
+/* The model, the approximation and the boundary method must fit together and in the fixed-size scratch of a
+ * point. */
+static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, int ncomp, int nq) {
   MICA_CHECK(ncomp <= MICA_MAX_COMP && nq <= 128, MICA_ERR_ARGUMENT, "model '%s' has too many unknowns",
              opt->field.ops->name);
+  MICA_CHECK(opt->field.ops->order <= approx->ops->max_order, MICA_ERR_INPUT,
+             "model '%s' needs derivatives of order %d, which the %s approximation does not provide (it is C%d)",
+             opt->field.ops->name, opt->field.ops->order, approx->ops->name, approx->ops->max_order - 1);
+  MICA_CHECK(!opt->vci || approx->ops == &mica_approx_mls, MICA_ERR_INPUT,
+             "quadrature.vci corrects MLS gradients; the %s approximation has none to correct", approx->ops->name);
   MICA_CHECK(!opt->vci || opt->field.ops->order == 1, MICA_ERR_INPUT,
              "quadrature.vci corrects first derivatives only; model '%s' uses second derivatives",
              opt->field.ops->name);
@@ -176,30 +187,31 @@ int mica_solid_symmetric_definite(const MicaSolid *s) {
   return s->opt.bc_method->symmetric_definite && !s->volume->dN_test;
 }
 
-/* The volume cache: the donor's when it was built for the same discretization, MLS, derivative order and
- * test functions (VCI or not); otherwise built, and corrected for VCI. */
+/* The volume cache: the donor's when it was built for the same discretization, approximation, derivative
+ * order and test functions (VCI or not); otherwise built, and corrected for VCI. */
 static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
   const MicaSolidOptions *opt = &s->opt;
+  const MicaDiscretization *disc = s->disc;
   const int order = opt->field.ops->order >= 2 ? 2 : 1;
-  if (donor && donor->disc == s->disc && donor->mls == s->mls && donor->volume->order == order &&
-      !donor->volume->dN_test == !opt->vci) {
+  if (same_approximation(s, donor) && donor->volume->order == order && !donor->volume->dN_test == !opt->vci) {
     s->volume = mica_shape_cache_share(donor->volume);
     s->caches_shared++;
     return MICA_SUCCESS;
   }
-  MICA_CALL(mica_shape_cache_create(s->mls, s->disc->nquad, s->disc->qx, order, "volume quadrature", &s->volume));
+  MICA_CALL(s->approx.ops->points(s->approx.ctx, disc->nquad, disc->qx, disc->qcell, order, "volume quadrature",
+                                  &s->volume));
   s->caches_built++;
   if (opt->vci) MICA_CALL(apply_vci(s));
   return MICA_SUCCESS;
 }
 
-int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, const MicaSolidOptions *opt,
+int mica_solid_create(const MicaDiscretization *disc, const MicaApprox *approx, const MicaSolidOptions *opt,
                       int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
                       MicaSolid **out) {
-  return mica_solid_create_sharing(disc, mls, opt, ndirichlet, dirichlet, ntraction, traction, NULL, out);
+  return mica_solid_create_sharing(disc, approx, opt, ndirichlet, dirichlet, ntraction, traction, NULL, out);
 }
 
-int mica_solid_create_sharing(const MicaDiscretization *disc, const MlsApprox *mls, const MicaSolidOptions *opt,
+int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *approx, const MicaSolidOptions *opt,
                               int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
                               const MicaSolid *donor, MicaSolid **out) {
   *out = NULL;
@@ -207,7 +219,8 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MlsApprox *m
   MICA_CALL(MICA_CALLOC(s, 1));
   int ierr = MICA_SUCCESS;
   s->disc = disc;
-  s->mls = mls;
+  s->approx = *approx;
+  s->mls = approx->ops == &mica_approx_mls ? approx->ctx : NULL;
   s->opt = *opt;
   s->dim = disc->dim;
   s->model_dim = opt->axisymmetric ? 3 : s->dim;
@@ -218,7 +231,7 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MlsApprox *m
   s->dirichlet = dirichlet;
   s->ntraction = ntraction;
   s->traction = traction;
-  MICA_CALL_CLEANUP(check_model(opt, s->ncomp, s->nq));
+  MICA_CALL_CLEANUP(check_model(opt, approx, s->ncomp, s->nq));
   if (opt->axisymmetric) MICA_CALL_CLEANUP(check_axisymmetric(s));
   MICA_CALL_CLEANUP(volume_cache(s, donor));
   MICA_CALL_CLEANUP(build_boundary_caches(s, donor));

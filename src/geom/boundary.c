@@ -42,6 +42,7 @@ void geom_set_free(MicaBoundarySet *set) {
   MICA_FREE(set->lambda_N);
   MICA_FREE(set->vertex_x);
   MICA_FREE(set->element_vertices);
+  MICA_FREE(set->cell);
 }
 
 /* ---- faces of the grid on a set ---- */

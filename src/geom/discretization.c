@@ -86,6 +86,7 @@ int mica_discretization_destroy(MicaDiscretization **disc) {
   MICA_FREE(d->x);
   MICA_FREE(d->qx);
   MICA_FREE(d->qw);
+  MICA_FREE(d->qcell);
   MICA_FREE(*disc);
   return MICA_SUCCESS;
 }

@@ -320,6 +320,52 @@ static int read_vci(const MicaDeck *deck, const MicaDiscretization *disc, MicaSo
   return MICA_SUCCESS;
 }
 
+/* Finite elements are C0 and interpolate: no second-gradient models, and nothing for VCI to correct. */
+static int check_fe_model(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt) {
+  if (!rp->fe) return MICA_SUCCESS;
+  char where[256];
+  int vci;
+  mica_deck_where(deck, "material.model", where, sizeof where);
+  MICA_CHECK(opt->field.ops->order <= rp->approx.ops->max_order, MICA_ERR_INPUT,
+             "%s: model '%s' needs second derivatives of C1 shape functions; the finite elements of problem.method = "
+             "\"fe\" are C0: use problem.method = \"efg\"", where, opt->field.ops->name);
+  MICA_CALL(mica_deck_bool(deck, "quadrature.vci", &vci));
+  mica_deck_where(deck, "quadrature.vci", where, sizeof where);
+  MICA_CHECK(!vci, MICA_ERR_INPUT,
+             "%s: quadrature.vci corrects MLS gradients; finite elements pass the patch test without it: use "
+             "quadrature.vci = false", where);
+  return MICA_SUCCESS;
+}
+
+/* Lagrange multipliers on Q1/hex8 elements live on the displacement nodes of the boundary: where two conditions
+ * on the same component meet at a node, both constrain its value, the constraints are linearly dependent and
+ * the saddle-point matrix is singular. Refused (Q2 has more trace nodes than multiplier nodes and is not
+ * affected; neither are penalty and Nitsche). */
+static int check_fe_multipliers(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt, int n,
+                                const MicaDirichlet *c) {
+  if (!rp->fe || rp->fe->order != 1 || !opt->bc_method->needs_multipliers) return MICA_SUCCESS;
+  const int dim = rp->disc->dim;
+  for (int i = 0; i < n; i++)
+    for (int j = i + 1; j < n; j++) {
+      const MicaBoundarySet *a = &rp->disc->sets[c[i].set], *b = &rp->disc->sets[c[j].set];
+      if (!(c[i].mask & c[j].mask)) continue;
+      for (long va = 0; va < a->nvertices; va++)
+        for (long vb = 0; vb < b->nvertices; vb++) {
+          double r = 0;
+          for (int d = 0; d < dim; d++) r = fmax(r, fabs(a->vertex_x[va * dim + d] - b->vertex_x[vb * dim + d]));
+          if (r > 0) continue;
+          char where[256];
+          mica_deck_where(deck, "bc.method", where, sizeof where);
+          MICA_ERROR(MICA_ERR_INPUT,
+                     "%s: bc.method = \"lagrange\" with %s elements: the conditions on sets '%s' and '%s' meet at a "
+                     "node and constrain the same component there twice (linearly dependent multipliers, a singular "
+                     "saddle point); use \"nitsche\" or \"penalty\", or elements of order 2",
+                     where, mica_fe_element_name(dim, 1), a->name, b->name);
+        }
+    }
+  return MICA_SUCCESS;
+}
+
 static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *donor) {
   MicaSolidOptions opt;
   memset(&opt, 0, sizeof opt);
@@ -328,6 +374,7 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   int ndirichlet = 0, ntraction = 0, ierr = MICA_SUCCESS;
   opt.axisymmetric = rp->axisymmetric;
   MICA_CALL_CLEANUP(run_read_material(deck, run_model_dim(rp), &opt));
+  MICA_CALL_CLEANUP(check_fe_model(deck, rp, &opt));
   if (rp->axisymmetric) MICA_CALL_CLEANUP(check_axisymmetric_model(deck, &opt.field));
   MICA_CALL_CLEANUP(read_bc_method(deck, &opt));
   if (rp->axisymmetric && opt.bc_method->needs_model_traction) {
@@ -339,13 +386,14 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   MICA_CALL_CLEANUP(read_body_force(deck, rp, &opt.field, opt.body));
   MICA_CALL_CLEANUP(read_dirichlet(deck, rp, &opt.field, &ndirichlet, &dirichlet));
   MICA_CALL_CLEANUP(read_tractions(deck, rp, &opt.field, &ntraction, &traction));
+  MICA_CALL_CLEANUP(check_fe_multipliers(deck, rp, &opt, ndirichlet, dirichlet));
   long order;
   MICA_CALL_CLEANUP(mica_deck_int(deck, "mls.order", &order));
   opt.basis_order = (int)order;
   MICA_CALL_CLEANUP(read_vci(deck, rp->disc, &opt));
   const double start = mica_wtime();
-  ierr = mica_study_mls_input(mica_solid_create_sharing(rp->disc, rp->mls, &opt, ndirichlet, dirichlet, ntraction,
-                                                        traction, donor, &rp->solid));
+  ierr = mica_study_mls_input(mica_solid_create_sharing(rp->disc, &rp->approx, &opt, ndirichlet, dirichlet,
+                                                        ntraction, traction, donor, &rp->solid));
   rp->time_cache_pattern = mica_wtime() - start;
   return ierr; /* the solid owns the conditions now, whether or not it was built */
 cleanup:
@@ -357,6 +405,69 @@ cleanup:
   free(dirichlet);
   free(traction);
   return ierr;
+}
+
+/* ---- the approximation: problem.method ------------------------------------------------------------------ */
+
+static int is_fe(const MicaDeck *deck, int *fe) {
+  const char *method;
+  MICA_CALL(mica_deck_string(deck, "problem.method", &method));
+  *fe = !strcmp(method, "fe");
+  return MICA_SUCCESS;
+}
+
+/* problem.method = "fe" needs nodes on a logical grid (a built-in shape, a structured layout), elements of
+ * order mls.order that fit the grid, and cells that are its elements. Refused with the deck line. */
+static int check_fe_deck(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                         const MicaCellSpec *cells, int *order) {
+  char where[256];
+  long p;
+  MICA_CALL(mica_deck_int(deck, "mls.order", &p));
+  mica_deck_where(deck, "geometry.shape", where, sizeof where);
+  MICA_CHECK(shape->kind != MICA_SHAPE_GMSH, MICA_ERR_INPUT,
+             "%s: problem.method = \"fe\" puts its elements between the particles of a built-in shape; Gmsh meshes "
+             "are not supported: use a built-in shape or problem.method = \"efg\"", where);
+  mica_deck_where(deck, "particles.layout", where, sizeof where);
+  MICA_CHECK(layout->kind != MICA_LAYOUT_IRREGULAR, MICA_ERR_INPUT,
+             "%s: problem.method = \"fe\" needs the particles on a logical grid, which the irregular layout is not; "
+             "use particles.layout = \"regular\", \"graded\" or \"jittered\"", where);
+  mica_deck_where(deck, "mls.order", where, sizeof where);
+  MICA_CHECK(p == 1 || p == 2, MICA_ERR_INPUT,
+             "%s: problem.method = \"fe\" takes the element order from mls.order = %ld; use 1 (Q1, hex8) or 2 (Q2, "
+             "hex27)", where, p);
+  mica_deck_where(deck, "particles.count", where, sizeof where);
+  for (int d = 0; d < shape->dim; d++)
+    MICA_CHECK(p == 1 || layout->count[d] % 2 == 1, MICA_ERR_INPUT,
+               "%s: elements of order 2 span 3 particles per axis, so particles.count needs odd entries (entry %d is "
+               "%ld); use %ld", where, d + 1, layout->count[d], layout->count[d] + 1);
+  MICA_CHECK(!(shape->kind == MICA_SHAPE_PLATE_HOLE && p == 2 && (layout->count[0] - 1) % 4 != 0), MICA_ERR_INPUT,
+             "%s: the plate's corner must lie on an element edge: with elements of order 2, the first entry of "
+             "particles.count minus 1 must be a multiple of 4 (it is %ld); use %ld", where, layout->count[0] - 1,
+             4 * ((layout->count[0] - 1) / 4 + 1) + 1);
+  if (cells->count[0] > 0) {
+    mica_deck_where(deck, "quadrature.cells", where, sizeof where);
+    for (int d = 0; d < shape->dim; d++)
+      MICA_CHECK(cells->count[d] == (layout->count[d] - 1) / p, MICA_ERR_INPUT,
+                 "%s: with problem.method = \"fe\" the cells are the elements, (particles.count − 1) / mls.order = "
+                 "%ld along axis %d, not %ld; leave quadrature.cells out", where, (layout->count[d] - 1) / p, d + 1,
+                 cells->count[d]);
+  }
+  *order = (int)p;
+  return MICA_SUCCESS;
+}
+
+/* The finite-element mesh on the particles and its discretization, which replaces the shape's (the same
+ * particles and boundary set names; element Gauss points and element faces). */
+static int build_fe(const MicaLayoutSpec *layout, const MicaCellSpec *cells, int order, RunProblem *rp) {
+  MicaDiscretization *fe_disc = NULL;
+  const double start = mica_wtime();
+  MICA_CALL(mica_fe_create(rp->disc->dim, order, layout->count, rp->disc->nparticles, rp->disc->x, &rp->fe));
+  rp->time_mls = mica_wtime() - start;
+  MICA_CALL(mica_fe_discretize(rp->fe, rp->disc, cells->order, cells->boundary_order, &fe_disc));
+  mica_discretization_destroy(&rp->disc);
+  rp->disc = fe_disc;
+  rp->approx = (MicaApprox){&mica_approx_fe, rp->fe};
+  return MICA_SUCCESS;
 }
 
 /* geometry.axisymmetric: the 2-D section in (x, y) = (r, z) is revolved about the y axis. */
@@ -380,16 +491,23 @@ static int build_geometry(const MicaDeck *deck, RunProblem *rp) {
   MicaCellSpec cells;
   MlsOptions mls_opt;
   char mesh[1024];
+  int fe = 0, fe_order = 0;
   MICA_CALL(read_shape(deck, &shape, mesh, sizeof mesh));
   MICA_CALL(read_layout(deck, shape.dim, shape.kind == MICA_SHAPE_GMSH, &layout, &cells));
+  MICA_CALL(is_fe(deck, &fe));
+  if (fe) MICA_CALL(check_fe_deck(deck, &shape, &layout, &cells, &fe_order));
   double start = mica_wtime();
   MICA_CALL(mica_discretization_create(&shape, &layout, &cells, &rp->disc));
+  if (fe) MICA_CALL(build_fe(&layout, &cells, fe_order, rp));
   MICA_CALL(read_axisymmetric(deck, rp));
-  rp->time_discretize = mica_wtime() - start;
-  MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
-  start = mica_wtime();
-  MICA_CALL(mica_study_mls_input(mls_create(rp->disc->dim, rp->disc->nparticles, rp->disc->x, &mls_opt, &rp->mls)));
-  rp->time_mls = mica_wtime() - start;
+  rp->time_discretize = mica_wtime() - start - rp->time_mls;
+  if (!fe) {
+    MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
+    start = mica_wtime();
+    MICA_CALL(mica_study_mls_input(mls_create(rp->disc->dim, rp->disc->nparticles, rp->disc->x, &mls_opt, &rp->mls)));
+    rp->time_mls = mica_wtime() - start;
+    rp->approx = (MicaApprox){&mica_approx_mls, rp->mls};
+  }
   return MICA_SUCCESS;
 }
 
@@ -402,7 +520,9 @@ static const char *const geometry_scopes[] = {"geometry", "particles", "quadratu
 struct RunReuse {
   char *key;                    /* fingerprint of the last discretization and MLS (NULL: none kept) */
   MicaDiscretization *disc;
-  MlsApprox *mls;
+  MlsApprox *mls;               /* or */
+  MicaFe *fe;
+  MicaApprox approx;
   MicaSolid *solid;             /* the last solid built on them: it lends its shape caches to the next */
   MicaShapeCache *at_particles; /* the output's shape functions at the particles */
 };
@@ -423,6 +543,7 @@ static void reuse_clear(RunReuse *reuse) {
   mica_solid_destroy(&reuse->solid);
   mica_shape_cache_destroy(&reuse->at_particles);
   mls_destroy(&reuse->mls);
+  mica_fe_destroy(&reuse->fe);
   mica_discretization_destroy(&reuse->disc);
   free(reuse->key);
   reuse->key = NULL;
@@ -442,7 +563,7 @@ int run_reuse_destroy(RunReuse **reuse) {
 static int take_or_build_geometry(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse, char *key) {
   if (reuse->key && !strcmp(key, reuse->key)) {
     free(key);
-    rp->disc = reuse->disc, rp->mls = reuse->mls;
+    rp->disc = reuse->disc, rp->mls = reuse->mls, rp->fe = reuse->fe, rp->approx = reuse->approx;
     rp->at_particles = reuse->at_particles, reuse->at_particles = NULL;
     rp->reused_geometry = 1;
     return MICA_SUCCESS;
@@ -454,7 +575,7 @@ static int take_or_build_geometry(const MicaDeck *deck, RunProblem *rp, RunReuse
     free(key);
     return ierr;
   }
-  reuse->key = key, reuse->disc = rp->disc, reuse->mls = rp->mls;
+  reuse->key = key, reuse->disc = rp->disc, reuse->mls = rp->mls, reuse->fe = rp->fe, reuse->approx = rp->approx;
   rp->owns_geometry = 0;
   return MICA_SUCCESS;
 }
@@ -491,6 +612,7 @@ void run_problem_free(RunProblem *rp) {
   mica_shape_cache_destroy(&rp->at_particles);
   if (rp->owns_geometry) {
     mls_destroy(&rp->mls);
+    mica_fe_destroy(&rp->fe);
     mica_discretization_destroy(&rp->disc);
   }
   for (int a = 0; a < MICA_MAX_COMP; a++) {
@@ -515,6 +637,8 @@ static size_t cache_bytes(const MicaSolid *s) {
 
 static int add_counts(const RunProblem *rp, MicaJson *summary) {
   const MicaSolid *s = rp->solid;
+  MICA_CALL(mica_json_string(summary, "method", rp->approx.ops->name));
+  if (rp->fe) MICA_CALL(mica_json_string(summary, "element", mica_fe_element_name(rp->fe->dim, rp->fe->order)));
   MICA_CALL(mica_json_int(summary, "dim", rp->disc->dim));
   MICA_CALL(mica_json_int(summary, "particles", rp->disc->nparticles));
   MICA_CALL(mica_json_int(summary, "cells", rp->disc->ncells));
@@ -553,6 +677,9 @@ static void print_counts(const RunProblem *rp) {
          (double)s->volume->ptr[s->volume->npoints] / (double)s->volume->npoints, s->volume->max_support,
          (double)cache_bytes(s) / 1e6, (double)(s->K->nnz * 16) / 1e6);
   if (s->opt.vci) printf("VCI: corrected test gradients in %.3g s\n", s->time_vci);
+  if (rp->fe)
+    printf("finite elements: %ld %s elements on the particles\n", rp->fe->nelements,
+           mica_fe_element_name(rp->fe->dim, rp->fe->order));
   fflush(stdout);
 }
 

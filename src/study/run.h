@@ -3,6 +3,7 @@
 #define MICA_RUN_H
 
 #include "mica/command.h"
+#include "mica/fe.h"
 #include "mica/solid.h"
 
 extern const MicaDeckKey mica_run_schema[];
@@ -18,14 +19,16 @@ int run_reuse_destroy(RunReuse **reuse);
 typedef struct RunProblem {
   const MicaDeck *deck;
   MicaDiscretization *disc;
-  MlsApprox *mls;
+  MlsApprox *mls;               /* problem.method = "efg" */
+  MicaFe *fe;                   /* problem.method = "fe" */
+  MicaApprox approx;            /* the one of the two the solid uses */
   MicaSolid *solid;
   MicaFunction *exact[MICA_MAX_COMP];      /* exact unknowns (displacements, micro-rotations), or NULL */
   MicaFunction *exact_grad[MICA_MAX_COMP][3]; /* their gradients ∂v_c/∂X_J */
   int has_exact, ncomp;
   int axisymmetric;             /* geometry.axisymmetric: a 2-D (r, z) section, 3-D model, cylindrical components */
   MicaShapeCache *at_particles; /* shape functions at the particles, for output (built on first use) */
-  double time_discretize, time_mls, time_cache_pattern;
+  double time_discretize, time_mls, time_cache_pattern; /* time_mls: the MLS or finite-element setup */
   RunReuse *reuse;              /* NULL: a single run */
   int owns_geometry;            /* 1: disc and mls are this run's to free (else reuse keeps them) */
   int reused_geometry;          /* 1: disc and mls came from the previous run */

@@ -155,8 +155,13 @@ static int read_strain_gradient(const MicaDeck *deck, int dim, int couple_stress
  * least C² (the cubic, quartic and quartic C³ splines). */
 static int check_second_derivatives(const MicaDeck *deck) {
   long order;
-  const char *weight;
+  const char *weight, *method;
   char where[256];
+  MICA_CALL(mica_deck_string(deck, "problem.method", &method));
+  mica_deck_where(deck, "material.model", where, sizeof where);
+  MICA_CHECK(strcmp(method, "fe"), MICA_ERR_INPUT,
+             "%s: a gradient model needs second derivatives of C1 shape functions; the finite elements of "
+             "problem.method = \"fe\" are C0: use problem.method = \"efg\"", where);
   MICA_CALL(mica_deck_int(deck, "mls.order", &order));
   MICA_CALL(mica_deck_string(deck, "mls.weight", &weight));
   const MlsWeightOps *w = mls_weight_find(weight);

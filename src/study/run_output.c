@@ -1,6 +1,7 @@
 /* Outputs of `mica run`: fields at the particles per load step (VTU + PVD), relative error norms against
  * an exact solution, and probes. The particle parameters are not the displacements (MLS does not
- * interpolate): every field is the MLS approximation evaluated at the particles. */
+ * interpolate): every field is the approximation evaluated at the particles, through the approximation's
+ * ops (finite elements: the nodal values, gradients averaged over the elements around the node). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -107,9 +108,7 @@ static int fields_compute(RunProblem *rp, const double *u, ParticleFields *f) {
   const int order = s->opt.field.ops->order >= 2 ? 2 : 1;
   if (rp->at_particles && rp->at_particles->order != order) /* kept from a run of another model */
     mica_shape_cache_destroy(&rp->at_particles);
-  if (!rp->at_particles)
-    MICA_CALL(mica_shape_cache_create(rp->mls, n, rp->disc->x, order, "output at particle",
-                                      &rp->at_particles));
+  if (!rp->at_particles) MICA_CALL(rp->approx.ops->particles(rp->approx.ctx, order, &rp->at_particles));
   MICA_CALL(fields_alloc(rp, n, f));
   double q[128], qe[128], couple[9], v[3], sigma[9], strain[9];
   for (long i = 0; i < n; i++) {
@@ -233,25 +232,6 @@ static int probe_field_exists(const RunProblem *rp, const char *field) {
          strchr(axes, field[2]);
 }
 
-/* The kinematics q (model layout) at a point from its MLS shape functions. */
-static void probe_kinematics(const RunProblem *rp, const double *x, const MlsShape *sh, const double *u, double *q) {
-  const MicaSolid *s = rp->solid;
-  const int dim = rp->disc->dim, ncomp = s->ncomp, nh = dim * (dim + 1) / 2;
-  double q2[128] = {0};
-  for (long k = 0; k < sh->n; k++)
-    for (int c = 0; c < ncomp; c++) {
-      const double uk = u[sh->index[k] * ncomp + c];
-      q2[c] += sh->N[k] * uk;
-      for (int J = 0; J < dim; J++) q2[ncomp + c * dim + J] += sh->dN[J * sh->n + k] * uk;
-      if (s->opt.field.ops->order >= 2)
-        for (int h = 0; h < nh; h++) q2[ncomp * (1 + dim) + c * nh + h] += sh->ddN[h * sh->n + k] * uk;
-    }
-  if (rp->axisymmetric)
-    to_model_layout(rp, x, q2, q);
-  else
-    memcpy(q, q2, sizeof(double) * (size_t)s->nq);
-}
-
 /* The strain energy of the whole body, Σ_p w_p W(q_p) over the volume quadrature (with 2πr if axisymmetric). */
 static int strain_energy(const RunProblem *rp, const double *u, double *energy) {
   const MicaSolid *s = rp->solid;
@@ -266,8 +246,7 @@ static int strain_energy(const RunProblem *rp, const double *u, double *energy) 
 }
 
 /* The raw value of a point probe: the field at the deck's point. */
-static int probe_at_point(RunProblem *rp, int i, const char *name, const char *field, const double *u, MlsShape *sh,
-                          double *raw) {
+static int probe_at_point(RunProblem *rp, int i, const char *name, const char *field, const double *u, double *raw) {
   const MicaSolid *s = rp->solid;
   const int dim = rp->disc->dim;
   char path[96], where[256];
@@ -289,19 +268,22 @@ static int probe_at_point(RunProblem *rp, int i, const char *name, const char *f
              "%s: probe '%s': strains are reported for classical models only", where, name);
   MICA_CHECK(!rp->axisymmetric || point[0] > 0, MICA_ERR_INPUT,
              "%s: probe '%s': an axisymmetric probe needs r > 0 (the hoop terms divide by r)", where, name);
-  int ierr = mls_eval(rp->mls, point, s->opt.field.ops->order >= 2 ? MLS_HESSIAN : MLS_GRADIENT, sh);
+  /* the shape functions at the point: a cache of one point, from the approximation (it finds the element) */
+  MicaShapeCache *c = NULL;
+  int ierr = rp->approx.ops->points(rp->approx.ctx, 1, point, NULL, s->opt.field.ops->order, "probe", &c);
   if (ierr) {
     mica_error_prefix("%s: probe '%s'", where, name);
     return mica_error_trace(__FILE__, __LINE__, __func__, ierr == MICA_ERR_NUMERIC ? MICA_ERR_INPUT : ierr);
   }
   double q[128] = {0}, sigma[9], couple[9] = {0}, strain[9];
-  probe_kinematics(rp, point, sh, u, q);
+  mica_solid_kinematics(s, c, 0, u, q);
+  mica_shape_cache_destroy(&c);
   MICA_CALL(stresses(rp, q, sigma, couple, strain));
   *raw = probe_field(rp, field, q, strain, sigma, couple);
   return MICA_SUCCESS;
 }
 
-static int probe_one(RunProblem *rp, int i, const double *u, MlsShape *sh, MicaJson *summary) {
+static int probe_one(RunProblem *rp, int i, const double *u, MicaJson *summary) {
   const MicaDeck *deck = rp->deck;
   char path[96];
   const char *name, *field;
@@ -318,7 +300,7 @@ static int probe_one(RunProblem *rp, int i, const double *u, MlsShape *sh, MicaJ
   if (!strcmp(field, "energy"))
     MICA_CALL(strain_energy(rp, u, &raw));
   else
-    MICA_CALL(probe_at_point(rp, i, name, field, u, sh, &raw));
+    MICA_CALL(probe_at_point(rp, i, name, field, u, &raw));
   MICA_CHECK(!inverse || raw != 0, MICA_ERR_NUMERIC, "probe '%s': %s is 0 at the point; it has no inverse", name, field);
   const double value = inverse ? scale / raw : scale * raw;
   MICA_CALL(mica_json_number(summary, name, value));
@@ -329,10 +311,6 @@ static int probe_one(RunProblem *rp, int i, const double *u, MlsShape *sh, MicaJ
 int run_probes(RunProblem *rp, const double *u, MicaJson *summary) {
   const int count = mica_deck_list_length(rp->deck, "output.probes");
   if (count == 0) return MICA_SUCCESS;
-  MlsShape *sh = NULL;
-  int ierr = MICA_SUCCESS;
-  MICA_CALL(mls_shape_create(rp->mls, &sh));
-  for (int i = 0; i < count && !ierr; i++) ierr = probe_one(rp, i, u, sh, summary);
-  mls_shape_destroy(&sh);
-  return ierr;
+  for (int i = 0; i < count; i++) MICA_CALL(probe_one(rp, i, u, summary));
+  return MICA_SUCCESS;
 }

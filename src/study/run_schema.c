@@ -12,6 +12,10 @@ const MicaDeckKey mica_run_schema[] = {
     {"parameters", MICA_KEY_PARAMETERS, NULL, NOLIMIT, NULL, 0, 0,
      "named numbers (or expressions of earlier ones) usable in any numeric setting and expression"},
     {"problem.title", MICA_KEY_STRING, "\"\"", NOLIMIT, NULL, 0, 0, "a title for the summary"},
+    {"problem.method", MICA_KEY_CHOICE, "\"efg\"", NOLIMIT, "efg|fe", 0, 0,
+     "the approximation: efg (MLS shape functions, background-cell quadrature) or fe, the finite-element baseline: "
+     "Lagrange elements of order mls.order (1: Q1 / hex8, 2: Q2 / hex27) with the particles of a regular, graded or "
+     "jittered layout of a built-in shape as nodes, quadrature.order Gauss points per direction per element"},
     {"geometry.shape", MICA_KEY_CHOICE, "\"box\"", NOLIMIT, "box|polygon|plate_hole|annulus|cylinder|gmsh", 0, 0,
      "the body: a built-in shape or a Gmsh mesh"},
     {"geometry.lower", MICA_KEY_FLOATS, NULL, NOLIMIT, NULL, 2, 3, "box: lower corner (its length sets the dimension)"},
