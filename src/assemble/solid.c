@@ -145,6 +145,9 @@ static int check_model(const MicaSolidOptions *opt, int ncomp, int nq) {
   MICA_CHECK(!opt->vci || opt->field.ops->order == 1, MICA_ERR_INPUT,
              "quadrature.vci corrects first derivatives only; model '%s' uses second derivatives",
              opt->field.ops->name);
+  MICA_CHECK(!opt->scni || (opt->field.ops->order == 1 && !opt->axisymmetric), MICA_ERR_INPUT,
+             "SCNI smooths first derivatives of plane or 3-D fields only; model '%s'%s", opt->field.ops->name,
+             opt->axisymmetric ? " is axisymmetric" : " uses second derivatives");
   MICA_CHECK(opt->field.ops == &mica_field_classical || !opt->bc_method->needs_model_traction, MICA_ERR_INPUT,
              "bc.method = \"%s\" needs a classical model; model '%s' has generalized tractions: use \"lagrange\" or "
              "\"penalty\"", opt->bc_method->name, opt->field.ops->name);
@@ -184,8 +187,11 @@ int mica_solid_create(const MicaDiscretization *disc, const MlsApprox *mls, cons
   s->traction = traction;
   MICA_CALL_CLEANUP(check_model(opt, s->ncomp, s->nq));
   if (opt->axisymmetric) MICA_CALL_CLEANUP(check_axisymmetric(s));
-  MICA_CALL_CLEANUP(mica_shape_cache_create(mls, disc->nquad, disc->qx, opt->field.ops->order, "volume quadrature",
-                                            &s->volume));
+  if (opt->scni)
+    MICA_CALL_CLEANUP(mica_scni_cache_create(disc, mls, &s->volume));
+  else
+    MICA_CALL_CLEANUP(mica_shape_cache_create(mls, disc->nquad, disc->qx, opt->field.ops->order, "volume quadrature",
+                                              &s->volume));
   if (opt->vci) MICA_CALL_CLEANUP(apply_vci(s));
   MICA_CALL_CLEANUP(build_boundary_caches(s));
   MICA_CALL_CLEANUP(number_multipliers(s));
