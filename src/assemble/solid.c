@@ -145,6 +145,7 @@ static int check_model(const MicaSolidOptions *opt, int ncomp, int nq) {
   MICA_CHECK(!opt->vci || opt->field.ops->order == 1, MICA_ERR_INPUT,
              "quadrature.vci corrects first derivatives only; model '%s' uses second derivatives",
              opt->field.ops->name);
+  MICA_CHECK(!(opt->scni && opt->vci), MICA_ERR_INPUT, "quadrature.vci does not combine with SCNI");
   MICA_CHECK(!opt->scni || (opt->field.ops->order == 1 && !opt->axisymmetric), MICA_ERR_INPUT,
              "SCNI smooths first derivatives of plane or 3-D fields only; model '%s'%s", opt->field.ops->name,
              opt->axisymmetric ? " is axisymmetric" : " uses second derivatives");

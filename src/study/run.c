@@ -359,11 +359,20 @@ static int read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, co
   return MICA_SUCCESS;
 }
 
-/* SCNI smooths first derivatives: second-gradient models need "nodal" (MLS Hessians) or "gauss". */
+/* SCNI smooths first derivatives: second-gradient models need "nodal" (MLS Hessians) or "gauss". VCI is
+ * refused with it: SCNI's trial gradients are cell averages, not the MLS gradients at x_I that VCI's
+ * consistency argument assumes (a quadratic patch stays inexact, docs/verification.md), and for a linear basis
+ * SCNI already satisfies the linear integration constraint that VCI would impose. */
 static int read_scni(const MicaDeck *deck, const RunProblem *rp, MicaSolidOptions *opt) {
   opt->scni = !strcmp(rp->integration, "scni");
-  if (!opt->scni || opt->field.ops->order == 1) return MICA_SUCCESS;
+  if (!opt->scni) return MICA_SUCCESS;
   char where[256];
+  mica_deck_where(deck, "quadrature.vci", where, sizeof where);
+  MICA_CHECK(!opt->vci, MICA_ERR_INPUT,
+             "%s: quadrature.vci does not combine with quadrature.mode = \"scni\" (SCNI's smoothed gradients already "
+             "pass the linear patch test, and VCI cannot raise them to quadratic consistency); use quadrature.mode = "
+             "\"scni\" without vci, or \"nodal\" or \"gauss\" with vci", where);
+  if (opt->field.ops->order == 1) return MICA_SUCCESS;
   mica_deck_where(deck, "quadrature.mode", where, sizeof where);
   MICA_ERROR(MICA_ERR_INPUT,
              "%s: quadrature.mode = \"scni\" smooths first derivatives only, and model '%s' uses second derivatives; "
