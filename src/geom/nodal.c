@@ -93,45 +93,39 @@ static int face_set(const GeomMap *map, int axis, int side, const double *mid) {
   return UNCOVERED;
 }
 
-/* Parameters t ∈ (0, 1) where segment a → b crosses a kink, ascending. The crossing is computed from the
- * endpoints in a fixed order, so the two cells sharing the segment split it at the same point. */
-static int kink_crossings(const GeomMap *map, const double *a, const double *b, double *t) {
+/* The points where segment a → b crosses a kink line of the map, ordered from a to b (at most MAX_SPLITS − 1).
+ * Each is computed from the lexicographically smaller endpoint and put exactly on the kink, so the two cells
+ * sharing the segment split it at the same point, bit for bit. */
+static int kink_crossings(const GeomMap *map, const double *a, const double *b, double (*pts)[2]) {
+  const int swap = a[0] > b[0] || (a[0] == b[0] && a[1] > b[1]);
+  const double *p = swap ? b : a, *q = swap ? a : b;
+  double t[MAX_SPLITS];
   int n = 0;
   for (int d = 0; d < 2; d++)
     for (int k = 0; k < map->nkinks[d]; k++) {
       const double kink = map->kinks[d][k];
-      if (!((a[d] - kink) * (b[d] - kink) < 0)) continue;
-      t[n++] = (kink - a[d]) / (b[d] - a[d]);
+      if (!((p[d] - kink) * (q[d] - kink) < 0)) continue;
+      const double tc = (kink - p[d]) / (q[d] - p[d]);
+      for (int e = 0; e < 2; e++) pts[n][e] = p[e] + tc * (q[e] - p[e]);
+      pts[n][d] = kink;
+      t[n++] = swap ? 1.0 - tc : tc; /* along a → b */
     }
-  for (int i = 1; i < n; i++) /* at most 2 × GEOM_KINKS_MAX: insertion sort */
+  for (int i = 1; i < n; i++) /* a handful: insertion sort by t */
     for (int j = i; j > 0 && t[j] < t[j - 1]; j--) {
-      const double tmp = t[j];
-      t[j] = t[j - 1], t[j - 1] = tmp;
+      const double tt = t[j], x0 = pts[j][0], x1 = pts[j][1];
+      t[j] = t[j - 1], pts[j][0] = pts[j - 1][0], pts[j][1] = pts[j - 1][1];
+      t[j - 1] = tt, pts[j - 1][0] = x0, pts[j - 1][1] = x1;
     }
   return n;
-}
-
-static void lerp2(const double *a, const double *b, double t, double *out) {
-  for (int d = 0; d < 2; d++) out[d] = a[d] + t * (b[d] - a[d]);
-}
-
-/* The point of segment a → b at t, computed as from the lexicographically smaller endpoint. */
-static void segment_point(const double *a, const double *b, double t, double *out) {
-  const int swap = a[0] > b[0] || (a[0] == b[0] && a[1] > b[1]);
-  if (swap)
-    lerp2(b, a, 1.0 - t, out);
-  else
-    lerp2(a, b, t, out);
 }
 
 /* A 2-D edge a → b of cell `cell`, split at kinks, appended to faces. */
 static void add_edge(const GeomMap *map, long cell, const double *a, const double *b, int axis, int side,
                      NodalFace *faces, long *nfaces) {
-  double t[MAX_SPLITS + 1], pts[MAX_SPLITS + 2][2];
-  const int ncross = kink_crossings(map, a, b, t);
-  lerp2(a, b, 0.0, pts[0]);
-  for (int k = 0; k < ncross; k++) segment_point(a, b, t[k], pts[k + 1]);
-  lerp2(b, b, 0.0, pts[ncross + 1]);
+  double pts[MAX_SPLITS + 1][2];
+  memcpy(pts[0], a, sizeof pts[0]);
+  const int ncross = kink_crossings(map, a, b, pts + 1);
+  memcpy(pts[ncross + 1], b, sizeof pts[0]);
   for (int k = 0; k <= ncross; k++) {
     NodalFace *f = &faces[(*nfaces)++];
     memset(f, 0, sizeof *f);
