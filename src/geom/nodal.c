@@ -361,18 +361,19 @@ static int check_supported(const MicaShapeSpec *shape, const MicaLayoutSpec *lay
   return MICA_SUCCESS;
 }
 
-/* qx, qw ← particles, cell volumes; the Gauss points are kept for error norms. */
-static int use_particles(MicaDiscretization *disc, double *volume) {
+/* qx, qw ← particles, cell volumes (taking ownership of *volume); the Gauss points are kept for error norms. */
+static int use_particles(MicaDiscretization *disc, double **volume) {
   const int dim = disc->dim;
+  double *qx = NULL;
+  MICA_CALL(MICA_MALLOC(qx, disc->nparticles * dim));
+  memcpy(qx, disc->x, sizeof(double) * (size_t)(disc->nparticles * dim));
   disc->ngauss = disc->nquad;
   disc->gauss_x = disc->qx, disc->gauss_w = disc->qw;
-  disc->qx = NULL;
-  disc->qw = volume;
-  MICA_CALL(MICA_MALLOC(disc->qx, disc->nparticles * dim));
-  memcpy(disc->qx, disc->x, sizeof(double) * (size_t)(disc->nparticles * dim));
+  disc->qx = qx, disc->qw = *volume;
+  *volume = NULL;
   disc->nquad = disc->ncells = disc->nparticles;
   disc->volume = 0.0;
-  for (long p = 0; p < disc->nparticles; p++) disc->volume += volume[p];
+  for (long p = 0; p < disc->nparticles; p++) disc->volume += disc->qw[p];
   return MICA_SUCCESS;
 }
 
@@ -402,8 +403,7 @@ int mica_discretization_nodal(const MicaShapeSpec *shape, const MicaLayoutSpec *
   MICA_CALL_CLEANUP(MICA_MALLOC(volume, np));
   MICA_CALL_CLEANUP(cell_volumes(disc->nodal, map.dim, disc->x, volume));
   MICA_CALL_CLEANUP(build_sets(&map, &rule, faces, nfaces, disc));
-  MICA_CALL_CLEANUP(use_particles(disc, volume));
-  volume = NULL;
+  MICA_CALL_CLEANUP(use_particles(disc, &volume));
 cleanup:
   MICA_FREE(volume);
   MICA_FREE(faces);
