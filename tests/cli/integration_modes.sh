@@ -3,7 +3,8 @@
 # - linear patch (input/patch_linear.cfg, 9 × 9 particles) on regular and jittered (0.2) particles, Nitsche and
 #   Lagrange multipliers: SCNI's L2 and energy errors ≤ 1e-10 (measured 6e-16 to 1.2e-11); direct nodal integration
 #   fails it and must stay above 1e-3 (measured 1.1e-2 regular, 0.35 jittered); nodal with VCI passes again
-#   (≤ 1e-10); Gauss (4 points) reported and below 2e-3 (measured 8.1e-6 regular, 1.2e-3 jittered);
+#   (≤ 1e-10); Gauss (4 points) reported and below 2e-3 (measured 8.1e-6 regular, 1.2e-3 jittered); SCNI on a
+#   graded layout (grading [3, 0.5]) ≤ 1e-10 too (measured 8.5e-16);
 # - the 3-D cube in tension (input/cube3d.cfg), jittered: SCNI ≤ 1e-10 (measured 6.6e-16), nodal > 1e-3 (0.14);
 # - summary.json: the mode, the volume points (the particles) and the Gauss points the errors are measured on;
 # - convergence of SCNI on the Timoshenko cantilever (regular, 4 refinements, least-squares slopes): L2 rate
@@ -45,6 +46,11 @@ for layout in regular jittered; do
   less_than "$(err $name error_l2)" 2e-3 || fail "$name: L2 $(err $name error_l2) > 2e-3"
   ok "linear patch, Gauss (4 points), $layout: L2 $(err $name error_l2)"
 done
+
+run_deck "$work/scni_graded" input/patch_linear.cfg --set quadrature.mode=scni --set particles.layout=graded \
+  --set "particles.grading=[3.0, 0.5]"
+less_than "$(err scni_graded error_l2)" 1e-10 || fail "scni_graded: L2 $(err scni_graded error_l2) > 1e-10"
+ok "linear patch, SCNI, graded [3, 0.5]: L2 $(err scni_graded error_l2)"
 
 # --- 3-D ---
 run_deck "$work/cube_scni" input/cube3d.cfg --set quadrature.mode=scni --set particles.layout=jittered
