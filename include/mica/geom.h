@@ -88,6 +88,16 @@ typedef struct MicaBoundarySet {
   long *cell;       /* [n] the volume cell (finite element) each point lies on, or NULL if not recorded */
 } MicaBoundarySet;
 
+/* Nodal cells (mica_discretization_nodal): one cell Ω_I per particle, tiling the body, each given by Gauss
+ * points on its boundary faces with weight × outward normal. Neighboring cells share faces (the same points,
+ * opposite normals), which is what makes SCNI's smoothed gradients conforming (docs/theory.md §nodal). */
+typedef struct MicaNodalCells {
+  long n;          /* cells: one per particle, in particle order */
+  long *ptr;       /* [n+1]: cell I's boundary points are ptr[I] .. ptr[I+1) */
+  double *x;       /* [ptr[n]*dim] positions */
+  double *wn;      /* [ptr[n]*dim] weight (length/area element included) × outward unit normal */
+} MicaNodalCells;
+
 typedef struct MicaDiscretization {
   int dim;
   long nparticles;
@@ -103,6 +113,13 @@ typedef struct MicaDiscretization {
   long boundary_uncovered; /* boundary faces of a Gmsh mesh in no set or in several, plus set elements inside
                               the body; 0 when the sets cover the boundary exactly once (always, for the
                               built-in shapes), as VCI's boundary sums need */
+  /* Nodal integration (mica_discretization_nodal): qx, qw are the particles and their nodal cells' volumes,
+   * ncells = nparticles, and the background cells' Gauss points are kept here, for error norms that do not
+   * share the nodal rule's blind spots. NULL / 0 otherwise. */
+  MicaNodalCells *nodal;
+  long ngauss;
+  double *gauss_x;  /* [ngauss*dim] */
+  double *gauss_w;  /* [ngauss] */
 } MicaDiscretization;
 
 /* Builds particles, cells and quadrature points. Errors (MICA_ERR_INPUT): sizes, counts < 2, a polygon that
@@ -111,6 +128,18 @@ typedef struct MicaDiscretization {
 int mica_discretization_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
                                const MicaCellSpec *cells, MicaDiscretization **disc);
 int mica_discretization_destroy(MicaDiscretization **disc);
+/* Nodal integration: builds a nodal cell around every particle, the dual cells of the particles' logical
+ * grid (corners at the averages of the 2^dim surrounding particles in parameter space, so boundary particles
+ * get half and quarter cells; mapped by the shape's X, so curved boundaries are followed; split where the map
+ * has a kink), and turns disc (made by mica_discretization_create from the same specifications) into a nodal
+ * discretization: volume points = particles, weights = cell volumes (by the divergence theorem on the cell's
+ * faces), boundary sets rebuilt on the cells' boundary faces (the same Gauss rule of cells->boundary_order
+ * points, so that tractions, weak Dirichlet terms and SCNI's smoothing share their boundary points), and the
+ * cells' boundary points in disc->nodal. Built-in shapes with the regular, graded and jittered layouts only:
+ * MICA_ERR_INPUT for a Gmsh mesh, an irregular layout, or a cell that folds (volume ≤ 0). */
+int mica_discretization_nodal(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                              MicaDiscretization *disc);
+int mica_nodal_cells_destroy(MicaNodalCells **cells);
 /* Turns a 2-D section in the (r, z) = (x, y) half-plane into the body of revolution it sweeps about the
  * y axis: every volume and boundary weight is multiplied by 2πr, so Σ qw is the body's volume and boundary
  * sums are integrals over surfaces of revolution. MICA_ERR_INPUT if the section is not 2-D or reaches r < 0. */

@@ -84,6 +84,12 @@ size_t mica_shape_cache_bytes(const MicaShapeCache *cache);
  * MICA_ERR_NUMERIC error naming it. */
 int mica_vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume);
 
+/* Stabilized conforming nodal integration (docs/theory.md §nodal integration; Chen, Wu, Yoon & You 2001): a
+ * cache of order 1 at the particles (disc's volume points after mica_discretization_nodal) whose dN is the
+ * smoothed gradient ∇̃N_J(x_I) = (1/|Ω_I|) Σ_b N_J(x_b) (w n)_b over the boundary points of particle I's nodal
+ * cell, whose supports are the union of the supports of x_I and of those points, and whose N is N_J(x_I). */
+int mica_scni_cache_create(const MicaDiscretization *disc, const MlsApprox *mls, MicaShapeCache **cache);
+
 /* ---- Boundary conditions ------------------------------------------------------------------------------- */
 
 typedef struct MicaDirichlet {
@@ -132,6 +138,8 @@ typedef struct MicaSolidOptions {
                                    §axisymmetric); quadrature weights must already carry 2πr */
   int vci;                      /* 1: variationally consistent test gradients in the volume (Petrov–Galerkin:
                                    the tangent is unsymmetric), first-order models only */
+  int scni;                     /* 1: smoothed (SCNI) gradients at the particles: disc must be nodal
+                                   (mica_discretization_nodal); first-order, non-axisymmetric models only */
 } MicaSolidOptions;
 
 typedef struct MicaSolid {

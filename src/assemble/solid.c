@@ -169,6 +169,10 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
   MICA_CHECK(!opt->vci || opt->field.ops->order == 1, MICA_ERR_INPUT,
              "quadrature.vci corrects first derivatives only; model '%s' uses second derivatives",
              opt->field.ops->name);
+  MICA_CHECK(!(opt->scni && opt->vci), MICA_ERR_INPUT, "quadrature.vci does not combine with SCNI");
+  MICA_CHECK(!opt->scni || (opt->field.ops->order == 1 && !opt->axisymmetric), MICA_ERR_INPUT,
+             "SCNI smooths first derivatives of plane or 3-D fields only; model '%s'%s", opt->field.ops->name,
+             opt->axisymmetric ? " is axisymmetric" : " uses second derivatives");
   MICA_CHECK(opt->field.ops == &mica_field_classical || !opt->bc_method->needs_model_traction, MICA_ERR_INPUT,
              "bc.method = \"%s\" needs a classical model; model '%s' has generalized tractions: use \"lagrange\" or "
              "\"penalty\"", opt->bc_method->name, opt->field.ops->name);
@@ -193,13 +197,17 @@ static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
   const MicaSolidOptions *opt = &s->opt;
   const MicaDiscretization *disc = s->disc;
   const int order = opt->field.ops->order >= 2 ? 2 : 1;
-  if (same_approximation(s, donor) && donor->volume->order == order && !donor->volume->dN_test == !opt->vci) {
+  if (same_approximation(s, donor) && donor->volume->order == order && !donor->volume->dN_test == !opt->vci &&
+      !donor->opt.scni == !opt->scni) {
     s->volume = mica_shape_cache_share(donor->volume);
     s->caches_shared++;
     return MICA_SUCCESS;
   }
-  MICA_CALL(s->approx.ops->points(s->approx.ctx, disc->nquad, disc->qx, disc->qcell, order, "volume quadrature",
-                                  &s->volume));
+  if (opt->scni)
+    MICA_CALL(mica_scni_cache_create(disc, s->mls, &s->volume));
+  else
+    MICA_CALL(s->approx.ops->points(s->approx.ctx, disc->nquad, disc->qx, disc->qcell, order, "volume quadrature",
+                                    &s->volume));
   s->caches_built++;
   if (opt->vci) MICA_CALL(apply_vci(s));
   return MICA_SUCCESS;

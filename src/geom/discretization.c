@@ -87,6 +87,9 @@ int mica_discretization_destroy(MicaDiscretization **disc) {
   MICA_FREE(d->qx);
   MICA_FREE(d->qw);
   MICA_FREE(d->qcell);
+  MICA_FREE(d->gauss_x);
+  MICA_FREE(d->gauss_w);
+  mica_nodal_cells_destroy(&d->nodal);
   MICA_FREE(*disc);
   return MICA_SUCCESS;
 }

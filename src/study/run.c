@@ -366,6 +366,74 @@ static int check_fe_multipliers(const MicaDeck *deck, const RunProblem *rp, cons
   return MICA_SUCCESS;
 }
 
+/* quadrature.mode: "gauss" needs nothing; "nodal" and "scni" need dual cells of the particles' logical grid
+ * (built-in shapes; regular, graded or jittered layouts) on a plane or 3-D body. Checked with the deck's line
+ * before the cells are built. */
+static int check_nodal_mode(const MicaDeck *deck, const char *mode, const MicaShapeSpec *shape,
+                            const MicaLayoutSpec *layout) {
+  char where[256];
+  int axisymmetric;
+  mica_deck_where(deck, "quadrature.mode", where, sizeof where);
+  MICA_CALL(mica_deck_bool(deck, "geometry.axisymmetric", &axisymmetric));
+  MICA_CHECK(shape->kind != MICA_SHAPE_GMSH, MICA_ERR_INPUT,
+             "%s: quadrature.mode = \"%s\" needs a built-in shape (its nodal cells are the dual cells of the particle "
+             "grid, which a Gmsh mesh does not have); use quadrature.mode = \"gauss\" with a mesh", where, mode);
+  MICA_CHECK(layout->kind != MICA_LAYOUT_IRREGULAR, MICA_ERR_INPUT,
+             "%s: quadrature.mode = \"%s\" needs particles on a logical grid for its nodal cells; use "
+             "particles.layout = \"jittered\", \"regular\" or \"graded\"", where, mode);
+  MICA_CHECK(!axisymmetric, MICA_ERR_INPUT,
+             "%s: quadrature.mode = \"%s\" needs a plane or 3-D body (axisymmetric sections have particles on the "
+             "axis, where the nodal weight 2πr vanishes and the hoop strain u_r/r is not defined); use "
+             "quadrature.mode = \"gauss\"", where, mode);
+  return MICA_SUCCESS;
+}
+
+/* Nodal and SCNI modes turn the discretization into a nodal one (src/geom/nodal.c); a failure there (a folded
+ * cell) is reported at the mode's line. */
+static int read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                            const MicaCellSpec *cells, RunProblem *rp) {
+  MICA_CALL(mica_deck_string(deck, "quadrature.mode", &rp->integration));
+  if (!strcmp(rp->integration, "gauss")) return MICA_SUCCESS;
+  if (rp->fe) {
+    char where[256];
+    mica_deck_where(deck, "quadrature.mode", where, sizeof where);
+    MICA_ERROR(MICA_ERR_INPUT, "%s: quadrature.mode = \"%s\" integrates meshfree shape functions at the particles; "
+               "problem.method = \"fe\" uses the elements' Gauss points: use quadrature.mode = \"gauss\"", where,
+               rp->integration);
+  }
+  MICA_CALL(check_nodal_mode(deck, rp->integration, shape, layout));
+  int ierr = mica_discretization_nodal(shape, layout, cells, rp->disc);
+  if (ierr) {
+    char where[256];
+    mica_deck_where(deck, "quadrature.mode", where, sizeof where);
+    mica_error_prefix("%s: quadrature.mode = \"%s\"", where, rp->integration);
+    return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  }
+  return MICA_SUCCESS;
+}
+
+/* SCNI smooths first derivatives: second-gradient models need "nodal" (MLS Hessians) or "gauss". VCI is
+ * refused with it: SCNI's trial gradients are cell averages, not the MLS gradients at x_I that VCI's
+ * consistency argument assumes (a quadratic patch stays inexact, docs/verification.md), and for a linear basis
+ * SCNI already satisfies the linear integration constraint that VCI would impose. */
+static int read_scni(const MicaDeck *deck, RunProblem *rp, MicaSolidOptions *opt) {
+  MICA_CALL(mica_deck_string(deck, "quadrature.mode", &rp->integration));
+  opt->scni = !strcmp(rp->integration, "scni");
+  if (!opt->scni) return MICA_SUCCESS;
+  char where[256];
+  mica_deck_where(deck, "quadrature.vci", where, sizeof where);
+  MICA_CHECK(!opt->vci, MICA_ERR_INPUT,
+             "%s: quadrature.vci does not combine with quadrature.mode = \"scni\" (SCNI's smoothed gradients already "
+             "pass the linear patch test, and VCI cannot raise them to quadratic consistency); use quadrature.mode = "
+             "\"scni\" without vci, or \"nodal\" or \"gauss\" with vci", where);
+  if (opt->field.ops->order == 1) return MICA_SUCCESS;
+  mica_deck_where(deck, "quadrature.mode", where, sizeof where);
+  MICA_ERROR(MICA_ERR_INPUT,
+             "%s: quadrature.mode = \"scni\" smooths first derivatives only, and model '%s' uses second derivatives; "
+             "use quadrature.mode = \"nodal\" (MLS Hessians at the particles) or \"gauss\"", where,
+             opt->field.ops->name);
+}
+
 static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *donor) {
   MicaSolidOptions opt;
   memset(&opt, 0, sizeof opt);
@@ -391,6 +459,7 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   MICA_CALL_CLEANUP(mica_deck_int(deck, "mls.order", &order));
   opt.basis_order = (int)order;
   MICA_CALL_CLEANUP(read_vci(deck, rp->disc, &opt));
+  MICA_CALL_CLEANUP(read_scni(deck, rp, &opt));
   const double start = mica_wtime();
   ierr = mica_study_mls_input(mica_solid_create_sharing(rp->disc, &rp->approx, &opt, ndirichlet, dirichlet,
                                                         ntraction, traction, donor, &rp->solid));
@@ -499,6 +568,7 @@ static int build_geometry(const MicaDeck *deck, RunProblem *rp) {
   double start = mica_wtime();
   MICA_CALL(mica_discretization_create(&shape, &layout, &cells, &rp->disc));
   if (fe) MICA_CALL(build_fe(&layout, &cells, fe_order, rp));
+  MICA_CALL(read_integration(deck, &shape, &layout, &cells, rp));
   MICA_CALL(read_axisymmetric(deck, rp));
   rp->time_discretize = mica_wtime() - start - rp->time_mls;
   if (!fe) {
@@ -615,6 +685,7 @@ void run_problem_free(RunProblem *rp) {
     mica_fe_destroy(&rp->fe);
     mica_discretization_destroy(&rp->disc);
   }
+  mica_shape_cache_destroy(&rp->at_gauss);
   for (int a = 0; a < MICA_MAX_COMP; a++) {
     mica_function_destroy(&rp->exact[a]);
     for (int J = 0; J < 3; J++) mica_function_destroy(&rp->exact_grad[a][J]);
@@ -642,7 +713,9 @@ static int add_counts(const RunProblem *rp, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "dim", rp->disc->dim));
   MICA_CALL(mica_json_int(summary, "particles", rp->disc->nparticles));
   MICA_CALL(mica_json_int(summary, "cells", rp->disc->ncells));
+  MICA_CALL(mica_json_string(summary, "integration", rp->integration));
   MICA_CALL(mica_json_int(summary, "quadrature_points", rp->disc->nquad));
+  MICA_CALL(mica_json_int(summary, "error_points", rp->disc->nodal ? rp->disc->ngauss : rp->disc->nquad));
   MICA_CALL(mica_json_int(summary, "boundary_points", boundary_points(rp->disc)));
   MICA_CALL(mica_json_int(summary, "dofs", s->ndof));
   MICA_CALL(mica_json_int(summary, "multiplier_nodes", s->nmultiplier_nodes));
@@ -671,15 +744,16 @@ static int add_counts(const RunProblem *rp, MicaJson *summary) {
 
 static void print_counts(const RunProblem *rp) {
   const MicaSolid *s = rp->solid;
-  printf("%ld particles, %ld cells, %ld quadrature points (+%ld on the boundary), %ld dofs, nnz %ld, support "
+  printf("%ld particles, %ld %s cells, %ld quadrature points (+%ld on the boundary), %ld dofs, nnz %ld, support "
          "%.1f mean / %ld max, cache %.1f MB, matrix %.1f MB\n",
-         rp->disc->nparticles, rp->disc->ncells, rp->disc->nquad, boundary_points(rp->disc), s->ndof, s->K->nnz,
+         rp->disc->nparticles, rp->disc->ncells, rp->disc->nodal ? "nodal" : "background", rp->disc->nquad, boundary_points(rp->disc), s->ndof, s->K->nnz,
          (double)s->volume->ptr[s->volume->npoints] / (double)s->volume->npoints, s->volume->max_support,
          (double)cache_bytes(s) / 1e6, (double)(s->K->nnz * 16) / 1e6);
   if (s->opt.vci) printf("VCI: corrected test gradients in %.3g s\n", s->time_vci);
   if (rp->fe)
     printf("finite elements: %ld %s elements on the particles\n", rp->fe->nelements,
            mica_fe_element_name(rp->fe->dim, rp->fe->order));
+  if (s->opt.scni) printf("SCNI: smoothed gradients on the nodal cells\n");
   fflush(stdout);
 }
 

@@ -28,6 +28,9 @@ typedef struct RunProblem {
   int has_exact, ncomp;
   int axisymmetric;             /* geometry.axisymmetric: a 2-D (r, z) section, 3-D model, cylindrical components */
   MicaShapeCache *at_particles; /* shape functions at the particles, for output (built on first use) */
+  const char *integration;      /* quadrature.mode: "gauss", "nodal" or "scni" */
+  MicaShapeCache *at_gauss;     /* nodal and scni: MLS shape functions at the background Gauss points, where the
+                                   error norms are measured (NULL in gauss mode: the volume cache is there) */
   double time_discretize, time_mls, time_cache_pattern; /* time_mls: the MLS or finite-element setup */
   RunReuse *reuse;              /* NULL: a single run */
   int owns_geometry;            /* 1: disc and mls are this run's to free (else reuse keeps them) */

@@ -173,13 +173,30 @@ int run_output_finish(RunOutput *out) {
 
 /* ---- error norms ----------------------------------------------------------------------------------------- */
 
-/* Relative errors over the volume quadrature points, of all unknowns: L2 of the values, H1 seminorm of the
- * gradients, and the energy norm e·D₀·e with D₀ the model's D at q = 0 (for classical models: ∇e:C:∇e). */
+/* Where the error norms are measured: the volume quadrature, or under nodal integration the background
+ * Gauss points with the MLS shape functions themselves — the nodal points alone cannot see a spurious mode
+ * whose gradients vanish there, and SCNI's smoothed gradients are not the gradients of the approximation. */
+static int error_points(RunProblem *rp, const MicaShapeCache **c, const double **x, const double **w) {
+  const MicaDiscretization *disc = rp->disc;
+  *c = rp->solid->volume, *x = disc->qx, *w = disc->qw;
+  if (!disc->nodal) return MICA_SUCCESS;
+  if (!rp->at_gauss)
+    MICA_CALL(mica_shape_cache_create(rp->mls, disc->ngauss, disc->gauss_x, rp->solid->opt.field.ops->order,
+                                      "error-norm Gauss", &rp->at_gauss));
+  *c = rp->at_gauss, *x = disc->gauss_x, *w = disc->gauss_w;
+  return MICA_SUCCESS;
+}
+
+/* Relative errors over the volume quadrature points (error_points), of all unknowns: L2 of the values, H1
+ * seminorm of the gradients, and the energy norm e·D₀·e with D₀ the model's D at q = 0 (for classical models:
+ * ∇e:C:∇e). */
 int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary) {
   if (!rp->has_exact) return MICA_SUCCESS;
   const MicaSolid *s = rp->solid;
   const int dim = s->dim, mdim = s->model_dim, ncomp = s->ncomp, nq = s->nq, nvg = ncomp * (1 + mdim);
-  const MicaShapeCache *c = s->volume;
+  const MicaShapeCache *c;
+  const double *qx, *qw;
+  MICA_CALL(error_points(rp, &c, &qx, &qw));
   double *D0 = NULL, q0[128] = {0}, W0, s0[128];
   MICA_CALL(MICA_MALLOC(D0, nq * nq));
   int ierr = s->opt.field.ops->eval(&s->opt.field, mdim, q0, &W0, s0, D0);
@@ -187,8 +204,8 @@ int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary) {
   for (long p = 0; p < c->npoints && !ierr; p++) {
     double q[128], qe[128] = {0}, e[128] = {0};
     mica_solid_kinematics(s, c, p, u, q);
-    exact_at(rp, rp->disc->qx + p * dim, qe);
-    const double w = rp->disc->qw[p];
+    exact_at(rp, qx + p * dim, qe);
+    const double w = qw[p];
     for (int i = 0; i < nvg; i++) e[i] = q[i] - qe[i]; /* Hessian slots: no exact second derivatives, left 0 */
     for (int i = 0; i < ncomp; i++) l2[0] += w * e[i] * e[i], l2[1] += w * qe[i] * qe[i];
     for (int i = ncomp; i < nvg; i++) h1[0] += w * e[i] * e[i], h1[1] += w * qe[i] * qe[i];

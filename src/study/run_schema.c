@@ -58,6 +58,12 @@ const MicaDeckKey mica_run_schema[] = {
     {"quadrature.vci", MICA_KEY_BOOL, "false", NOLIMIT, NULL, 0, 0,
      "variationally consistent integration: corrected test gradients pass the patch test of the basis order "
      "(first-order models; unsymmetric tangent)"},
+    {"quadrature.mode", MICA_KEY_CHOICE, "\"gauss\"", NOLIMIT, "gauss|nodal|scni", 0, 0,
+     "gauss: Gauss points of the background cells; nodal: direct nodal integration at the particles, weighted by "
+     "their nodal cells' volumes (unstable: spurious zero-energy modes; shown, not cured); scni: stabilized "
+     "conforming nodal integration, smoothed gradients on the nodal cells (passes the linear patch test; "
+     "first-order models). nodal and scni need a built-in shape with a regular, graded or jittered layout; error "
+     "norms stay on the background Gauss points"},
     {"quadrature.cells", MICA_KEY_INTS, NULL, 1, 1e6, NULL, 2, 3,
      "background cells per parameter axis (default: particles.count − 1)"},
     {"material.model", MICA_KEY_CHOICE, "\"linear\"", NOLIMIT, "linear|svk|neohooke|neohooke-cook|cosserat|cosserat-finite|micromorph|strain-gradient|couple-stress", 0, 0,

@@ -1,0 +1,423 @@
+/* Nodal cells of the built-in shapes (docs/theory.md §nodal integration, `mica_discretization_nodal`).
+ *
+ * The particles of the regular, graded and jittered layouts sit on a logical grid (n_d per parameter axis,
+ * axis 0 fastest). Their dual grid has (n_d + 1) corners per axis; corner (a, b, c) is the average, in
+ * parameter space, of the 2^dim particles with indices {a−1, a} × {b−1, b} × {c−1, c}, each clamped to the
+ * grid. Clamping puts the corners of the outer layer on the faces of the parameter box (the layouts keep
+ * face particles on their faces), so boundary particles get half and quarter cells and the cells tile the
+ * parameter box exactly; on the regular and graded layouts they are the boxes between midpoints. Particle
+ * (i, j, k)'s cell has the corners (i..i+1) × (j..j+1) × (k..k+1): a quadrilateral in 2-D, a hexahedron with
+ * bilinear faces in 3-D. Its faces, mapped by X, are its boundary; a face shared by two cells is the same
+ * parameter segment (bilinear quad), so the physical cells are conforming and follow curved boundaries.
+ *
+ * Every face carries the Gauss rule of `order` points per direction (Nanson, as boundary.c): weight × normal
+ * is w (J ∂ξ/∂s)^⊥ in 2-D and w (J ∂ξ/∂s) × (J ∂ξ/∂t) in 3-D, times the map's orientation. A cell's volume is
+ * (1/dim) Σ_b (x_b − x_I)·(w n)_b, the divergence theorem on its own boundary points: exact when the faces
+ * are integrated exactly (box, polygon: polynomial integrands) and, either way, the volume that SCNI's
+ * smoothing is consistent with. In 2-D a face that crosses a kink of the map (the plate's corner line) is
+ * split there, so that no Gauss rule straddles it. Faces on the parameter box's faces become the elements of
+ * the rebuilt boundary sets.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "geom_private.h"
+
+enum { MAX_SPLITS = 2 * GEOM_KINKS_MAX + 1 }; /* sub-faces of a 2-D face: kinks along either axis */
+enum { INTERIOR = -1, UNCOVERED = -2 };        /* NodalFace.set of faces in no boundary set */
+
+/* One face of a cell in parameter space: a segment (2 vertices) or a bilinear quad (4), oriented so that the
+ * mapped normal points out of the cell; set: the boundary set it belongs to, or INTERIOR, or UNCOVERED. */
+typedef struct {
+  long cell;
+  int set;
+  double v[4][3];
+} NodalFace;
+
+typedef struct {
+  int dim;
+  long n[3];      /* particles per axis */
+  double *corner; /* [Π(n_d + 1) × dim] parameter coordinates */
+} DualGrid;
+
+static long corner_id(const DualGrid *g, long a, long b, long c) {
+  return (c * (g->n[1] + 1) + b) * (g->n[0] + 1) + a;
+}
+
+static long clamp(long i, long n) { return i < 0 ? 0 : i >= n ? n - 1 : i; }
+
+/* Corner (a, b, c): the average of the particles around it, indices clamped to the grid. */
+static void corner_point(const DualGrid *g, const double *xi, const long k[3], double *out) {
+  const int dim = g->dim;
+  const int nsum = 1 << dim;
+  for (int d = 0; d < dim; d++) out[d] = 0.0;
+  for (int m = 0; m < nsum; m++) {
+    long p = 0, stride = 1;
+    for (int d = 0; d < dim; d++) {
+      p += clamp(k[d] - 1 + ((m >> d) & 1), g->n[d]) * stride;
+      stride *= g->n[d];
+    }
+    for (int d = 0; d < dim; d++) out[d] += xi[p * dim + d];
+  }
+  for (int d = 0; d < dim; d++) out[d] /= nsum;
+}
+
+static int dual_grid_create(int dim, const long n[3], const double *xi, DualGrid *g) {
+  *g = (DualGrid){.dim = dim, .n = {n[0], dim > 1 ? n[1] : 1, dim > 2 ? n[2] : 1}};
+  const long na = g->n[0] + 1, nb = g->n[1] + 1, nc = dim > 2 ? g->n[2] + 1 : 1;
+  MICA_CALL(MICA_MALLOC(g->corner, na * nb * nc * dim));
+  for (long c = 0; c < nc; c++)
+    for (long b = 0; b < nb; b++)
+      for (long a = 0; a < na; a++) {
+        const long k[3] = {a, b, c};
+        corner_point(g, xi, k, &g->corner[corner_id(g, a, b, c) * dim]);
+      }
+  return MICA_SUCCESS;
+}
+
+/* ---- faces ---------------------------------------------------------------------------------------------- */
+
+/* The boundary set of a face on the parameter box's face (axis, side), by its parameter midpoint; UNCOVERED
+ * if no set holds it (interior faces are INTERIOR). */
+static int face_set(const GeomMap *map, int axis, int side, const double *mid) {
+  for (int s = 0; s < map->nsets; s++)
+    for (int k = 0; k < map->sets[s].npieces; k++) {
+      const GeomFacePiece *p = &map->sets[s].pieces[k];
+      if (p->axis != axis || p->side != side) continue;
+      int inside = 1;
+      for (int d = 0; d < map->dim; d++)
+        if (d != axis && (mid[d] < p->lo[d] - 1e-12 || mid[d] > p->hi[d] + 1e-12)) inside = 0;
+      if (inside) return s;
+    }
+  return UNCOVERED;
+}
+
+/* The points where segment a → b crosses a kink line of the map, ordered from a to b (at most MAX_SPLITS − 1).
+ * Each is computed from the lexicographically smaller endpoint and put exactly on the kink, so the two cells
+ * sharing the segment split it at the same point, bit for bit. */
+static int kink_crossings(const GeomMap *map, const double *a, const double *b, double (*pts)[2]) {
+  const int swap = a[0] > b[0] || (a[0] == b[0] && a[1] > b[1]);
+  const double *p = swap ? b : a, *q = swap ? a : b;
+  double t[MAX_SPLITS];
+  int n = 0;
+  for (int d = 0; d < 2; d++)
+    for (int k = 0; k < map->nkinks[d]; k++) {
+      const double kink = map->kinks[d][k];
+      if (!((p[d] - kink) * (q[d] - kink) < 0)) continue;
+      const double tc = (kink - p[d]) / (q[d] - p[d]);
+      for (int e = 0; e < 2; e++) pts[n][e] = p[e] + tc * (q[e] - p[e]);
+      pts[n][d] = kink;
+      t[n++] = swap ? 1.0 - tc : tc; /* along a → b */
+    }
+  for (int i = 1; i < n; i++) /* a handful: insertion sort by t */
+    for (int j = i; j > 0 && t[j] < t[j - 1]; j--) {
+      const double tt = t[j], x0 = pts[j][0], x1 = pts[j][1];
+      t[j] = t[j - 1], pts[j][0] = pts[j - 1][0], pts[j][1] = pts[j - 1][1];
+      t[j - 1] = tt, pts[j - 1][0] = x0, pts[j - 1][1] = x1;
+    }
+  return n;
+}
+
+/* A 2-D edge a → b of cell `cell`, split at kinks, appended to faces. */
+static void add_edge(const GeomMap *map, long cell, const double *a, const double *b, int axis, int side,
+                     NodalFace *faces, long *nfaces) {
+  double pts[MAX_SPLITS + 1][2];
+  memcpy(pts[0], a, sizeof pts[0]);
+  const int ncross = kink_crossings(map, a, b, pts + 1);
+  memcpy(pts[ncross + 1], b, sizeof pts[0]);
+  for (int k = 0; k <= ncross; k++) {
+    NodalFace *f = &faces[(*nfaces)++];
+    memset(f, 0, sizeof *f);
+    f->cell = cell;
+    memcpy(f->v[0], pts[k], sizeof pts[k]);
+    memcpy(f->v[1], pts[k + 1], sizeof pts[k + 1]);
+    double mid[3] = {0.5 * (pts[k][0] + pts[k + 1][0]), 0.5 * (pts[k][1] + pts[k + 1][1]), 0};
+    f->set = axis >= 0 ? face_set(map, axis, side, mid) : INTERIOR;
+  }
+}
+
+/* The four edges of 2-D cell (i, j), counterclockwise in parameter space (the map's orientation is applied
+ * to the normals later): bottom, right, top, left; an edge on the parameter box's boundary is tagged with
+ * its face (axis, side). */
+static void cell_faces_2d(const GeomMap *map, const DualGrid *g, long i, long j, NodalFace *faces, long *nfaces) {
+  const double *c00 = &g->corner[corner_id(g, i, j, 0) * 2], *c10 = &g->corner[corner_id(g, i + 1, j, 0) * 2];
+  const double *c11 = &g->corner[corner_id(g, i + 1, j + 1, 0) * 2], *c01 = &g->corner[corner_id(g, i, j + 1, 0) * 2];
+  const long cell = j * g->n[0] + i;
+  add_edge(map, cell, c00, c10, j == 0 ? 1 : -1, 0, faces, nfaces);
+  add_edge(map, cell, c10, c11, i == g->n[0] - 1 ? 0 : -1, 1, faces, nfaces);
+  add_edge(map, cell, c11, c01, j == g->n[1] - 1 ? 1 : -1, 1, faces, nfaces);
+  add_edge(map, cell, c01, c00, i == 0 ? 0 : -1, 0, faces, nfaces);
+}
+
+/* The six bilinear faces of 3-D cell (i, j, k). Face (axis a, side s) has tangential axes t0 = a+1, t1 = a+2
+ * (cyclic, e_t0 × e_t1 = e_a); its vertices run along t0 then t1 on side 1 and the other way round on side 0,
+ * so (∂ξ/∂s × ∂ξ/∂t) points out of the cell. */
+static void cell_faces_3d(const GeomMap *map, const DualGrid *g, const long idx[3], NodalFace *faces, long *nfaces) {
+  const long cell = (idx[2] * g->n[1] + idx[1]) * g->n[0] + idx[0];
+  for (int a = 0; a < 3; a++)
+    for (int side = 0; side < 2; side++) {
+      const int t0 = side ? (a + 1) % 3 : (a + 2) % 3, t1 = side ? (a + 2) % 3 : (a + 1) % 3;
+      static const int step[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+      NodalFace *f = &faces[(*nfaces)++];
+      double mid[3] = {0, 0, 0};
+      memset(f, 0, sizeof *f);
+      f->cell = cell;
+      for (int v = 0; v < 4; v++) {
+        long k[3] = {idx[0], idx[1], idx[2]};
+        k[a] += side, k[t0] += step[v][0], k[t1] += step[v][1];
+        memcpy(f->v[v], &g->corner[corner_id(g, k[0], k[1], k[2]) * 3], 3 * sizeof(double));
+        for (int d = 0; d < 3; d++) mid[d] += 0.25 * f->v[v][d];
+      }
+      const int on_boundary = side ? idx[a] == g->n[a] - 1 : idx[a] == 0;
+      f->set = on_boundary ? face_set(map, a, side, mid) : INTERIOR;
+    }
+}
+
+/* All faces, cell by cell (a cell's faces are contiguous); *faces allocated. */
+static int collect_faces(const GeomMap *map, const DualGrid *g, long *nfaces, NodalFace **faces) {
+  const int dim = g->dim;
+  const long ncells = g->n[0] * g->n[1] * g->n[2];
+  const long per_cell = dim == 2 ? 4 * (MAX_SPLITS) : 6;
+  MICA_CALL(MICA_MALLOC(*faces, ncells * per_cell));
+  *nfaces = 0;
+  for (long c = 0; c < ncells; c++) {
+    const long idx[3] = {c % g->n[0], (c / g->n[0]) % g->n[1], c / (g->n[0] * g->n[1])};
+    if (dim == 2)
+      cell_faces_2d(map, g, idx[0], idx[1], *faces, nfaces);
+    else
+      cell_faces_3d(map, g, idx, *faces, nfaces);
+  }
+  return MICA_SUCCESS;
+}
+
+/* ---- Gauss points of a face ------------------------------------------------------------------------------ */
+
+typedef struct {
+  int order;
+  double u[GEOM_GAUSS_MAX], w[GEOM_GAUSS_MAX];
+} Rule;
+
+static long rule_points(const Rule *r, int dim) { return dim == 2 ? r->order : (long)r->order * r->order; }
+
+/* Point g of face f: position x, weight × outward normal wn, and the face's vertex functions lam. */
+static void face_point(const GeomMap *map, const Rule *r, const NodalFace *f, long g, double *x, double *wn,
+                       double *lam) {
+  const int dim = map->dim;
+  const int gs = (int)(g % r->order), gt = (int)(g / r->order);
+  const double s = r->u[gs], t = dim == 2 ? 0.0 : r->u[gt], w = r->w[gs] * (dim == 2 ? 1.0 : r->w[gt]);
+  double xi[3] = {0, 0, 0}, dxs[3] = {0, 0, 0}, dxt[3] = {0, 0, 0}, jac[9];
+  if (dim == 2) {
+    lam[0] = 1.0 - s, lam[1] = s, lam[2] = lam[3] = 0.0;
+    for (int d = 0; d < 2; d++) xi[d] = lam[0] * f->v[0][d] + lam[1] * f->v[1][d], dxs[d] = f->v[1][d] - f->v[0][d];
+  } else {
+    lam[0] = (1 - s) * (1 - t), lam[1] = s * (1 - t), lam[2] = s * t, lam[3] = (1 - s) * t;
+    for (int d = 0; d < 3; d++) {
+      for (int v = 0; v < 4; v++) xi[d] += lam[v] * f->v[v][d];
+      dxs[d] = (1 - t) * (f->v[1][d] - f->v[0][d]) + t * (f->v[2][d] - f->v[3][d]);
+      dxt[d] = (1 - s) * (f->v[3][d] - f->v[0][d]) + s * (f->v[2][d] - f->v[1][d]);
+    }
+  }
+  geom_map_eval(map, xi, x, jac);
+  double ts[3] = {0, 0, 0}, tt[3] = {0, 0, 0};
+  for (int i = 0; i < dim; i++)
+    for (int j = 0; j < dim; j++) ts[i] += jac[i * dim + j] * dxs[j], tt[i] += jac[i * dim + j] * dxt[j];
+  const double scale = w * map->orientation;
+  if (dim == 2) {
+    wn[0] = scale * ts[1], wn[1] = -scale * ts[0];
+  } else {
+    wn[0] = scale * (ts[1] * tt[2] - ts[2] * tt[1]);
+    wn[1] = scale * (ts[2] * tt[0] - ts[0] * tt[2]);
+    wn[2] = scale * (ts[0] * tt[1] - ts[1] * tt[0]);
+  }
+}
+
+/* ---- cells ----------------------------------------------------------------------------------------------- */
+
+static int nodal_cells_create(const GeomMap *map, const Rule *r, const NodalFace *faces, long nfaces, long ncells,
+                              MicaNodalCells **out) {
+  const int dim = map->dim;
+  const long per_face = rule_points(r, dim);
+  MicaNodalCells *c = NULL;
+  MICA_CALL(MICA_CALLOC(c, 1));
+  *out = c;
+  c->n = ncells;
+  MICA_CALL(MICA_CALLOC(c->ptr, ncells + 1));
+  MICA_CALL(MICA_MALLOC(c->x, nfaces * per_face * dim));
+  MICA_CALL(MICA_MALLOC(c->wn, nfaces * per_face * dim));
+  for (long f = 0; f < nfaces; f++) c->ptr[faces[f].cell + 1] += per_face;
+  for (long i = 0; i < ncells; i++) c->ptr[i + 1] += c->ptr[i];
+  long q = 0; /* faces are grouped by cell, in cell order */
+  for (long f = 0; f < nfaces; f++)
+    for (long g = 0; g < per_face; g++, q++) {
+      double lam[4];
+      face_point(map, r, &faces[f], g, &c->x[q * dim], &c->wn[q * dim], lam);
+    }
+  return MICA_SUCCESS;
+}
+
+/* Volumes by the divergence theorem on each cell's boundary points, about the particle (round-off stays
+ * relative to the cell, not to the body's position). A cell that folds has no positive volume. */
+static int cell_volumes(const MicaNodalCells *c, int dim, const double *particles, double *volume) {
+  for (long i = 0; i < c->n; i++) {
+    double v = 0.0;
+    for (long b = c->ptr[i]; b < c->ptr[i + 1]; b++)
+      for (int d = 0; d < dim; d++) v += (c->x[b * dim + d] - particles[i * dim + d]) * c->wn[b * dim + d];
+    volume[i] = v / dim;
+    const double *x = particles + i * dim;
+    MICA_CHECK(volume[i] > 0 && isfinite(volume[i]), MICA_ERR_INPUT,
+               "nodal cells: the cell of particle %ld at (%g, %g, %g) has volume %g ≤ 0 (it folds): use less "
+               "particles.jitter",
+               i + 1, x[0], x[1], dim == 3 ? x[2] : 0.0, volume[i]);
+  }
+  return MICA_SUCCESS;
+}
+
+/* ---- boundary sets on the cells' boundary faces ---------------------------------------------------------- */
+
+static int compare_point(const void *pa, const void *pb) {
+  const double *a = pa, *b = pb;
+  for (int d = 0; d < 3; d++)
+    if (a[d] != b[d]) return a[d] < b[d] ? -1 : 1;
+  return 0;
+}
+
+/* The distinct parameter vertices of the set's faces (sorted, as 3-vectors), allocated in *keys. */
+static int set_vertex_keys(const NodalFace *faces, long nfaces, int set, int esize, double (**keys)[3], long *nkeys) {
+  long n = 0;
+  for (long f = 0; f < nfaces; f++) n += faces[f].set == set ? esize : 0;
+  MICA_CALL(MICA_MALLOC(*keys, n > 0 ? n : 1));
+  n = 0;
+  for (long f = 0; f < nfaces; f++)
+    if (faces[f].set == set)
+      for (int v = 0; v < esize; v++) memcpy((*keys)[n++], faces[f].v[v], sizeof(double[3]));
+  qsort(*keys, (size_t)n, sizeof **keys, compare_point);
+  long m = 0;
+  for (long i = 0; i < n; i++)
+    if (m == 0 || compare_point((*keys)[i], (*keys)[m - 1]) != 0) memcpy((*keys)[m++], (*keys)[i], sizeof(double[3]));
+  *nkeys = m;
+  return MICA_SUCCESS;
+}
+
+static int build_set(const GeomMap *map, const Rule *r, const NodalFace *faces, long nfaces, int set,
+                     MicaBoundarySet *out) {
+  const int dim = map->dim, esize = dim == 2 ? 2 : 4;
+  const long per_face = rule_points(r, dim);
+  double(*keys)[3] = NULL;
+  long nkeys = 0, nelem = 0, q = 0;
+  int ierr = MICA_SUCCESS;
+  memcpy(out->name, map->sets[set].name, sizeof out->name);
+  for (long f = 0; f < nfaces; f++) nelem += faces[f].set == set;
+  MICA_CALL_CLEANUP(set_vertex_keys(faces, nfaces, set, esize, &keys, &nkeys));
+  MICA_CALL_CLEANUP(geom_set_alloc(out, dim, nelem * per_face, nelem, esize, nkeys));
+  for (long v = 0; v < nkeys; v++) geom_map_eval(map, keys[v], &out->vertex_x[v * dim], NULL);
+  for (long f = 0, e = 0; f < nfaces; f++) {
+    if (faces[f].set != set) continue;
+    for (int v = 0; v < esize; v++) {
+      const double(*hit)[3] = bsearch(faces[f].v[v], keys, (size_t)nkeys, sizeof *keys, compare_point);
+      out->element_vertices[e * esize + v] = hit - keys;
+    }
+    for (long g = 0; g < per_face; g++, q++) {
+      double *wn = &out->normal[q * dim], len = 0.0;
+      face_point(map, r, &faces[f], g, &out->x[q * dim], wn, &out->lambda_N[q * 4]);
+      for (int d = 0; d < dim; d++) len += wn[d] * wn[d];
+      len = sqrt(len);
+      if (!(len > 0 && isfinite(len))) {
+        ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_INPUT,
+                              "boundary set '%s': a nodal cell's face degenerates", out->name);
+        goto cleanup;
+      }
+      out->w[q] = len;
+      for (int d = 0; d < dim; d++) wn[d] /= len;
+      out->element[q] = e;
+    }
+    e++;
+  }
+cleanup:
+  MICA_FREE(keys);
+  return ierr;
+}
+
+static int build_sets(const GeomMap *map, const Rule *r, const NodalFace *faces, long nfaces, MicaDiscretization *disc) {
+  for (int s = 0; s < disc->nsets; s++) geom_set_free(&disc->sets[s]);
+  MICA_FREE(disc->sets);
+  disc->nsets = 0;
+  MICA_CALL(MICA_CALLOC(disc->sets, map->nsets));
+  disc->nsets = map->nsets;
+  for (int s = 0; s < map->nsets; s++) MICA_CALL(build_set(map, r, faces, nfaces, s, &disc->sets[s]));
+  disc->boundary_uncovered = 0;
+  for (long f = 0; f < nfaces; f++) disc->boundary_uncovered += faces[f].set == UNCOVERED;
+  return MICA_SUCCESS;
+}
+
+/* ---- the nodal discretization ---------------------------------------------------------------------------- */
+
+/* Dual cells need the particles' logical grid, which a mesh and the irregular layout do not have. */
+static int check_supported(const MicaShapeSpec *shape, const MicaLayoutSpec *layout) {
+  MICA_CHECK(shape->kind != MICA_SHAPE_GMSH, MICA_ERR_INPUT,
+             "nodal cells need a built-in shape (a Gmsh mesh has no particle grid to build dual cells on)");
+  MICA_CHECK(layout->kind != MICA_LAYOUT_IRREGULAR, MICA_ERR_INPUT,
+             "nodal cells need particles on a logical grid (regular, graded or jittered layout), not an irregular one");
+  return MICA_SUCCESS;
+}
+
+/* qx, qw ← particles, cell volumes (taking ownership of *volume); the Gauss points are kept for error norms. */
+static int use_particles(MicaDiscretization *disc, double **volume) {
+  const int dim = disc->dim;
+  double *qx = NULL;
+  MICA_CALL(MICA_MALLOC(qx, disc->nparticles * dim));
+  memcpy(qx, disc->x, sizeof(double) * (size_t)(disc->nparticles * dim));
+  disc->ngauss = disc->nquad;
+  disc->gauss_x = disc->qx, disc->gauss_w = disc->qw;
+  disc->qx = qx, disc->qw = *volume;
+  *volume = NULL;
+  disc->nquad = disc->ncells = disc->nparticles;
+  disc->volume = 0.0;
+  for (long p = 0; p < disc->nparticles; p++) disc->volume += disc->qw[p];
+  return MICA_SUCCESS;
+}
+
+int mica_discretization_nodal(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                              MicaDiscretization *disc) {
+  int ierr = MICA_SUCCESS;
+  GeomMap map;
+  GeomAxes axes = {0};
+  DualGrid grid = {0};
+  NodalFace *faces = NULL;
+  double *xi = NULL, *volume = NULL;
+  long np = 0, nfaces = 0;
+  Rule rule = {.order = cells->boundary_order ? cells->boundary_order : cells->order};
+  MICA_CHECK(disc && !disc->nodal, MICA_ERR_ARGUMENT, "mica_discretization_nodal: no discretization, or nodal already");
+  MICA_CALL(check_supported(shape, layout));
+  MICA_CALL(geom_map_init(shape, &map));
+  for (int d = 0; d < map.dim; d++) /* no built-in 3-D shape has one: kinks are split in 2-D only */
+    MICA_CHECK(map.dim == 2 || map.nkinks[d] == 0, MICA_ERR_ARGUMENT, "nodal cells: a 3-D map with a kink");
+  MICA_CALL(geom_gauss_unit(rule.order, rule.u, rule.w));
+  MICA_CALL_CLEANUP(geom_axes_create(layout, map.dim, &axes));
+  MICA_CALL_CLEANUP(geom_layout_particles(&map, layout, &axes, &np, &xi));
+  MICA_CHECK(np == disc->nparticles, MICA_ERR_ARGUMENT, "mica_discretization_nodal: %ld particles, not %ld", np,
+             disc->nparticles);
+  MICA_CALL_CLEANUP(dual_grid_create(map.dim, axes.n, xi, &grid));
+  MICA_CALL_CLEANUP(collect_faces(&map, &grid, &nfaces, &faces));
+  MICA_CALL_CLEANUP(nodal_cells_create(&map, &rule, faces, nfaces, np, &disc->nodal));
+  MICA_CALL_CLEANUP(MICA_MALLOC(volume, np));
+  MICA_CALL_CLEANUP(cell_volumes(disc->nodal, map.dim, disc->x, volume));
+  MICA_CALL_CLEANUP(build_sets(&map, &rule, faces, nfaces, disc));
+  MICA_CALL_CLEANUP(use_particles(disc, &volume));
+cleanup:
+  MICA_FREE(volume);
+  MICA_FREE(faces);
+  MICA_FREE(xi);
+  MICA_FREE(grid.corner);
+  geom_axes_destroy(&axes);
+  return ierr;
+}
+
+int mica_nodal_cells_destroy(MicaNodalCells **cells) {
+  if (!cells || !*cells) return MICA_SUCCESS;
+  MICA_FREE((*cells)->ptr);
+  MICA_FREE((*cells)->x);
+  MICA_FREE((*cells)->wn);
+  MICA_FREE(*cells);
+  return MICA_SUCCESS;
+}
