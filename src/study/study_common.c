@@ -1,7 +1,14 @@
 /* Pieces every study command shares: the MLS settings of a deck, and what an MLS failure means to a user. */
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include "mica/files.h"
 #include "study_common.h"
 
 /* The mls.* settings (design.md §8): basis, order, weight, support, radius or dilation, search. */
@@ -56,4 +63,54 @@ int mica_study_mls_input(int ierr) {
     return mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_INPUT, "%s", message);
   }
   return ierr;
+}
+
+/* ---- solving a deck many times ------------------------------------------------------------------------ */
+
+int mica_study_run_logged(const MicaCommand *command, const MicaDeck *deck, const char *dir, MicaJson *summary) {
+  char *log = NULL;
+  MICA_CALL(mica_path_join(dir, "run.log", &log));
+  fflush(stdout);
+  const int saved = dup(STDOUT_FILENO), fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  free(log);
+  if (saved < 0 || fd < 0 || dup2(fd, STDOUT_FILENO) < 0) {
+    const int error = errno;
+    if (saved >= 0) close(saved);
+    if (fd >= 0) close(fd);
+    MICA_ERROR(MICA_ERR_IO, "cannot write %s/run.log: %s", dir, strerror(error));
+  }
+  close(fd);
+  const int ierr = command->run(deck, dir, summary);
+  fflush(stdout);
+  dup2(saved, STDOUT_FILENO);
+  close(saved);
+  return ierr;
+}
+
+void mica_study_remove_tree(const char *path) {
+  struct stat info;
+  if (lstat(path, &info) != 0) return;
+  if (S_ISDIR(info.st_mode)) {
+    DIR *dir = opendir(path);
+    struct dirent *entry;
+    while (dir && (entry = readdir(dir))) {
+      if (!strcmp(entry->d_name, ".") || !strcmp(entry->d_name, "..")) continue;
+      char *child = NULL;
+      if (mica_path_join(path, entry->d_name, &child) == MICA_SUCCESS) mica_study_remove_tree(child);
+      free(child);
+    }
+    if (dir) closedir(dir);
+    rmdir(path);
+  } else {
+    unlink(path);
+  }
+}
+
+void mica_study_clear_published(const char *staging, const char *name) {
+  const char *slash = strrchr(staging, '/');
+  const char *base = slash ? slash + 1 : staging;
+  if (strncmp(base, ".staging-", 9) != 0) return; /* not run by the command line: nothing published */
+  char path[4096];
+  snprintf(path, sizeof path, "%.*s/%s", slash ? (int)(slash - staging) : 1, slash ? staging : ".", name);
+  mica_study_remove_tree(path);
 }
