@@ -269,7 +269,7 @@ static int write_script(const StudySpec *spec, const StudyRow *rows, const Curve
       fprintf(out.fp, "set arrow 1 from graph 0, first %.17g to graph 1, first %.17g nohead dt 2 lw 1.5 lc rgb 'red'\n",
               spec->target, spec->target);
       fprintf(out.fp, "set title '%s: %s against %s'\nset xlabel '%s'\nset ylabel '%s'\nset logscale xy\n"
-              "set format y '%%.0e'\nset grid\nset key below box maxrows 8\n", title, error_title,
+              "set format y '%%.0e'\nset grid\nset key below box maxrows 8\nset offsets 0, graph 0.12, graph 0.04, 0\n", title, error_title,
               chart ? "dofs" : "time", chart ? "dofs (unknowns)" : study_time_title(spec), error_title);
       write_chart(spec, rows, cv, nfront, fastest, chart ? 3 : 1, out.fp);
       fprintf(out.fp, "set output\n");
