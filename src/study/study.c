@@ -150,7 +150,11 @@ static int run_combination(const StudySpec *spec, long p, const char *outdir, St
       MICA_CALL_CLEANUP(record_failure(row, failed));
     } else {
       for (int k = 0; k < STUDY_NPHASES; k++) row->phase[k] = fmin(row->phase[k], get_number(json, study_phase_key[k]));
-      if (r == 0) read_row(spec, json, row), first = json, json = NULL;
+      if (r == 0) { /* the first solve's summary is the combination's */
+        read_row(spec, json, row);
+        first = json;
+        json = NULL;
+      }
     }
     mica_json_destroy(&json);
   }
