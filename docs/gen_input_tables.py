@@ -4,7 +4,7 @@ tests/cli/docs.sh fails when a setting is missing from the page). Usage: python3
 import re
 import subprocess
 
-def table(command):
+def table(command, prefix=''):
     out = subprocess.run(['bin/mica', 'help', command], capture_output=True, text=True, check=True).stdout.splitlines()
     start = [k for k, line in enumerate(out) if line.startswith('setting ')][0]
     header = out[start]
@@ -14,12 +14,16 @@ def table(command):
         if not line.strip():
             continue
         f = [line[cols[j]:(cols[j + 1] if j + 1 < len(cols) else None)].strip() for j in range(5)]
-        rows.append('| `%s` | %s | %s | %s | %s |' % (f[0], f[1], f[2].replace('|', '\\|'), f[3].replace('|', '\\|'), f[4]))
+        if not f[0].startswith(prefix):
+            continue
+        rows.append('| `%s` | %s | %s | %s | %s |' % (f[0], f[1], f[2].replace('|', '\\|'), f[3].replace('|', '\\|'), f[4].replace('|', '\\|')))
     return '\n'.join(rows) + '\n'
 
 doc = open('docs/input.md').read()
-for command, marker in (('run', 'This table is `mica help run`'), ('mls', 'This table is `mica help mls`')):
+for command, marker, prefix in (('run', 'This table is `mica help run`', ''),
+                                ('study', 'This table is the `study.*` part of `mica help study`', 'study.'),
+                                ('mls', 'This table is `mica help mls`', '')):
     end = doc.index(marker)
     start = doc.rindex('| setting | type | default | range | meaning |', 0, end)
-    doc = doc[:start] + table(command) + '\n' + doc[end:]
+    doc = doc[:start] + table(command, prefix) + '\n' + doc[end:]
 open('docs/input.md', 'w').write(doc)

@@ -15,7 +15,8 @@ typedef struct MicaCommand {
   int (*run)(const MicaDeck *deck, const char *outdir, MicaJson *summary);
 } MicaCommand;
 
-extern const MicaCommand mica_command_mls, mica_command_run, mica_command_check, mica_command_sweep;
+extern const MicaCommand mica_command_mls, mica_command_run, mica_command_check, mica_command_sweep,
+    mica_command_study;
 
 const MicaCommand *const *mica_commands(void); /* NULL-terminated */
 const MicaCommand *mica_command_find(const char *name);

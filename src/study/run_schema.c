@@ -1,7 +1,8 @@
-/* The deck of `mica run`, `mica check` and `mica sweep`: every setting, its type, default, range and
+/* The deck of `mica run`, `mica check`, `mica sweep` and `mica study`: every setting, its type, default, range and
  * meaning (design.md §8; docs/input.md is generated from `mica help run`). A run deck may carry a `sweep`
  * group: `mica run` and `mica check` solve or size the deck as it stands and leave the group alone,
- * `mica sweep` runs it over the group's values. One schema, so one deck serves all three. */
+ * `mica sweep` runs it over the group's values; likewise the `study` group and `mica study`. One schema, so
+ * one deck serves all four. */
 #include "run.h"
 #include "sweep.h"
 
@@ -203,5 +204,33 @@ const MicaDeckKey mica_run_schema[] = {
      "when material.model is swept: the model the others are compared with"},
     {"sweep.tolerance", MICA_KEY_FLOAT, "0.01", 0, 1e300, NULL, 0, 0,
      "... a model agrees with it where |probe / probe_classical - 1| <= tolerance"},
+    /* speed against accuracy (src/study/study*.c) */
+    {"study.choices", MICA_KEY_LIST, NULL, NOLIMIT, NULL, 1, 0,
+     "the varied settings, every combination solved: ( { path = \"mls.order\"; values = [1, 2]; }, ... ); any "
+     "scalar setting of the run deck or a parameter"},
+    {"study.choices.[].path", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, 0,
+     "the setting: \"mls.order\", \"parameters.n\", \"quadrature.order\", \"bc.method\", ..."},
+    {"study.choices.[].name", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, 0,
+     "its short name in labels (default: the parameter's name, or the path)"},
+    {"study.choices.[].values", MICA_KEY_FLOATS, NULL, NOLIMIT, NULL, 1, SWEEP_MAX_POINTS,
+     "its values: numbers, or expressions of the deck's parameters"},
+    {"study.choices.[].words", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, 0,
+     "... or, for a string setting, its values as words: \"nitsche, penalty\""},
+    {"study.choices.[].range", MICA_KEY_FLOATS, NULL, NOLIMIT, NULL, 2, 2,
+     "... or the first and last of `points` values spaced by `scale`"},
+    {"study.choices.[].points", MICA_KEY_INT, NULL, 2, SWEEP_MAX_POINTS, NULL, 0, 0, "number of values of a range"},
+    {"study.choices.[].scale", MICA_KEY_CHOICE, "\"linear\"", NOLIMIT, "linear|log", 0, 0,
+     "spacing of a range: equal differences or equal ratios"},
+    {"study.error", MICA_KEY_STRING, "\"energy\"", NOLIMIT, NULL, 0, 0,
+     "the error measured: energy, l2, h1 (relative norms against exact.*) or a probe's name (with reference)"},
+    {"study.reference", MICA_KEY_FLOAT, NULL, NOLIMIT, NULL, 0, 0,
+     "for a probe: its exact or overkill value; the error is |probe - reference| / |reference|"},
+    {"study.target", MICA_KEY_FLOAT, "1e-3", 0, 1e300, NULL, 0, 0,
+     "the error to reach: the summary names the fastest combination with error <= target"},
+    {"study.time", MICA_KEY_CHOICE, "\"solve\"", NOLIMIT, "solve|total", 0, 0,
+     "the time of the front and of the fastest: solve (assembly + factorization + solution) or total (every phase)"},
+    {"study.repeat", MICA_KEY_INT, "1", 1, 100, NULL, 0, 0,
+     "solves per combination; each phase's minimum time is kept (fairer on a shared machine)"},
+    {"study.chart", MICA_KEY_BOOL, "true", NOLIMIT, NULL, 0, 0, "draw study_time.png and study_dofs.png (and .svg) with gnuplot"},
     {NULL, 0, NULL, 0, 0, NULL, 0, 0, NULL},
 };

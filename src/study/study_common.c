@@ -1,7 +1,13 @@
 /* Pieces every study command shares: the MLS settings of a deck, and what an MLS failure means to a user. */
+#include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include "mica/files.h"
 #include "study_common.h"
 
 /* The mls.* settings (design.md §8): basis, order, weight, support, radius or dilation, search. */
@@ -55,5 +61,38 @@ int mica_study_mls_input(int ierr) {
     snprintf(message, sizeof message, "%s", mica_error_message());
     return mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_INPUT, "%s", message);
   }
+  return ierr;
+}
+
+/* ---- solving a deck many times ------------------------------------------------------------------------ */
+
+int mica_study_log_open(const char *dir, int *saved) {
+  char *log = NULL;
+  MICA_CALL(mica_path_join(dir, "run.log", &log));
+  fflush(stdout);
+  *saved = dup(STDOUT_FILENO);
+  const int fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  free(log);
+  if (*saved < 0 || fd < 0 || dup2(fd, STDOUT_FILENO) < 0) {
+    const int error = errno;
+    if (*saved >= 0) close(*saved);
+    if (fd >= 0) close(fd);
+    MICA_ERROR(MICA_ERR_IO, "cannot write %s/run.log: %s", dir, strerror(error));
+  }
+  close(fd);
+  return MICA_SUCCESS;
+}
+
+void mica_study_log_close(int saved) {
+  fflush(stdout);
+  dup2(saved, STDOUT_FILENO);
+  close(saved);
+}
+
+int mica_study_run_logged(const MicaCommand *command, const MicaDeck *deck, const char *dir, MicaJson *summary) {
+  int saved;
+  MICA_CALL(mica_study_log_open(dir, &saved));
+  const int ierr = command->run(deck, dir, summary);
+  mica_study_log_close(saved);
   return ierr;
 }

@@ -2,7 +2,9 @@
 #ifndef MICA_STUDY_COMMON_H
 #define MICA_STUDY_COMMON_H
 
+#include "mica/command.h"
 #include "mica/deck.h"
+#include "mica/json.h"
 #include "mica/mls.h"
 
 /* Reads mls.basis, mls.order, mls.weight, mls.support, mls.radius | mls.dilation (default: order + 1),
@@ -12,5 +14,14 @@ int mica_study_mls_options(const MicaDeck *deck, int dim, MlsOptions *opt);
 /* Maps an MLS failure caused by the deck's choices (MICA_ERR_NUMERIC: singular moment matrix, no
  * support) to MICA_ERR_INPUT, keeping the message; other codes pass through. */
 int mica_study_mls_input(int ierr);
+
+/* Commands that solve a run deck many times (mica study) keep each solve in DIR/points/<n>/. */
+
+/* Sends stdout to dir/run.log until mica_study_log_close (a solve's own lines would drown the caller's
+ * progress); *saved keeps the terminal's descriptor. */
+int mica_study_log_open(const char *dir, int *saved);
+void mica_study_log_close(int saved);
+/* command->run(deck, dir, summary) with stdout in dir/run.log. The returned code is the run's. */
+int mica_study_run_logged(const MicaCommand *command, const MicaDeck *deck, const char *dir, MicaJson *summary);
 
 #endif

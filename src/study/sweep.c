@@ -5,8 +5,6 @@
  * that fails is recorded and the sweep goes on; the sweep fails only when every point does. Results:
  * sweep.csv (one row per point), summary.json (counts, and how the models compare when material.model is
  * swept), sweep.png/.svg (the probe against x, with analytic curves and measured points). */
-#include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,6 +15,7 @@
 #include "mica/files.h"
 #include "mica/timer.h"
 #include "run.h"
+#include "study_common.h"
 #include "sweep.h"
 
 /* Points write no fields and no Newton monitor unless the user's --set says otherwise (these come first). */
@@ -57,22 +56,10 @@ static void overrides_free(PointOverrides *o) {
 /* `mica run` with stdout in dir/run.log (the run's own lines would drown the progress), reusing what the
  * previous point built when its settings leave it unchanged. */
 static int run_logged(const MicaDeck *deck, const char *dir, MicaJson *summary, RunReuse *reuse) {
-  char *log = NULL;
-  MICA_CALL(mica_path_join(dir, "run.log", &log));
-  fflush(stdout);
-  const int saved = dup(STDOUT_FILENO), fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  free(log);
-  if (saved < 0 || fd < 0 || dup2(fd, STDOUT_FILENO) < 0) {
-    const int error = errno;
-    if (saved >= 0) close(saved);
-    if (fd >= 0) close(fd);
-    MICA_ERROR(MICA_ERR_IO, "cannot write %s/run.log: %s", dir, strerror(error));
-  }
-  close(fd);
+  int saved;
+  MICA_CALL(mica_study_log_open(dir, &saved));
   const int ierr = run_solve_reusing(deck, dir, summary, reuse);
-  fflush(stdout);
-  dup2(saved, STDOUT_FILENO);
-  close(saved);
+  mica_study_log_close(saved);
   return ierr;
 }
 

@@ -60,6 +60,13 @@ typedef struct SweepPoint {
 } SweepPoint;
 
 int sweep_spec_read(const MicaDeck *deck, SweepSpec *spec);
+/* One element of a list of varied settings ("sweep.parameters.[2]", "study.choices.[0]"): reads its path
+ * and its values (values, words or range + points + scale) into axes[a], checks the path (a single-valued
+ * setting of the run deck or a parameter, not a setting of the element's own group, not one of
+ * axes[0..a-1]) and tries every value as an override of deck, so that a value the run deck refuses is an
+ * input error with the element's line. */
+int sweep_axis_read(const MicaDeck *deck, const char *element, SweepAxis *axes, int a);
+void sweep_axis_free(SweepAxis *axis);
 void sweep_spec_free(SweepSpec *spec);
 /* The axis choices of point p (0-based) in choice[naxes]. */
 void sweep_point_choice(const SweepSpec *spec, long p, int *choice);
@@ -67,7 +74,10 @@ void sweep_point_choice(const SweepSpec *spec, long p, int *choice);
 void sweep_override_text(const SweepAxis *axis, int v, char *buf, size_t size);
 /* "L=8" (a number as %g, a word as is), for progress lines and legends. */
 void sweep_value_label(const SweepAxis *axis, int v, char *buf, size_t size);
-/* Loads the deck again: the user's --set first, then forced (may be NULL), then extra[nextra]. */
+/* Loads the deck again: forced (may be NULL) first, then the user's --set, then extra[nextra]. */
+int sweep_deck_load(const MicaDeck *base, int nforced, const char *const *forced, int nextra,
+                    const char *const *extra, MicaDeck **deck);
+/* The same for the sweep's deck. */
 int sweep_load(const SweepSpec *spec, int nforced, const char *const *forced, int nextra,
                const char *const *extra, MicaDeck **deck);
 

@@ -56,27 +56,34 @@ void sweep_value_label(const SweepAxis *axis, int v, char *buf, size_t size) {
   else snprintf(buf, size, "%s=%s", axis->label, axis->words[v]);
 }
 
-int sweep_load(const SweepSpec *spec, int nforced, const char *const *forced, int nextra, const char *const *extra,
-               MicaDeck **deck) {
-  const int nuser = mica_deck_override_count(spec->deck), n = nuser + nforced + nextra;
+int sweep_deck_load(const MicaDeck *base, int nforced, const char *const *forced, int nextra,
+                    const char *const *extra, MicaDeck **deck) {
+  const int nuser = mica_deck_override_count(base), n = nuser + nforced + nextra;
   const char **all = NULL;
   MICA_CALL(MICA_MALLOC(all, n > 0 ? n : 1));
   /* the forced ones come first, so that the user's --set output.vtu=true still wins */
   for (int i = 0; i < nforced; i++) all[i] = forced[i];
-  for (int i = 0; i < nuser; i++) all[nforced + i] = mica_deck_override_text(spec->deck, i);
+  for (int i = 0; i < nuser; i++) all[nforced + i] = mica_deck_override_text(base, i);
   for (int i = 0; i < nextra; i++) all[nforced + nuser + i] = extra[i];
-  const int ierr = mica_deck_load(mica_deck_path(spec->deck), mica_run_schema, n, all, deck);
+  const int ierr = mica_deck_load(mica_deck_path(base), mica_run_schema, n, all, deck);
   free(all);
   return ierr;
 }
 
+int sweep_load(const SweepSpec *spec, int nforced, const char *const *forced, int nextra, const char *const *extra,
+               MicaDeck **deck) {
+  return sweep_deck_load(spec->deck, nforced, forced, nextra, extra, deck);
+}
+
 /* ---- one axis --------------------------------------------------------------------------------------- */
 
-/* Which paths can be swept: scalar settings of the run deck and the deck's own parameters. */
-static int check_path(const MicaDeck *deck, const SweepAxis *axis, int numeric) {
+/* Which paths can be swept: scalar settings of the run deck and the deck's own parameters, but not the
+ * settings of the group that lists the values (group: "sweep", "study"). */
+static int check_path(const MicaDeck *deck, const char *group, const SweepAxis *axis, int numeric) {
   const char *path = axis->path, *where = axis->where;
-  MICA_CHECK(strncmp(path, "sweep.", 6) && strcmp(path, "sweep"), MICA_ERR_INPUT,
-             "%s: path = \"%s\": a sweep cannot sweep its own settings", where, path);
+  const size_t glen = strlen(group);
+  MICA_CHECK(strncmp(path, group, glen) || (path[glen] != '.' && path[glen] != '\0'), MICA_ERR_INPUT,
+             "%s: path = \"%s\": a %s cannot vary its own settings", where, path, group);
   if (is_parameter(path)) {
     MICA_CHECK(mica_deck_has(deck, path), MICA_ERR_INPUT,
                "%s: path = \"%s\": the deck has no parameter '%s' (define it in `parameters`)", where, path, path + 11);
@@ -157,7 +164,7 @@ static int read_values(const MicaDeck *deck, const char *element, SweepAxis *axi
   snprintf(words, sizeof words, "%s.words", element);
   snprintf(range, sizeof range, "%s.range", element);
   const int given = mica_deck_has(deck, values) + mica_deck_has(deck, words) + mica_deck_has(deck, range);
-  MICA_CHECK(given == 1, MICA_ERR_INPUT, "%s: sweep of %s: give %s of values = [...], words = \"a, b\" or range = "
+  MICA_CHECK(given == 1, MICA_ERR_INPUT, "%s: %s: give %s of values = [...], words = \"a, b\" or range = "
              "[first, last] with points", axis->where, axis->path, given ? "only one" : "one");
   if (mica_deck_has(deck, words)) {
     const char *text;
@@ -174,44 +181,56 @@ static int read_values(const MicaDeck *deck, const char *element, SweepAxis *axi
 }
 
 /* Every value of the axis, tried as an override of the run deck: errors are the deck layer's, prefixed
- * with the sweep entry. */
-static int try_values(const SweepSpec *spec, int a) {
-  const SweepAxis *axis = &spec->axes[a];
+ * with the list element. */
+static int try_values(const MicaDeck *deck, const char *element, const SweepAxis *axis) {
   for (int v = 0; v < axis->nvalues; v++) {
     char text[1024];
     const char *extra[1] = {text};
     MicaDeck *trial = NULL;
     sweep_override_text(axis, v, text, sizeof text);
-    const int ierr = sweep_load(spec, 0, NULL, 1, extra, &trial);
+    const int ierr = sweep_deck_load(deck, 0, NULL, 1, extra, &trial);
     mica_deck_destroy(&trial);
     if (ierr) {
-      mica_error_prefix("%s: sweep.parameters.[%d]", axis->where, a);
+      mica_error_prefix("%s: %s", axis->where, element);
       return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
     }
   }
   return MICA_SUCCESS;
 }
 
-static int read_axis(SweepSpec *spec, int a) {
-  const MicaDeck *deck = spec->deck;
-  SweepAxis *axis = &spec->axes[a];
-  char element[64], path[96];
+int sweep_axis_read(const MicaDeck *deck, const char *element, SweepAxis *axes, int a) {
+  SweepAxis *axis = &axes[a];
+  char path[160], group[32];
   const char *text;
-  snprintf(element, sizeof element, "sweep.parameters.[%d]", a);
+  snprintf(group, sizeof group, "%.*s", (int)strcspn(element, "."), element);
   snprintf(path, sizeof path, "%s.path", element);
   where_of(deck, mica_deck_has(deck, path) ? path : element, axis->where);
-  MICA_CHECK(mica_deck_has(deck, path), MICA_ERR_INPUT, "%s: %s needs a path (the setting swept)", axis->where,
+  MICA_CHECK(mica_deck_has(deck, path), MICA_ERR_INPUT, "%s: %s needs a path (the setting varied)", axis->where,
              element);
   MICA_CALL(mica_deck_string(deck, path, &text));
   MICA_CALL(copy_text(text, strlen(text), &axis->path));
   axis->label = is_parameter(axis->path) ? axis->path + 11 : axis->path;
   for (int b = 0; b < a; b++)
-    MICA_CHECK(strcmp(spec->axes[b].path, axis->path), MICA_ERR_INPUT, "%s: %s is swept twice (also by %s)",
-               axis->where, axis->path, spec->axes[b].where);
+    MICA_CHECK(strcmp(axes[b].path, axis->path), MICA_ERR_INPUT, "%s: %s is varied twice (also by %s)",
+               axis->where, axis->path, axes[b].where);
   MICA_CALL(read_values(deck, element, axis));
-  MICA_CALL(check_path(deck, axis, axis->values != NULL));
-  MICA_CALL(try_values(spec, a));
+  MICA_CALL(check_path(deck, group, axis, axis->values != NULL));
+  MICA_CALL(try_values(deck, element, axis));
   return MICA_SUCCESS;
+}
+
+void sweep_axis_free(SweepAxis *axis) {
+  free(axis->path);
+  free(axis->values);
+  for (int v = 0; axis->words && v < axis->nvalues; v++) free(axis->words[v]);
+  free(axis->words);
+  memset(axis, 0, sizeof *axis);
+}
+
+static int read_axis(SweepSpec *spec, int a) {
+  char element[64];
+  snprintf(element, sizeof element, "sweep.parameters.[%d]", a);
+  return sweep_axis_read(spec->deck, element, spec->axes, a);
 }
 
 /* ---- the points, the probe, the chart's x ----------------------------------------------------------- */
@@ -327,13 +346,7 @@ int sweep_spec_read(const MicaDeck *deck, SweepSpec *spec) {
 }
 
 void sweep_spec_free(SweepSpec *spec) {
-  for (int a = 0; a < spec->naxes && spec->axes; a++) {
-    SweepAxis *axis = &spec->axes[a];
-    free(axis->path);
-    free(axis->values);
-    for (int v = 0; axis->words && v < axis->nvalues; v++) free(axis->words[v]);
-    free(axis->words);
-  }
+  for (int a = 0; a < spec->naxes && spec->axes; a++) sweep_axis_free(&spec->axes[a]);
   free(spec->axes);
   free(spec->probes);
   for (int e = 0; e < spec->nexperiments && spec->experiments; e++) {

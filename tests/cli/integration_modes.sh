@@ -110,4 +110,6 @@ expect_failure 2 "scni_irregular.cfg:5: quadrature.mode = \"scni\" needs particl
   "$MICA" run $D/scni_irregular.cfg -o "$work/x"
 expect_failure 2 "nodal_axisymmetric.cfg:5: quadrature.mode = \"nodal\" needs a plane or 3-D body" -- \
   "$MICA" run $D/nodal_axisymmetric.cfg -o "$work/x"
+expect_failure 2 "--set quadrature.mode=scni: quadrature.mode = \"scni\" integrates meshfree shape functions at the particles; problem.method = \"fe\"" -- \
+  "$MICA" run input/patch_linear.cfg --set problem.method=fe --set quadrature.mode=scni -o "$work/x"
 [ ! -e "$work/x" ] || fail "a failed run left $work/x"
