@@ -100,6 +100,10 @@ typedef struct MicaSolidOptions {
                                    §axisymmetric); quadrature weights must already carry 2πr */
   int vci;                      /* 1: variationally consistent test gradients in the volume (Petrov–Galerkin:
                                    the tangent is unsymmetric), first-order models only */
+  struct MicaDistribution *parallel; /* NULL: serial. Else (src/parallel, mica/parallel.h) the discretization
+                                   holds this rank's share of the quadrature points: residuals are summed over
+                                   the ranks, terms added once per problem come from rank 0, and Newton solves
+                                   through the distributed solver */
 } MicaSolidOptions;
 
 typedef struct MicaSolid {

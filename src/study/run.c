@@ -343,8 +343,14 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp) {
   MICA_CALL_CLEANUP(mica_deck_int(deck, "mls.order", &order));
   opt.basis_order = (int)order;
   MICA_CALL_CLEANUP(read_vci(deck, rp->disc, &opt));
+  const MicaDiscretization *disc = rp->disc;
+  if (mica_parallel_active()) { /* MPI: this rank's share of the quadrature points (run_parallel.c) */
+    MICA_CALL_CLEANUP(run_parallel_distribute(deck, rp));
+    opt.parallel = rp->dist;
+    disc = rp->dist->local;
+  }
   const double start = mica_wtime();
-  ierr = mica_study_mls_input(mica_solid_create(rp->disc, rp->mls, &opt, ndirichlet, dirichlet, ntraction, traction,
+  ierr = mica_study_mls_input(mica_solid_create(disc, rp->mls, &opt, ndirichlet, dirichlet, ntraction, traction,
                                                 &rp->solid));
   rp->time_cache_pattern = mica_wtime() - start;
   return ierr; /* the solid owns the conditions now, whether or not it was built */
@@ -398,6 +404,7 @@ int run_problem_build(const MicaDeck *deck, RunProblem *rp) {
 
 void run_problem_free(RunProblem *rp) {
   mica_solid_destroy(&rp->solid);
+  mica_distribution_destroy(&rp->dist);
   mls_destroy(&rp->mls);
   mica_discretization_destroy(&rp->disc);
   mica_shape_cache_destroy(&rp->at_particles);
@@ -520,6 +527,7 @@ static int run_solve(const MicaDeck *deck, const char *outdir, MicaJson *summary
   MICA_CALL_CLEANUP(run_problem_build(deck, &rp));
   print_counts(&rp);
   MICA_CALL_CLEANUP(add_counts(&rp, summary));
+  MICA_CALL_CLEANUP(run_parallel_counts(&rp, summary));
   MICA_CALL_CLEANUP(read_newton(deck, rp.solid, &nopt));
   memset(&out, 0, sizeof out);
   out.rp = &rp, out.outdir = outdir;
@@ -529,6 +537,7 @@ static int run_solve(const MicaDeck *deck, const char *outdir, MicaJson *summary
   MICA_CALL_CLEANUP(mica_newton_solve(rp.solid, &nopt, u, run_output_step, &out, &stats));
   MICA_CALL_CLEANUP(mica_json_number(summary, "time_newton", mica_wtime() - start));
   MICA_CALL_CLEANUP(add_newton_stats(&stats, summary));
+  MICA_CALL_CLEANUP(run_parallel_solver_stats(&rp, summary));
   MICA_CALL_CLEANUP(run_output_finish(&out));
   MICA_CALL_CLEANUP(run_error_norms(&rp, u, summary));
   MICA_CALL_CLEANUP(run_probes(&rp, u, summary));
@@ -547,6 +556,7 @@ static int run_check(const MicaDeck *deck, const char *outdir, MicaJson *summary
   MICA_CALL_CLEANUP(run_problem_build(deck, &rp));
   print_counts(&rp);
   MICA_CALL_CLEANUP(add_counts(&rp, summary));
+  MICA_CALL_CLEANUP(run_parallel_counts(&rp, summary));
   const double nnz = (double)rp.solid->K->nnz;
   const char *size_class = nnz < 1e6 ? "small (seconds)" : nnz < 3e7 ? "medium (minutes)" : "large (hours, or use MPI)";
   MICA_CALL_CLEANUP(mica_json_string(summary, "cost_class", size_class));

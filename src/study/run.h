@@ -3,6 +3,7 @@
 #define MICA_RUN_H
 
 #include "mica/command.h"
+#include "mica/parallel.h"
 #include "mica/solid.h"
 
 extern const MicaDeckKey mica_run_schema[];
@@ -18,6 +19,7 @@ typedef struct RunProblem {
   int has_exact, ncomp;
   int axisymmetric;             /* geometry.axisymmetric: a 2-D (r, z) section, 3-D model, cylindrical components */
   MicaShapeCache *at_particles; /* shape functions at the particles, for output (built on first use) */
+  MicaDistribution *dist;       /* MPI: the partition and this rank's points (NULL: serial) */
   double time_discretize, time_mls, time_cache_pattern;
 } RunProblem;
 
@@ -32,6 +34,13 @@ int run_read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt);
 /* Builds discretization, MLS, model, conditions and the solid from the deck. */
 int run_problem_build(const MicaDeck *deck, RunProblem *rp);
 void run_problem_free(RunProblem *rp);
+
+/* MPI (run_parallel.c): the distribution from solver.parallel, .overlap, .linear_rtol,
+ * .linear_max_iterations; its partition and per-rank counts, and the distributed solver's statistics, in
+ * the summary and the log (nothing in a serial run). */
+int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp);
+int run_parallel_counts(const RunProblem *rp, MicaJson *summary);
+int run_parallel_solver_stats(const RunProblem *rp, MicaJson *summary);
 
 /* Output: per-step VTU files and the PVD collection, error norms, probes, summary members. */
 typedef struct RunOutput {

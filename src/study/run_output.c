@@ -134,7 +134,7 @@ static int fields_compute(RunProblem *rp, const double *u, ParticleFields *f) {
 
 int run_output_step(void *ctx, int step, double t, const double *u) {
   RunOutput *out = ctx;
-  if (!out->vtu || out->nsteps >= 1024) return MICA_SUCCESS;
+  if (!out->vtu || out->nsteps >= 1024 || mica_parallel_rank() != 0) return MICA_SUCCESS; /* MPI: rank 0 writes */
   ParticleFields f = {0};
   char *path = NULL;
   int ierr = MICA_SUCCESS;
@@ -185,8 +185,8 @@ int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary) {
   for (long p = 0; p < c->npoints && !ierr; p++) {
     double q[128], qe[128] = {0}, e[128] = {0};
     mica_solid_kinematics(s, c, p, u, q);
-    exact_at(rp, rp->disc->qx + p * dim, qe);
-    const double w = rp->disc->qw[p];
+    exact_at(rp, s->disc->qx + p * dim, qe); /* s->disc: under MPI, this rank's points */
+    const double w = s->disc->qw[p];
     for (int i = 0; i < nvg; i++) e[i] = q[i] - qe[i]; /* Hessian slots: no exact second derivatives, left 0 */
     for (int i = 0; i < ncomp; i++) l2[0] += w * e[i] * e[i], l2[1] += w * qe[i] * qe[i];
     for (int i = ncomp; i < nvg; i++) h1[0] += w * e[i] * e[i], h1[1] += w * qe[i] * qe[i];
@@ -194,6 +194,11 @@ int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary) {
       for (int j = 0; j < nvg; j++) en[0] += w * e[i] * D0[i * nq + j] * e[j], en[1] += w * qe[i] * D0[i * nq + j] * qe[j];
   }
   free(D0);
+  if (rp->dist) { /* MPI: sums over every rank's points */
+    double sums[6] = {l2[0], l2[1], h1[0], h1[1], en[0], en[1]};
+    MICA_CALL(mica_parallel_sum(ierr, sums, 6));
+    l2[0] = sums[0], l2[1] = sums[1], h1[0] = sums[2], h1[1] = sums[3], en[0] = sums[4], en[1] = sums[5];
+  }
   MICA_CALL(ierr);
   const double el2 = sqrt(l2[0] / fmax(l2[1], 1e-300)), eh1 = sqrt(h1[0] / fmax(h1[1], 1e-300)),
                een = sqrt(fabs(en[0]) / fmax(en[1], 1e-300));
@@ -253,13 +258,15 @@ static void probe_kinematics(const RunProblem *rp, const double *x, const MlsSha
 static int strain_energy(const RunProblem *rp, const double *u, double *energy) {
   const MicaSolid *s = rp->solid;
   double q[128], W;
+  int ierr = MICA_SUCCESS;
   *energy = 0;
-  for (long p = 0; p < s->volume->npoints; p++) {
+  for (long p = 0; p < s->volume->npoints && !ierr; p++) {
     mica_solid_kinematics(s, s->volume, p, u, q);
-    MICA_CALL(s->opt.field.ops->eval(&s->opt.field, s->model_dim, q, &W, NULL, NULL));
-    *energy += rp->disc->qw[p] * W;
+    ierr = s->opt.field.ops->eval(&s->opt.field, s->model_dim, q, &W, NULL, NULL);
+    *energy += s->disc->qw[p] * W; /* s->disc: under MPI, this rank's points, summed below */
   }
-  return MICA_SUCCESS;
+  if (rp->dist) MICA_CALL(mica_parallel_sum(ierr, energy, 1));
+  return ierr;
 }
 
 /* The raw value of a point probe: the field at the deck's point. */
