@@ -145,6 +145,14 @@ int mica_distribution_destroy(MicaDistribution **dist);
  * the replicated solution. */
 int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOps *inner, MicaLinearSolver **solver);
 
+/* Collective: nnz of the sum over ranks of their matrices L (the pattern of the whole tangent). */
+int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz);
+/* Collective: the largest value of v over the ranks (for counts: memory per rank, ...). */
+long mica_parallel_max_long(long v);
+long mica_parallel_sum_long(long v);
+/* This process's peak resident memory, bytes (getrusage). */
+long mica_parallel_peak_memory(void);
+
 /* Collective: the distributed residual R (this rank's contributions) summed over ranks, after agreeing
  * on ierr (the failure injection point "assemble"). */
 int mica_parallel_residual(int ierr, double *R, long n);

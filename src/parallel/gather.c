@@ -2,6 +2,7 @@
  * UMFPACK (whose symbolic analysis is reused while the gathered pattern is unchanged, as in a serial run),
  * the solution broadcast. The gathered matrix is the serial one up to the order of the sums, so the
  * solution equals the serial one to round-off. */
+#include <mpi.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -91,3 +92,15 @@ int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOp
 /* Destroy for both (the Schwarz file defines its factor and solve). */
 void parallel_solver_destroy(MicaLinearSolver *solver) { parallel_destroy(solver); }
 int parallel_solver_create(MicaLinearSolver *solver) { return parallel_create(solver); }
+
+int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz) {
+  ParallelSolver ps;
+  memset(&ps, 0, sizeof ps);
+  int ierr = gather_setup(&ps, L);
+  long count = !ierr && ps.rd && ps.rd->A ? ps.rd->A->nnz : 0;
+  redistribution_destroy(&ps.rd);
+  MICA_CALL(mica_parallel_broadcast(ierr, NULL, 0, 0));
+  MPI_Bcast(&count, 1, MPI_LONG, 0, MPI_COMM_WORLD);
+  *nnz = count;
+  return MICA_SUCCESS;
+}

@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "mica/parallel.h"
@@ -116,6 +117,22 @@ int mica_parallel_broadcast(int ierr, double *v, long n, int root) {
 int mica_parallel_residual(int ierr, double *R, long n) {
   if (!ierr) ierr = mica_parallel_inject("assemble");
   return mica_parallel_sum(ierr, R, n);
+}
+
+long mica_parallel_max_long(long v) {
+  if (mica_parallel_active()) MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
+  return v;
+}
+
+long mica_parallel_sum_long(long v) {
+  if (mica_parallel_active()) MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+  return v;
+}
+
+long mica_parallel_peak_memory(void) {
+  struct rusage usage;
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return (long)usage.ru_maxrss * 1024; /* kilobytes on Linux */
 }
 
 void mica_parallel_abort(const char *program, int status) {

@@ -428,7 +428,19 @@ static size_t cache_bytes(const MicaSolid *s) {
   return bytes;
 }
 
-static int add_counts(const RunProblem *rp, MicaJson *summary) {
+/* The sizes of the problem; under MPI, totals over the ranks (run_parallel.c). */
+static int count_totals(const RunProblem *rp, RunTotals *c) {
+  const MicaSolid *s = rp->solid;
+  c->nnz = s->K->nnz;
+  c->support_entries = s->volume->ptr[s->volume->npoints];
+  c->support_points = s->volume->npoints;
+  c->max_support = s->volume->max_support;
+  c->cache_bytes = (long)cache_bytes(s);
+  if (rp->dist) MICA_CALL(run_parallel_totals(rp, c));
+  return MICA_SUCCESS;
+}
+
+static int add_counts(const RunProblem *rp, const RunTotals *c, MicaJson *summary) {
   const MicaSolid *s = rp->solid;
   MICA_CALL(mica_json_int(summary, "dim", rp->disc->dim));
   MICA_CALL(mica_json_int(summary, "particles", rp->disc->nparticles));
@@ -437,12 +449,11 @@ static int add_counts(const RunProblem *rp, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "boundary_points", boundary_points(rp->disc)));
   MICA_CALL(mica_json_int(summary, "dofs", s->ndof));
   MICA_CALL(mica_json_int(summary, "multiplier_nodes", s->nmultiplier_nodes));
-  MICA_CALL(mica_json_int(summary, "nnz", s->K->nnz));
-  MICA_CALL(mica_json_int(summary, "support_max", s->volume->max_support));
-  MICA_CALL(mica_json_number(summary, "support_mean",
-                             (double)s->volume->ptr[s->volume->npoints] / (double)s->volume->npoints));
-  MICA_CALL(mica_json_int(summary, "cache_bytes", (long)cache_bytes(s)));
-  MICA_CALL(mica_json_int(summary, "matrix_bytes", (long)(s->K->nnz * 16 + (s->ndof + 1) * 8)));
+  MICA_CALL(mica_json_int(summary, "nnz", c->nnz));
+  MICA_CALL(mica_json_int(summary, "support_max", c->max_support));
+  MICA_CALL(mica_json_number(summary, "support_mean", (double)c->support_entries / (double)c->support_points));
+  MICA_CALL(mica_json_int(summary, "cache_bytes", c->cache_bytes));
+  MICA_CALL(mica_json_int(summary, "matrix_bytes", (long)(c->nnz * 16 + (s->ndof + 1) * 8)));
   MICA_CALL(mica_json_number(summary, "volume", rp->disc->volume));
   MICA_CALL(mica_json_string(summary, "model", s->opt.field.ops == &mica_field_classical ? s->opt.field.classical->name
                                                                                        : s->opt.field.ops->name));
@@ -457,13 +468,13 @@ static int add_counts(const RunProblem *rp, MicaJson *summary) {
   return MICA_SUCCESS;
 }
 
-static void print_counts(const RunProblem *rp) {
+static void print_counts(const RunProblem *rp, const RunTotals *c) {
   const MicaSolid *s = rp->solid;
   printf("%ld particles, %ld cells, %ld quadrature points (+%ld on the boundary), %ld dofs, nnz %ld, support "
          "%.1f mean / %ld max, cache %.1f MB, matrix %.1f MB\n",
-         rp->disc->nparticles, rp->disc->ncells, rp->disc->nquad, boundary_points(rp->disc), s->ndof, s->K->nnz,
-         (double)s->volume->ptr[s->volume->npoints] / (double)s->volume->npoints, s->volume->max_support,
-         (double)cache_bytes(s) / 1e6, (double)(s->K->nnz * 16) / 1e6);
+         rp->disc->nparticles, rp->disc->ncells, rp->disc->nquad, boundary_points(rp->disc), s->ndof, c->nnz,
+         (double)c->support_entries / (double)c->support_points, c->max_support, (double)c->cache_bytes / 1e6,
+         (double)(c->nnz * 16) / 1e6);
   if (s->opt.vci) printf("VCI: corrected test gradients in %.3g s\n", s->time_vci);
   fflush(stdout);
 }
@@ -525,8 +536,10 @@ static int run_solve(const MicaDeck *deck, const char *outdir, MicaJson *summary
   int ierr = MICA_SUCCESS;
   memset(&stats, 0, sizeof stats);
   MICA_CALL_CLEANUP(run_problem_build(deck, &rp));
-  print_counts(&rp);
-  MICA_CALL_CLEANUP(add_counts(&rp, summary));
+  RunTotals totals;
+  MICA_CALL_CLEANUP(count_totals(&rp, &totals));
+  print_counts(&rp, &totals);
+  MICA_CALL_CLEANUP(add_counts(&rp, &totals, summary));
   MICA_CALL_CLEANUP(run_parallel_counts(&rp, summary));
   MICA_CALL_CLEANUP(read_newton(deck, rp.solid, &nopt));
   memset(&out, 0, sizeof out);
@@ -538,6 +551,7 @@ static int run_solve(const MicaDeck *deck, const char *outdir, MicaJson *summary
   MICA_CALL_CLEANUP(mica_json_number(summary, "time_newton", mica_wtime() - start));
   MICA_CALL_CLEANUP(add_newton_stats(&stats, summary));
   MICA_CALL_CLEANUP(run_parallel_solver_stats(&rp, summary));
+  MICA_CALL_CLEANUP(run_parallel_memory(&rp, summary));
   MICA_CALL_CLEANUP(run_output_finish(&out));
   MICA_CALL_CLEANUP(run_error_norms(&rp, u, summary));
   MICA_CALL_CLEANUP(run_probes(&rp, u, summary));
@@ -554,10 +568,12 @@ static int run_check(const MicaDeck *deck, const char *outdir, MicaJson *summary
   RunProblem rp;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(run_problem_build(deck, &rp));
-  print_counts(&rp);
-  MICA_CALL_CLEANUP(add_counts(&rp, summary));
+  RunTotals totals;
+  MICA_CALL_CLEANUP(count_totals(&rp, &totals));
+  print_counts(&rp, &totals);
+  MICA_CALL_CLEANUP(add_counts(&rp, &totals, summary));
   MICA_CALL_CLEANUP(run_parallel_counts(&rp, summary));
-  const double nnz = (double)rp.solid->K->nnz;
+  const double nnz = (double)totals.nnz;
   const char *size_class = nnz < 1e6 ? "small (seconds)" : nnz < 3e7 ? "medium (minutes)" : "large (hours, or use MPI)";
   MICA_CALL_CLEANUP(mica_json_string(summary, "cost_class", size_class));
   printf("deck is valid; cost class: %s\n", size_class);

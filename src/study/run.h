@@ -38,8 +38,15 @@ void run_problem_free(RunProblem *rp);
 /* MPI (run_parallel.c): the distribution from solver.parallel, .overlap, .linear_rtol,
  * .linear_max_iterations; its partition and per-rank counts, and the distributed solver's statistics, in
  * the summary and the log (nothing in a serial run). */
+typedef struct RunTotals {
+  long nnz;                 /* of the (whole) tangent */
+  long support_entries, support_points, max_support; /* volume points' supports */
+  long cache_bytes;         /* shape-function caches, all ranks together */
+} RunTotals;
 int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp);
+int run_parallel_totals(const RunProblem *rp, RunTotals *totals);
 int run_parallel_counts(const RunProblem *rp, MicaJson *summary);
+int run_parallel_memory(const RunProblem *rp, MicaJson *summary);
 int run_parallel_solver_stats(const RunProblem *rp, MicaJson *summary);
 
 /* Output: per-step VTU files and the PVD collection, error norms, probes, summary members. */

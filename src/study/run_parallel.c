@@ -28,6 +28,15 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
   return MICA_SUCCESS;
 }
 
+int run_parallel_totals(const RunProblem *rp, RunTotals *c) {
+  MICA_CALL(mica_parallel_matrix_nnz(rp->solid->K, &c->nnz));
+  c->support_entries = mica_parallel_sum_long(c->support_entries);
+  c->support_points = mica_parallel_sum_long(c->support_points);
+  c->max_support = mica_parallel_max_long(c->max_support);
+  c->cache_bytes = mica_parallel_sum_long(c->cache_bytes);
+  return MICA_SUCCESS;
+}
+
 int run_parallel_counts(const RunProblem *rp, MicaJson *summary) {
   const MicaDistribution *d = rp->dist;
   if (!d) return MICA_SUCCESS;
@@ -38,6 +47,17 @@ int run_parallel_counts(const RunProblem *rp, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "points_per_rank_max", d->stats.max_owned_points));
   MICA_CALL(mica_json_int(summary, "ghost_particles_max", d->stats.ghost_particles_max));
   MICA_CALL(mica_json_number(summary, "time_partition", d->stats.time_partition));
+  const long local_nnz = mica_parallel_max_long(rp->solid->K->nnz);
+  MICA_CALL(mica_json_int(summary, "nnz_local_max", local_nnz)); /* the largest rank's own contributions */
+  return MICA_SUCCESS;
+}
+
+/* Peak memory of the ranks (collective), at the end of a run. */
+int run_parallel_memory(const RunProblem *rp, MicaJson *summary) {
+  if (!rp->dist) return MICA_SUCCESS;
+  const long peak = mica_parallel_peak_memory(), largest = mica_parallel_max_long(peak);
+  MICA_CALL(mica_json_int(summary, "peak_memory_rank0", peak));
+  MICA_CALL(mica_json_int(summary, "peak_memory_rank_max", largest));
   return MICA_SUCCESS;
 }
 
