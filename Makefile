@@ -15,7 +15,7 @@ CSTD := -std=c11 -D_POSIX_C_SOURCE=200809L
 WARN := -Wall -Wextra
 OPT ?= -O2 -g
 CPPFLAGS := -Iinclude -I/usr/include/suitesparse
-LDLIBS := -lconfig -lmatheval -lcholmod -lumfpack -lsuitesparseconfig -llapacke -llapack -lblas -lm
+LDLIBS := -lmetis -lconfig -lmatheval -lcholmod -lumfpack -lsuitesparseconfig -llapacke -llapack -lblas -lm
 
 ifeq ($(SAN),1)
   OUT := build-san
@@ -34,7 +34,7 @@ CFLAGS := $(CSTD) $(WARN) $(OPT) $(SANFLAGS) -MMD -MP
 LDFLAGS := $(SANFLAGS)
 OBJ := $(OUT)/obj
 
-LIB_SRC := $(wildcard src/util/*.c src/mls/*.c src/io/*.c src/geom/*.c src/models/*.c src/solve/*.c src/bc/*.c src/assemble/*.c src/fe/*.c src/study/*.c)
+LIB_SRC := $(wildcard src/util/*.c src/mls/*.c src/io/*.c src/geom/*.c src/models/*.c src/solve/*.c src/bc/*.c src/assemble/*.c src/fe/*.c src/study/*.c src/parallel/*.c)
 CLI_SRC := $(wildcard src/cli/*.c)
 LIB_OBJ := $(LIB_SRC:%.c=$(OBJ)/%.o)
 CLI_OBJ := $(CLI_SRC:%.c=$(OBJ)/%.o)

@@ -37,6 +37,9 @@ void mica_error_prefix(const char *fmt, ...) MICA_PRINTF(1, 2);
 const char *mica_error_message(void);
 int mica_error_code(void);
 void mica_error_clear(void);
+/* Changes whenever an error is set or cleared: tells one error from the next (src/parallel agrees on each
+ * error once). */
+unsigned long mica_error_generation(void);
 /* Prints the message (and, with MICA_TRACE=1 in the environment, the stack) to stderr. */
 void mica_error_report(const char *program);
 /* Exit status for an error code: 0, 2 (input), 3 (numerical), 1 (anything else). */

@@ -123,6 +123,9 @@ int mls_num_terms(const MlsApprox *mls);
 const double *mls_particles(const MlsApprox *mls); /* [n*dim] */
 const double *mls_radii(const MlsApprox *mls);     /* [n*dim] */
 const double *mls_spacing(const MlsApprox *mls);   /* [n*dim], local spacing h */
+/* The neighbor search with the supports set, and the support kind (src/parallel finds supports with them). */
+const MlsSearch *mls_search(const MlsApprox *mls);
+MlsSupportKind mls_support_kind(const MlsApprox *mls);
 
 /* What to compute at a point: values only, with gradients, or with gradients and Hessians. */
 enum { MLS_VALUES = 0, MLS_GRADIENT = 1, MLS_HESSIAN = 2 };

@@ -140,6 +140,10 @@ typedef struct MicaSolidOptions {
                                    the tangent is unsymmetric), first-order models only */
   int scni;                     /* 1: smoothed (SCNI) gradients at the particles: disc must be nodal
                                    (mica_discretization_nodal); first-order, non-axisymmetric models only */
+  struct MicaDistribution *parallel; /* NULL: serial. Else (src/parallel, mica/parallel.h) the discretization
+                                   holds this rank's share of the quadrature points: residuals are summed over
+                                   the ranks, terms added once per problem come from rank 0, and Newton solves
+                                   through the distributed solver */
 } MicaSolidOptions;
 
 typedef struct MicaSolid {

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "mica/parallel.h"
 #include "mica/solid.h"
 
 /* Slots of q (model.h layout): value of c at c; ∂_J of c at ncomp + c*dim + J; ∂_h of c after the gradients.
@@ -205,11 +206,18 @@ static int assemble_tractions(const MicaSolid *s, double t, double *R) {
   return MICA_SUCCESS;
 }
 
-int mica_solid_assemble(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K) {
-  memset(R, 0, sizeof(double) * (size_t)s->ndof);
-  if (K) mica_sparse_zero(K);
+static int assemble_points(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K) {
   MICA_CALL(assemble_volume(s, t, u, R, K));
   MICA_CALL(assemble_tractions(s, t, R));
   for (int c = 0; c < s->ndirichlet; c++) MICA_CALL(s->opt.bc_method->add(s, &s->dirichlet[c], t, u, R, K));
   return MICA_SUCCESS;
+}
+
+int mica_solid_assemble(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K) {
+  memset(R, 0, sizeof(double) * (size_t)s->ndof);
+  if (K) mica_sparse_zero(K);
+  const int ierr = assemble_points(s, t, u, R, K);
+  /* parallel: this rank's points only; the residual is summed over the ranks (K stays distributed) */
+  if (s->opt.parallel) MICA_CALL(mica_parallel_residual(ierr, R, s->ndof));
+  return ierr;
 }

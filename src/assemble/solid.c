@@ -102,6 +102,9 @@ static void clique_fill(const MicaSolid *s, const MicaShapeCache *c, long p, int
 static int build_pattern(MicaSolid *s) {
   const int with_multipliers = s->opt.bc_method->needs_multipliers;
   long ncliques = s->volume->npoints, total = s->volume->ptr[s->volume->npoints];
+  /* parallel: every multiplier node's own block, which rank 0 pins whether or not its points touch the node */
+  const long nsingle = s->opt.parallel ? s->nmultiplier_nodes : 0;
+  ncliques += nsingle, total += nsingle;
   for (int c = 0; c < s->ndirichlet; c++) {
     const MicaShapeCache *b = s->boundary[s->dirichlet[c].set];
     ncliques += b->npoints;
@@ -124,6 +127,10 @@ static int build_pattern(MicaSolid *s) {
       clique_fill(s, b, p, cond, nodes + ptr[q]);
       ptr[q + 1] = ptr[q] + clique_size(s, b, p, cond);
     }
+  }
+  for (long v = 0; v < nsingle; v++, q++) {
+    nodes[ptr[q]] = s->nparticles + v;
+    ptr[q + 1] = ptr[q] + 1;
   }
   MICA_CALL_CLEANUP(mica_sparse_create(s->nparticles + s->nmultiplier_nodes, s->ncomp, ncliques, ptr, nodes, &s->K));
 cleanup:
@@ -173,6 +180,9 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
   MICA_CHECK(!opt->scni || (opt->field.ops->order == 1 && !opt->axisymmetric), MICA_ERR_INPUT,
              "SCNI smooths first derivatives of plane or 3-D fields only; model '%s'%s", opt->field.ops->name,
              opt->axisymmetric ? " is axisymmetric" : " uses second derivatives");
+  MICA_CHECK(!opt->vci || !opt->parallel, MICA_ERR_INPUT,
+             "quadrature.vci is not available in parallel runs yet (its correction sums over every particle's "
+             "support); run on one process");
   MICA_CHECK(opt->field.ops == &mica_field_classical || !opt->bc_method->needs_model_traction, MICA_ERR_INPUT,
              "bc.method = \"%s\" needs a classical model; model '%s' has generalized tractions: use \"lagrange\" or "
              "\"penalty\"", opt->bc_method->name, opt->field.ops->name);

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "bc_private.h"
+#include "mica/parallel.h"
 
 enum { MAX_ELEMENT = 4 };
 
@@ -92,7 +93,8 @@ static int pin_free_components(MicaSolid *s, const MicaDirichlet *c, const doubl
 static int lagrange_add(MicaSolid *s, const MicaDirichlet *c, double t, const double *u, double *R, MicaSparse *K) {
   const long npoints = s->boundary[c->set]->npoints;
   for (long p = 0; p < npoints; p++) MICA_CALL(lagrange_point(s, c, p, t, u, R, K));
-  MICA_CALL(pin_free_components(s, c, u, R, K));
+  /* once per problem: by rank 0 in a parallel run (whose pattern holds every multiplier node's block) */
+  if (!s->opt.parallel || mica_parallel_rank() == 0) MICA_CALL(pin_free_components(s, c, u, R, K));
   return MICA_SUCCESS;
 }
 

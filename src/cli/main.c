@@ -17,6 +17,7 @@
 
 #include "mica/command.h"
 #include "mica/files.h"
+#include "mica/parallel.h"
 #include "mica/timer.h"
 
 #define MICA_VERSION "0.1.0"
@@ -144,45 +145,83 @@ static int default_outdir(const MicaDeck *deck, char **outdir) {
   return mica_path_join("out", mica_deck_name(deck), outdir);
 }
 
-/* Loads the deck, runs the command into a staging directory, publishes on success. */
+/* Parallel runs: ranks other than 0 run the command into a private scratch directory, removed at the end, so
+ * that every file of the results is written once, by rank 0 (src/parallel). */
+static int private_outdir(char **staging) {
+  const char *tmp = getenv("TMPDIR");
+  char pattern[1024];
+  snprintf(pattern, sizeof pattern, "%s/mica-rank%d-XXXXXX", tmp && *tmp ? tmp : "/tmp", mica_parallel_rank());
+  MICA_CHECK(mkdtemp(pattern), MICA_ERR_IO, "rank %d cannot make a scratch directory %s", mica_parallel_rank(),
+             pattern);
+  MICA_CALL(MICA_MALLOC(*staging, strlen(pattern) + 1));
+  strcpy(*staging, pattern);
+  return MICA_SUCCESS;
+}
+
+/* Rank 0: the output directory, its staging directory and the resolved deck in it. */
+static int prepare_outdir(const Invocation *inv, const MicaDeck *deck, char **outdir, char **staging,
+                          int *outdir_existed) {
+  char *path = NULL;
+  if (inv->outdir) {
+    MICA_CALL(MICA_MALLOC(*outdir, strlen(inv->outdir) + 1));
+    strcpy(*outdir, inv->outdir);
+  } else {
+    MICA_CALL(default_outdir(deck, outdir));
+  }
+  struct stat info;
+  *outdir_existed = stat(*outdir, &info) == 0;
+  char name[64];
+  snprintf(name, sizeof name, ".staging-%ld", (long)getpid());
+  MICA_CALL(mica_path_join(*outdir, name, staging));
+  MICA_CALL(mica_make_dir(*staging));
+  MICA_CALL(mica_path_join(*staging, "resolved.cfg", &path));
+  int ierr = mica_deck_write_resolved(deck, path);
+  free(path);
+  return ierr;
+}
+
+/* Rank 0: summary.json into the staging directory, then everything into outdir. */
+static int publish(const char *staging, const char *outdir, MicaJson *summary, double start) {
+  char *path = NULL;
+  MICA_CALL(mica_json_number(summary, "time_total", mica_wtime() - start));
+  MICA_CALL(mica_path_join(staging, "summary.json", &path));
+  int ierr = mica_json_write(summary, path);
+  free(path);
+  MICA_CALL(ierr);
+  MICA_CALL(publish_staging(staging, outdir));
+  printf("results in %s/ (summary.json, resolved.cfg)\n", outdir);
+  return MICA_SUCCESS;
+}
+
+/* Loads the deck, runs the command into a staging directory, publishes on success. Under MPI every rank
+ * loads the deck and runs the command; rank 0 alone writes the results; the ranks agree on the outcome
+ * after loading, after the command and at the end, so they all exit with the same status. */
 static int run_command(const Invocation *inv) {
   MicaDeck *deck = NULL;
   MicaJson *summary = NULL;
-  char *outdir = NULL, *staging = NULL, *path = NULL;
+  char *outdir = NULL, *staging = NULL;
   int ierr = MICA_SUCCESS, outdir_existed = 1;
+  const int root = mica_parallel_rank() == 0;
   const double start = mica_wtime();
-  MICA_CALL_CLEANUP(mica_deck_load(inv->deck_path, inv->command->schema, inv->noverrides,
-                                   inv->overrides, &deck));
-  if (inv->outdir) {
-    MICA_CALL_CLEANUP(MICA_MALLOC(outdir, strlen(inv->outdir) + 1));
-    strcpy(outdir, inv->outdir);
-  } else {
-    MICA_CALL_CLEANUP(default_outdir(deck, &outdir));
-  }
-  struct stat info;
-  outdir_existed = stat(outdir, &info) == 0;
-  char name[64];
-  snprintf(name, sizeof name, ".staging-%ld", (long)getpid());
-  MICA_CALL_CLEANUP(mica_path_join(outdir, name, &staging));
-  MICA_CALL_CLEANUP(mica_make_dir(staging));
-  MICA_CALL_CLEANUP(mica_path_join(staging, "resolved.cfg", &path));
-  MICA_CALL_CLEANUP(mica_deck_write_resolved(deck, path));
-  MICA_CALL_CLEANUP(mica_json_create(&summary));
-  MICA_CALL_CLEANUP(mica_json_string(summary, "status", "ok"));
-  MICA_CALL_CLEANUP(mica_json_string(summary, "command", inv->command->name));
-  MICA_CALL_CLEANUP(mica_json_string(summary, "deck", inv->deck_path));
-  MICA_CALL_CLEANUP(inv->command->run(deck, staging, summary));
-  MICA_CALL_CLEANUP(mica_json_number(summary, "time_total", mica_wtime() - start));
-  free(path);
-  path = NULL;
-  MICA_CALL_CLEANUP(mica_path_join(staging, "summary.json", &path));
-  MICA_CALL_CLEANUP(mica_json_write(summary, path));
-  MICA_CALL_CLEANUP(publish_staging(staging, outdir));
-  printf("results in %s/ (summary.json, resolved.cfg)\n", outdir);
+  ierr = mica_deck_load(inv->deck_path, inv->command->schema, inv->noverrides, inv->overrides, &deck);
+  if (!ierr) ierr = mica_parallel_inject("deck");
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  ierr = root ? prepare_outdir(inv, deck, &outdir, &staging, &outdir_existed) : private_outdir(&staging);
+  if (!ierr) ierr = mica_json_create(&summary);
+  if (!ierr) ierr = mica_json_string(summary, "status", "ok");
+  if (!ierr) ierr = mica_json_string(summary, "command", inv->command->name);
+  if (!ierr) ierr = mica_json_string(summary, "deck", inv->deck_path);
+  if (!ierr && mica_parallel_active()) ierr = mica_json_int(summary, "ranks", mica_parallel_size());
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  ierr = inv->command->run(deck, staging, summary);
+  if (!ierr) ierr = mica_parallel_inject("output");
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  if (root) ierr = publish(staging, outdir, summary, start);
 cleanup:
-  if (ierr && staging) mica_remove_tree(staging);
-  if (ierr && !outdir_existed) rmdir(outdir); /* only if empty: never removes results */
-  free(path);
+  ierr = mica_parallel_agree(ierr); /* every rank passes here once more: a failure of rank 0's publishing */
+  if (ierr && staging && root) mica_remove_tree(staging);
+  if (staging && !root) mica_remove_tree(staging);
+  if (ierr && !outdir_existed && outdir) rmdir(outdir); /* only if empty: never removes results */
   free(staging);
   free(outdir);
   mica_json_destroy(&summary);
@@ -197,9 +236,14 @@ int main(int argc, char **argv) {
   /* MPI starts only under a launcher (mpirun sets these): a plain `mica` run is one serial process and
    * pays neither MPI's start-up time nor its one-time allocations. */
   const int launched = getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK") || getenv("PMI_RANK");
-  if (launched) MPI_Init(&argc, &argv);
+  if (launched) {
+    MPI_Init(&argc, &argv);
+    mica_parallel_start();
+  }
   int ierr = run_command(&inv);
-  if (ierr) mica_error_report("mica");
+  /* an error every rank agreed on is reported once, by rank 0; any other ends every rank at once */
+  if (ierr && !mica_parallel_error_agreed()) mica_parallel_abort("mica", mica_exit_status(ierr));
+  if (ierr && mica_parallel_rank() == 0) mica_error_report("mica");
   if (launched) MPI_Finalize();
   return mica_exit_status(ierr);
 }

@@ -133,6 +133,9 @@ int mls_destroy(MlsApprox **mls) {
   return MICA_SUCCESS;
 }
 
+const MlsSearch *mls_search(const MlsApprox *mls) { return mls->search; }
+MlsSupportKind mls_support_kind(const MlsApprox *mls) { return mls->opt.support; }
+
 int mls_set_radii(MlsApprox *mls, const double *radii) {
   const long count = mls->n * mls->dim;
   for (long i = 0; i < count; i++)

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mica/parallel.h"
 #include "mica/solid.h"
 #include "mica/timer.h"
 
@@ -32,11 +33,17 @@ static int assemble(Newton *nw, double t, const double *u, int with_tangent) {
   return ierr;
 }
 
+/* A parallel run solves through the distributed solver, with ops on rank 0 or in the subdomains. */
+static int create_linear(Newton *nw, const MicaLinearSolverOps *ops) {
+  if (nw->s->opt.parallel) return mica_parallel_linear_create(nw->s->opt.parallel, ops, &nw->linear);
+  return mica_linear_solver_create(ops, &nw->linear);
+}
+
 static int choose_linear_solver(Newton *nw) {
   const MicaLinearSolverOps *ops = nw->opt->linear;
   nw->auto_linear = ops == NULL;
   if (!ops) ops = mica_solid_symmetric_definite(nw->s) ? &mica_linear_cholmod : &mica_linear_umfpack;
-  MICA_CALL(mica_linear_solver_create(ops, &nw->linear));
+  MICA_CALL(create_linear(nw, ops));
   nw->stats->linear_name = ops->name;
   return MICA_SUCCESS;
 }
@@ -47,11 +54,11 @@ static int solve_linear(Newton *nw) {
   const long n = nw->s->ndof;
   double start = mica_wtime();
   int ierr = mica_linear_solver_factor(nw->linear, nw->s->K);
-  if (ierr == MICA_ERR_NUMERIC && nw->auto_linear && nw->linear->ops == &mica_linear_cholmod) {
+  if (ierr == MICA_ERR_NUMERIC && nw->auto_linear && !strcmp(nw->stats->linear_name, "cholmod")) {
     if (nw->opt->verbose) printf("  note: the tangent is not positive definite; switching to UMFPACK\n");
     mica_error_clear();
     mica_linear_solver_destroy(&nw->linear);
-    MICA_CALL(mica_linear_solver_create(&mica_linear_umfpack, &nw->linear));
+    MICA_CALL(create_linear(nw, &mica_linear_umfpack));
     nw->stats->linear_name = "umfpack";
     ierr = mica_linear_solver_factor(nw->linear, nw->s->K);
   }

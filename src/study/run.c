@@ -434,6 +434,20 @@ static int read_scni(const MicaDeck *deck, RunProblem *rp, MicaSolidOptions *opt
              opt->field.ops->name);
 }
 
+/* The measuring sticks of issue 5 run on one process: the FE baseline and the nodal integration modes keep
+ * per-point data (elements, nodal cells) that the distribution of the quadrature points does not carry. */
+static int check_serial_only(const MicaDeck *deck, const RunProblem *rp) {
+  const char *path = rp->fe ? "problem.method" : rp->disc->nodal ? "quadrature.mode" : NULL;
+  if (!path) return MICA_SUCCESS;
+  char where[256];
+  const char *value;
+  mica_deck_where(deck, path, where, sizeof where);
+  MICA_CALL(mica_deck_string(deck, path, &value));
+  MICA_ERROR(MICA_ERR_INPUT, "%s: %s = \"%s\" runs on one process (it is a measuring stick, not distributed); run "
+             "without mpirun, or use %s", where, path, value,
+             rp->fe ? "problem.method = \"efg\"" : "quadrature.mode = \"gauss\"");
+}
+
 static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *donor) {
   MicaSolidOptions opt;
   memset(&opt, 0, sizeof opt);
@@ -460,9 +474,16 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   opt.basis_order = (int)order;
   MICA_CALL_CLEANUP(read_vci(deck, rp->disc, &opt));
   MICA_CALL_CLEANUP(read_scni(deck, rp, &opt));
+  const MicaDiscretization *disc = rp->disc;
+  if (mica_parallel_active()) { /* MPI: this rank's share of the quadrature points (run_parallel.c) */
+    MICA_CALL_CLEANUP(check_serial_only(deck, rp));
+    MICA_CALL_CLEANUP(run_parallel_distribute(deck, rp));
+    opt.parallel = rp->dist;
+    disc = rp->dist->local;
+  }
   const double start = mica_wtime();
-  ierr = mica_study_mls_input(mica_solid_create_sharing(rp->disc, &rp->approx, &opt, ndirichlet, dirichlet,
-                                                        ntraction, traction, donor, &rp->solid));
+  ierr = mica_study_mls_input(mica_solid_create_sharing(disc, &rp->approx, &opt, ndirichlet, dirichlet, ntraction,
+                                                        traction, donor, &rp->solid));
   rp->time_cache_pattern = mica_wtime() - start;
   return ierr; /* the solid owns the conditions now, whether or not it was built */
 cleanup:
@@ -669,16 +690,18 @@ int run_problem_build_reusing(const MicaDeck *deck, RunProblem *rp, RunReuse *re
 
 int run_problem_build(const MicaDeck *deck, RunProblem *rp) { return run_problem_build_reusing(deck, rp, NULL); }
 
-/* With reuse, the solid and the output cache pass to it (a run that built no solid leaves the kept one). */
+/* With reuse, the solid and the output cache pass to it (a run that built no solid leaves the kept one). Under
+ * MPI the solid lives on this run's distribution, which goes now: the next run builds its own caches. */
 void run_problem_free(RunProblem *rp) {
   RunReuse *reuse = rp->reuse;
-  if (reuse && rp->solid) {
+  if (reuse && rp->solid && !rp->dist) {
     mica_solid_destroy(&reuse->solid);
     reuse->solid = rp->solid, rp->solid = NULL;
   }
   if (reuse && !reuse->at_particles && !rp->owns_geometry)
     reuse->at_particles = rp->at_particles, rp->at_particles = NULL;
   mica_solid_destroy(&rp->solid);
+  mica_distribution_destroy(&rp->dist);
   mica_shape_cache_destroy(&rp->at_particles);
   if (rp->owns_geometry) {
     mls_destroy(&rp->mls);
@@ -706,7 +729,19 @@ static size_t cache_bytes(const MicaSolid *s) {
   return bytes;
 }
 
-static int add_counts(const RunProblem *rp, MicaJson *summary) {
+/* The sizes of the problem; under MPI, totals over the ranks (run_parallel.c). */
+static int count_totals(const RunProblem *rp, RunTotals *c) {
+  const MicaSolid *s = rp->solid;
+  c->nnz = s->K->nnz;
+  c->support_entries = s->volume->ptr[s->volume->npoints];
+  c->support_points = s->volume->npoints;
+  c->max_support = s->volume->max_support;
+  c->cache_bytes = (long)cache_bytes(s);
+  if (rp->dist) MICA_CALL(run_parallel_totals(rp, c));
+  return MICA_SUCCESS;
+}
+
+static int add_counts(const RunProblem *rp, const RunTotals *c, MicaJson *summary) {
   const MicaSolid *s = rp->solid;
   MICA_CALL(mica_json_string(summary, "method", rp->approx.ops->name));
   if (rp->fe) MICA_CALL(mica_json_string(summary, "element", mica_fe_element_name(rp->fe->dim, rp->fe->order)));
@@ -719,12 +754,11 @@ static int add_counts(const RunProblem *rp, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "boundary_points", boundary_points(rp->disc)));
   MICA_CALL(mica_json_int(summary, "dofs", s->ndof));
   MICA_CALL(mica_json_int(summary, "multiplier_nodes", s->nmultiplier_nodes));
-  MICA_CALL(mica_json_int(summary, "nnz", s->K->nnz));
-  MICA_CALL(mica_json_int(summary, "support_max", s->volume->max_support));
-  MICA_CALL(mica_json_number(summary, "support_mean",
-                             (double)s->volume->ptr[s->volume->npoints] / (double)s->volume->npoints));
-  MICA_CALL(mica_json_int(summary, "cache_bytes", (long)cache_bytes(s)));
-  MICA_CALL(mica_json_int(summary, "matrix_bytes", (long)(s->K->nnz * 16 + (s->ndof + 1) * 8)));
+  MICA_CALL(mica_json_int(summary, "nnz", c->nnz));
+  MICA_CALL(mica_json_int(summary, "support_max", c->max_support));
+  MICA_CALL(mica_json_number(summary, "support_mean", (double)c->support_entries / (double)c->support_points));
+  MICA_CALL(mica_json_int(summary, "cache_bytes", c->cache_bytes));
+  MICA_CALL(mica_json_int(summary, "matrix_bytes", (long)(c->nnz * 16 + (s->ndof + 1) * 8)));
   MICA_CALL(mica_json_number(summary, "volume", rp->disc->volume));
   MICA_CALL(mica_json_string(summary, "model", s->opt.field.ops == &mica_field_classical ? s->opt.field.classical->name
                                                                                        : s->opt.field.ops->name));
@@ -742,13 +776,13 @@ static int add_counts(const RunProblem *rp, MicaJson *summary) {
   return MICA_SUCCESS;
 }
 
-static void print_counts(const RunProblem *rp) {
+static void print_counts(const RunProblem *rp, const RunTotals *c) {
   const MicaSolid *s = rp->solid;
   printf("%ld particles, %ld %s cells, %ld quadrature points (+%ld on the boundary), %ld dofs, nnz %ld, support "
          "%.1f mean / %ld max, cache %.1f MB, matrix %.1f MB\n",
-         rp->disc->nparticles, rp->disc->ncells, rp->disc->nodal ? "nodal" : "background", rp->disc->nquad, boundary_points(rp->disc), s->ndof, s->K->nnz,
-         (double)s->volume->ptr[s->volume->npoints] / (double)s->volume->npoints, s->volume->max_support,
-         (double)cache_bytes(s) / 1e6, (double)(s->K->nnz * 16) / 1e6);
+         rp->disc->nparticles, rp->disc->ncells, rp->disc->nodal ? "nodal" : "background", rp->disc->nquad,
+         boundary_points(rp->disc), s->ndof, c->nnz, (double)c->support_entries / (double)c->support_points,
+         c->max_support, (double)c->cache_bytes / 1e6, (double)(c->nnz * 16) / 1e6);
   if (s->opt.vci) printf("VCI: corrected test gradients in %.3g s\n", s->time_vci);
   if (rp->fe)
     printf("finite elements: %ld %s elements on the particles\n", rp->fe->nelements,
@@ -814,8 +848,11 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   int ierr = MICA_SUCCESS;
   memset(&stats, 0, sizeof stats);
   MICA_CALL_CLEANUP(run_problem_build_reusing(deck, &rp, reuse));
-  print_counts(&rp);
-  MICA_CALL_CLEANUP(add_counts(&rp, summary));
+  RunTotals totals;
+  MICA_CALL_CLEANUP(count_totals(&rp, &totals));
+  print_counts(&rp, &totals);
+  MICA_CALL_CLEANUP(add_counts(&rp, &totals, summary));
+  MICA_CALL_CLEANUP(run_parallel_counts(&rp, summary));
   MICA_CALL_CLEANUP(read_newton(deck, rp.solid, &nopt));
   memset(&out, 0, sizeof out);
   out.rp = &rp, out.outdir = outdir;
@@ -825,6 +862,8 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(mica_newton_solve(rp.solid, &nopt, u, run_output_step, &out, &stats));
   MICA_CALL_CLEANUP(mica_json_number(summary, "time_newton", mica_wtime() - start));
   MICA_CALL_CLEANUP(add_newton_stats(&stats, summary));
+  MICA_CALL_CLEANUP(run_parallel_solver_stats(&rp, summary));
+  MICA_CALL_CLEANUP(run_parallel_memory(&rp, summary));
   MICA_CALL_CLEANUP(run_output_finish(&out));
   MICA_CALL_CLEANUP(run_error_norms(&rp, u, summary));
   MICA_CALL_CLEANUP(run_probes(&rp, u, summary));
@@ -845,9 +884,12 @@ static int run_check(const MicaDeck *deck, const char *outdir, MicaJson *summary
   RunProblem rp;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(run_problem_build(deck, &rp));
-  print_counts(&rp);
-  MICA_CALL_CLEANUP(add_counts(&rp, summary));
-  const double nnz = (double)rp.solid->K->nnz;
+  RunTotals totals;
+  MICA_CALL_CLEANUP(count_totals(&rp, &totals));
+  print_counts(&rp, &totals);
+  MICA_CALL_CLEANUP(add_counts(&rp, &totals, summary));
+  MICA_CALL_CLEANUP(run_parallel_counts(&rp, summary));
+  const double nnz = (double)totals.nnz;
   const char *size_class = nnz < 1e6 ? "small (seconds)" : nnz < 3e7 ? "medium (minutes)" : "large (hours, or use MPI)";
   MICA_CALL_CLEANUP(mica_json_string(summary, "cost_class", size_class));
   printf("deck is valid; cost class: %s\n", size_class);

@@ -4,6 +4,7 @@
 
 #include "mica/command.h"
 #include "mica/fe.h"
+#include "mica/parallel.h"
 #include "mica/solid.h"
 
 extern const MicaDeckKey mica_run_schema[];
@@ -28,6 +29,7 @@ typedef struct RunProblem {
   int has_exact, ncomp;
   int axisymmetric;             /* geometry.axisymmetric: a 2-D (r, z) section, 3-D model, cylindrical components */
   MicaShapeCache *at_particles; /* shape functions at the particles, for output (built on first use) */
+  MicaDistribution *dist;       /* MPI: the partition and this rank's points (NULL: serial) */
   const char *integration;      /* quadrature.mode: "gauss", "nodal" or "scni" */
   MicaShapeCache *at_gauss;     /* nodal and scni: MLS shape functions at the background Gauss points, where the
                                    error norms are measured (NULL in gauss mode: the volume cache is there) */
@@ -53,6 +55,19 @@ void run_problem_free(RunProblem *rp);
 
 /* `mica run` on a checked deck, reusing what the previous run left in reuse (NULL: nothing). */
 int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summary, RunReuse *reuse);
+/* MPI (run_parallel.c): the distribution from solver.parallel, .overlap, .linear_rtol,
+ * .linear_max_iterations; its partition and per-rank counts, and the distributed solver's statistics, in
+ * the summary and the log (nothing in a serial run). */
+typedef struct RunTotals {
+  long nnz;                 /* of the (whole) tangent */
+  long support_entries, support_points, max_support; /* volume points' supports */
+  long cache_bytes;         /* shape-function caches, all ranks together */
+} RunTotals;
+int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp);
+int run_parallel_totals(const RunProblem *rp, RunTotals *totals);
+int run_parallel_counts(const RunProblem *rp, MicaJson *summary);
+int run_parallel_memory(const RunProblem *rp, MicaJson *summary);
+int run_parallel_solver_stats(const RunProblem *rp, MicaJson *summary);
 
 /* Output: per-step VTU files and the PVD collection, error norms, probes, summary members. */
 typedef struct RunOutput {

@@ -136,7 +136,7 @@ static int fields_compute(RunProblem *rp, const double *u, ParticleFields *f) {
 
 int run_output_step(void *ctx, int step, double t, const double *u) {
   RunOutput *out = ctx;
-  if (!out->vtu || out->nsteps >= 1024) return MICA_SUCCESS;
+  if (!out->vtu || out->nsteps >= 1024 || mica_parallel_rank() != 0) return MICA_SUCCESS; /* MPI: rank 0 writes */
   ParticleFields f = {0};
   char *path = NULL;
   int ierr = MICA_SUCCESS;
@@ -177,7 +177,7 @@ int run_output_finish(RunOutput *out) {
  * Gauss points with the MLS shape functions themselves — the nodal points alone cannot see a spurious mode
  * whose gradients vanish there, and SCNI's smoothed gradients are not the gradients of the approximation. */
 static int error_points(RunProblem *rp, const MicaShapeCache **c, const double **x, const double **w) {
-  const MicaDiscretization *disc = rp->disc;
+  const MicaDiscretization *disc = rp->solid->disc; /* under MPI, this rank's points (nodal modes are serial) */
   *c = rp->solid->volume, *x = disc->qx, *w = disc->qw;
   if (!disc->nodal) return MICA_SUCCESS;
   if (!rp->at_gauss)
@@ -213,6 +213,11 @@ int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary) {
       for (int j = 0; j < nvg; j++) en[0] += w * e[i] * D0[i * nq + j] * e[j], en[1] += w * qe[i] * D0[i * nq + j] * qe[j];
   }
   free(D0);
+  if (rp->dist) { /* MPI: sums over every rank's points */
+    double sums[6] = {l2[0], l2[1], h1[0], h1[1], en[0], en[1]};
+    MICA_CALL(mica_parallel_sum(ierr, sums, 6));
+    l2[0] = sums[0], l2[1] = sums[1], h1[0] = sums[2], h1[1] = sums[3], en[0] = sums[4], en[1] = sums[5];
+  }
   MICA_CALL(ierr);
   const double el2 = sqrt(l2[0] / fmax(l2[1], 1e-300)), eh1 = sqrt(h1[0] / fmax(h1[1], 1e-300)),
                een = sqrt(fabs(en[0]) / fmax(en[1], 1e-300));
@@ -253,13 +258,15 @@ static int probe_field_exists(const RunProblem *rp, const char *field) {
 static int strain_energy(const RunProblem *rp, const double *u, double *energy) {
   const MicaSolid *s = rp->solid;
   double q[128], W;
+  int ierr = MICA_SUCCESS;
   *energy = 0;
-  for (long p = 0; p < s->volume->npoints; p++) {
+  for (long p = 0; p < s->volume->npoints && !ierr; p++) {
     mica_solid_kinematics(s, s->volume, p, u, q);
-    MICA_CALL(s->opt.field.ops->eval(&s->opt.field, s->model_dim, q, &W, NULL, NULL));
-    *energy += rp->disc->qw[p] * W;
+    ierr = s->opt.field.ops->eval(&s->opt.field, s->model_dim, q, &W, NULL, NULL);
+    *energy += s->disc->qw[p] * W; /* s->disc: under MPI, this rank's points, summed below */
   }
-  return MICA_SUCCESS;
+  if (rp->dist) MICA_CALL(mica_parallel_sum(ierr, energy, 1));
+  return ierr;
 }
 
 /* The raw value of a point probe: the field at the deck's point. */

@@ -20,6 +20,7 @@ static _Thread_local struct {
   char message[MESSAGE_MAX];
   TraceFrame frames[TRACE_MAX];
   int nframes;
+  unsigned long generation; /* counts mica_error_set and mica_error_clear calls */
 } current;
 
 static void push_frame(const char *file, int line, const char *func) {
@@ -34,6 +35,7 @@ int mica_error_set(const char *file, int line, const char *func, int code, const
   va_end(ap);
   current.code = code;
   current.nframes = 0;
+  current.generation++;
   push_frame(file, line, func);
   return code;
 }
@@ -63,7 +65,10 @@ void mica_error_prefix(const char *fmt, ...) {
 const char *mica_error_message(void) { return current.message; }
 int mica_error_code(void) { return current.code; }
 
+unsigned long mica_error_generation(void) { return current.generation; }
+
 void mica_error_clear(void) {
+  current.generation++;
   current.code = MICA_SUCCESS;
   current.message[0] = '\0';
   current.nframes = 0;

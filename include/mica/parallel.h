@@ -1,0 +1,160 @@
+/* Parallel runs with MPI and METIS (design.md §7; docs/architecture.md §parallel).
+ *
+ * Under `mpirun -np P` (P > 1) every rank reads the deck and builds the particles, the background cells
+ * and the MLS approximation (replicated: O(particles) memory each). METIS partitions the particle graph
+ * (particles that share a quadrature point are adjacent); each volume or boundary quadrature point follows
+ * the particle nearest to it among its supports (distance measured in support radii). Each rank then
+ * evaluates and caches shape functions only at its own points and assembles their residual and tangent
+ * contributions. Its ghost particles — the supports of its points that other ranks own — are as deep as
+ * the supports by construction. Vectors (u, R, Δu) are replicated: residual contributions are summed with
+ * one MPI_Allreduce per assembly. Linear solves:
+ *   gather  - the tangent's contributions are gathered to rank 0 (pattern once, values per factorization),
+ *             factored there by CHOLMOD/UMFPACK with the symbolic analysis reused, the solution broadcast;
+ *   schwarz - overlapping additive Schwarz preconditioned CG (SPD) or GMRES (otherwise): each rank factors
+ *             the tangent restricted to its particles plus `overlap` layers of neighbors (CHOLMOD/UMFPACK).
+ *
+ * Errors: a failure on one rank reaches every rank at the next collective point (mica_parallel_agree);
+ * all ranks unwind with the same error code and message, and rank 0 alone reports it. Rank 0 alone
+ * prints (other ranks' stdout goes to /dev/null) and writes files.
+ *
+ * Testing aid: MICA_INJECT_FAILURE=RANK:PHASE[:exit] makes rank RANK fail at PHASE (deck, build, assemble,
+ * solve, output) with an error (or, with ":exit", leave the process at once without MPI_Finalize, as a
+ * crash would), so the tests can check that every rank stops.
+ */
+#ifndef MICA_PARALLEL_H
+#define MICA_PARALLEL_H
+
+#include "mica/error.h"
+#include "mica/mls.h"
+#include "mica/sparse.h"
+
+struct MicaDiscretization;
+
+/* ---- Processes ----------------------------------------------------------------------------------------- */
+
+/* After MPI_Init (only when launched by mpirun): records rank and size; ranks other than 0 send stdout to
+ * /dev/null. Serial runs never call it: then rank is 0 and size 1. */
+void mica_parallel_start(void);
+int mica_parallel_rank(void);
+int mica_parallel_size(void);
+/* 1 when more than one rank shares the work (and no mica_parallel_set_alone is in force). */
+int mica_parallel_active(void);
+/* 1: this rank works alone from now on (each rank solves whole problems, e.g. the points of a sweep);
+ * 0: back to sharing. Returns the previous setting. */
+int mica_parallel_set_alone(int alone);
+
+/* Collective: every rank passes its error code; all return the code of the lowest failing rank, with its
+ * message (prefixed "rank k: ") set on every rank, or MICA_SUCCESS. An error already agreed on is returned
+ * again without communication, so unwinding ranks pass later agreement points in step. */
+int mica_parallel_agree(int ierr);
+/* 1 if the current error was agreed on by all ranks (or the run is serial). */
+int mica_parallel_error_agreed(void);
+
+/* The failure injected by MICA_INJECT_FAILURE for this rank at this phase, or MICA_SUCCESS. */
+int mica_parallel_inject(const char *phase);
+
+/* Collective, after agreeing on ierr: v[n] summed over ranks in place (MPI_Allreduce). */
+int mica_parallel_sum(int ierr, double *v, long n);
+/* Collective, after agreeing on ierr: v[n] from rank `root` to all. */
+int mica_parallel_broadcast(int ierr, double *v, long n, int root);
+/* Ends every rank now (MPI_Abort) after printing the current error on this rank; serial: exit. */
+void mica_parallel_abort(const char *program, int status);
+
+/* ---- Partition ------------------------------------------------------------------------------------------ */
+
+/* The particle graph (no self loops, CSR) and its METIS k-way partition. */
+typedef struct MicaPartition {
+  int nparts;
+  long n;          /* particles (graph vertices) */
+  long *xadj;      /* [n+1] */
+  long *adjncy;    /* [xadj[n]] neighbors of each particle, ascending */
+  int *part;       /* [n] owning rank of each particle */
+  long edge_cut;   /* graph edges between parts */
+  double imbalance; /* largest part / mean part (1 = perfect) */
+  long *part_size; /* [nparts] particles per part */
+} MicaPartition;
+
+/* The supports of npoints points x[npoints*dim] (CSR: point p's particles index[ptr[p] .. ptr[p+1]),
+ * ascending) from the MLS neighbor search, without evaluating shape functions, and (if nearest != NULL)
+ * the supporting particle nearest to each point in the norm of its support (max_d |x_d − x_Id| / ρ_Id for
+ * boxes, |x − x_I| / ρ_I for balls), −1 for a point without support. */
+int mica_point_supports(const MlsApprox *mls, long npoints, const double *x, long **ptr, long **index,
+                        long *nearest);
+
+/* The particle graph of cliques (clique c: the particles nodes[ptr[c] .. ptr[c+1]) supporting point c) and
+ * its partition into nparts with METIS_PartGraphKway, vertex weights `weights` (NULL: 1). nparts = 1:
+ * everything in part 0, no METIS. An empty part is an error. */
+int mica_partition_create(long n, long ncliques, const long *ptr, const long *nodes, const long *weights, int nparts,
+                          MicaPartition **partition);
+int mica_partition_destroy(MicaPartition **partition);
+
+/* The ghost particles of `rank`: particles in the supports (CSR ptr/index over npoints points) of the
+ * points it owns (owner[p] == rank) that another rank owns; ascending, *nghost of them. */
+int mica_partition_ghosts(const MicaPartition *partition, int rank, long npoints, const long *ptr,
+                          const long *index, const int *owner, long *nghost, long **ghosts);
+
+/* mask[n]: 1 for the particles of part `rank` and `layers` layers of graph neighbors around them. */
+int mica_partition_overlap(const MicaPartition *partition, int rank, int layers, char *mask);
+
+/* ---- Distribution of a problem ------------------------------------------------------------------------ */
+
+typedef enum { MICA_PARALLEL_GATHER = 0, MICA_PARALLEL_SCHWARZ = 1 } MicaParallelSolver;
+
+typedef struct MicaParallelOptions {
+  MicaParallelSolver solver;
+  int overlap;        /* Schwarz: layers of particles around each part */
+  double rtol;        /* Krylov: |r| ≤ rtol |b| */
+  int max_iterations; /* Krylov */
+  int restart;        /* GMRES */
+  int verbose;        /* one line per linear solve */
+} MicaParallelOptions;
+
+/* Statistics of the distributed solve (accumulated over the run). */
+typedef struct MicaParallelStats {
+  long owned_particles, ghost_particles, owned_points; /* this rank */
+  long ghost_particles_max;                            /* over ranks */
+  long max_owned_points, min_owned_points;             /* over ranks */
+  double time_partition;
+  double time_gather;     /* moving tangent values (and the pattern, once) */
+  long krylov_solves, krylov_iterations, krylov_max_iterations;
+  double krylov_last_residual;
+  long subdomain_dofs_max, subdomain_dofs_min;
+} MicaParallelStats;
+
+/* A problem distributed over the ranks: the partition, who owns which quadrature point, and this rank's
+ * share of the discretization (its volume and boundary points; particles and boundary vertices whole). */
+typedef struct MicaDistribution {
+  MicaPartition *partition;
+  int *volume_owner;       /* [nquad] */
+  int **set_owner;         /* [nsets][n] */
+  struct MicaDiscretization *local; /* this rank's points */
+  MicaParallelOptions opt;
+  MicaParallelStats stats;
+  long nparticles;
+  int nsets;
+} MicaDistribution;
+
+/* Collective. Partitions (on rank 0, broadcast) and builds this rank's share of disc. */
+int mica_distribution_create(const struct MicaDiscretization *disc, const MlsApprox *mls,
+                             const MicaParallelOptions *opt, MicaDistribution **dist);
+int mica_distribution_destroy(MicaDistribution **dist);
+
+/* Collective. The solver of the distributed tangent: gather to rank 0 and `inner` there, or Schwarz with
+ * `inner` for the subdomains (CG if inner is CHOLMOD, else GMRES). Fits Newton's linear-solver slot: factor
+ * takes this rank's tangent contributions (full numbering), solve a replicated right-hand side and returns
+ * the replicated solution. */
+int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOps *inner, MicaLinearSolver **solver);
+
+/* Collective: nnz of the sum over ranks of their matrices L (the pattern of the whole tangent). */
+int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz);
+/* Collective: the largest value of v over the ranks (for counts: memory per rank, ...). */
+long mica_parallel_max_long(long v);
+long mica_parallel_sum_long(long v);
+/* This process's peak resident memory, bytes (getrusage). */
+long mica_parallel_peak_memory(void);
+
+/* Collective: the distributed residual R (this rank's contributions) summed over ranks, after agreeing
+ * on ierr (the failure injection point "assemble"). */
+int mica_parallel_residual(int ierr, double *R, long n);
+
+#endif

@@ -1,0 +1,143 @@
+/* Ranks, agreement on errors, failure injection, and the collectives the solver uses (parallel.h).
+ *
+ * Agreement: every collective of the parallel solver is preceded by mica_parallel_agree(ierr), an
+ * MPI_Allreduce (MIN) of "the first failing rank" followed, if one failed, by the broadcast of its code and
+ * message. A rank that fails therefore skips the work up to the next agreement point and meets the others
+ * there; all then unwind with the same code. The command line agrees once more at the end of a command, so
+ * an error that does not pass through the solver (a deck error, a failure while building) is met there. An
+ * error once agreed is not agreed again (its generation is remembered), so ranks that unwind through
+ * several agreement points stay in step. */
+#include <mpi.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include "mica/parallel.h"
+
+static int started, rank_, size_ = 1, alone;
+static unsigned long agreed_generation; /* mica_error_generation() of the agreed error; 0: none */
+
+void mica_parallel_start(void) {
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  if (!initialized) return;
+  started = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  if (rank_ != 0 && !freopen("/dev/null", "w", stdout)) fclose(stdout);
+}
+
+int mica_parallel_rank(void) { return rank_; }
+int mica_parallel_size(void) { return size_; }
+int mica_parallel_active(void) { return started && size_ > 1 && !alone; }
+
+int mica_parallel_set_alone(int value) {
+  const int previous = alone;
+  alone = value;
+  return previous;
+}
+
+int mica_parallel_error_agreed(void) {
+  return !mica_parallel_active() || (agreed_generation && agreed_generation == mica_error_generation());
+}
+
+int mica_parallel_agree(int ierr) {
+  if (!mica_parallel_active()) return ierr;
+  if (ierr && mica_parallel_error_agreed()) return ierr;
+  int first = ierr ? rank_ : size_, failing = size_;
+  MPI_Allreduce(&first, &failing, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  if (failing == size_) return MICA_SUCCESS;
+  struct {
+    int code;
+    char message[1536];
+  } error;
+  memset(&error, 0, sizeof error);
+  if (rank_ == failing) {
+    error.code = ierr;
+    snprintf(error.message, sizeof error.message, "%s", mica_error_message());
+  }
+  MPI_Bcast(&error, (int)sizeof error, MPI_BYTE, failing, MPI_COMM_WORLD);
+  /* every rank, the failing one too, gets the message with the failing rank in front (rank 0's as it is:
+   * a deck error fails every rank alike) */
+  if (failing == 0 || strncmp(error.message, "rank ", 5) == 0)
+    mica_error_set(__FILE__, __LINE__, __func__, error.code, "%s", error.message);
+  else
+    mica_error_set(__FILE__, __LINE__, __func__, error.code, "rank %d: %s", failing, error.message);
+  agreed_generation = mica_error_generation();
+  return error.code;
+}
+
+int mica_parallel_inject(const char *phase) {
+  const char *spec = getenv("MICA_INJECT_FAILURE");
+  if (!spec || !*spec) return MICA_SUCCESS;
+  char *end = NULL;
+  const long rank = strtol(spec, &end, 10);
+  if (end == spec || *end != ':' || rank != rank_) return MICA_SUCCESS;
+  const char *name = end + 1, *colon = strchr(name, ':');
+  const size_t length = colon ? (size_t)(colon - name) : strlen(name);
+  if (length != strlen(phase) || strncmp(name, phase, length) != 0) return MICA_SUCCESS;
+  if (colon && !strcmp(colon + 1, "exit")) {
+    fprintf(stderr, "mica: rank %d: MICA_INJECT_FAILURE=%s: leaving at once (a simulated crash)\n", rank_, spec);
+    fflush(stderr);
+    _exit(1);
+  }
+  MICA_ERROR(MICA_ERR_LIBRARY, "failure injected at phase '%s' (MICA_INJECT_FAILURE=%s, a testing aid)", phase,
+             spec);
+}
+
+/* MPI counts are int: long vectors go in chunks. */
+enum { CHUNK = 1 << 28 };
+
+int mica_parallel_sum(int ierr, double *v, long n) {
+  MICA_CALL(mica_parallel_agree(ierr));
+  if (!mica_parallel_active()) return MICA_SUCCESS;
+  for (long first = 0; first < n; first += CHUNK) {
+    const int count = (int)(n - first < CHUNK ? n - first : CHUNK);
+    /* reduce to rank 0, then broadcast: every rank holds bitwise the same sums, so decisions taken on them
+     * (convergence, step cuts) are the same everywhere */
+    if (rank_ == 0) MPI_Reduce(MPI_IN_PLACE, v + first, count, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+    else MPI_Reduce(v + first, NULL, count, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+    MPI_Bcast(v + first, count, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  }
+  return MICA_SUCCESS;
+}
+
+int mica_parallel_broadcast(int ierr, double *v, long n, int root) {
+  MICA_CALL(mica_parallel_agree(ierr));
+  if (!mica_parallel_active()) return MICA_SUCCESS;
+  for (long first = 0; first < n; first += CHUNK) {
+    const int count = (int)(n - first < CHUNK ? n - first : CHUNK);
+    MPI_Bcast(v + first, count, MPI_DOUBLE, root, MPI_COMM_WORLD);
+  }
+  return MICA_SUCCESS;
+}
+
+int mica_parallel_residual(int ierr, double *R, long n) {
+  if (!ierr) ierr = mica_parallel_inject("assemble");
+  return mica_parallel_sum(ierr, R, n);
+}
+
+long mica_parallel_max_long(long v) {
+  if (mica_parallel_active()) MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
+  return v;
+}
+
+long mica_parallel_sum_long(long v) {
+  if (mica_parallel_active()) MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+  return v;
+}
+
+long mica_parallel_peak_memory(void) {
+  struct rusage usage;
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return (long)usage.ru_maxrss * 1024; /* kilobytes on Linux */
+}
+
+void mica_parallel_abort(const char *program, int status) {
+  fprintf(stderr, "%s: rank %d: %s\n", program, rank_, mica_error_message());
+  fflush(stderr);
+  if (started) MPI_Abort(MPI_COMM_WORLD, status ? status : 1);
+  exit(status ? status : 1);
+}
