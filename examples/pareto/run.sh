@@ -8,15 +8,34 @@ cd "$(dirname "$0")/../.."
 here=examples/pareto
 make -s bin/mica >/dev/null
 mkdir -p "$here/figures"
-for study in timoshenko manufactured; do
+for study in timoshenko timoshenko_fe manufactured; do
   bin/mica study "$here/$study.cfg" -o "$here/out/$study" "$@"
   for chart in study_time study_dofs; do
     cp "$here/out/$study/$chart.png" "$here/figures/${study}_${chart#study_}.png"
     cp "$here/out/$study/$chart.svg" "$here/figures/${study}_${chart#study_}.svg"
   done
 done
+# EFG against the FE measuring stick on the same beam: energy error against solve time, one point set per
+# basis order or element, from the two study.csv files (columns found by name)
+efg=$here/out/timoshenko/study.csv fe=$here/out/timoshenko_fe/study.csv
+series() {  # series CSV ORDER: "time error" of the ok rows of that order
+  awk -F, -v k="$2" 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    $c["status"] == "ok" && $c["parameters.k"] == k { print $c["time_solve_total"], $c["error_energy"] }' "$1"
+}
+for k in 1 2 3; do series "$efg" $k > "$here/out/efg_k$k.dat"; done
+for k in 1 2; do series "$fe" $k > "$here/out/fe_k$k.dat"; done
+gnuplot <<GP
+set terminal pngcairo size 900,600 noenhanced
+set output "$here/figures/timoshenko_efg_fe.png"
+set logscale xy; set grid; set key top right box; set format y "%.0e"
+set xlabel "solve time (assembly + factorization + solution), s"; set ylabel "relative energy-norm error"
+set title "Timoshenko cantilever: EFG (MLS) against finite elements on the same particles"
+plot "$here/out/efg_k1.dat" t "EFG linear" pt 6, "$here/out/efg_k2.dat" t "EFG quadratic" pt 8, \
+     "$here/out/efg_k3.dat" t "EFG cubic" pt 4, "$here/out/fe_k1.dat" t "FE Q1" pt 7, \
+     "$here/out/fe_k2.dat" t "FE Q2" pt 9, 1e-3 t "target 1e-3" lt 0
+GP
 # the fastest to the target by each time measure, recomputed from study.csv
-for study in timoshenko manufactured; do
+for study in timoshenko timoshenko_fe manufactured; do
   csv=$here/out/$study/study.csv
   target=$(sed -n 's/^ *"target": \(.*\),$/\1/p' "$here/out/$study/summary.json")
   for measure in time_solve_total time_total; do
