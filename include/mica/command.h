@@ -16,6 +16,7 @@ typedef struct MicaCommand {
 } MicaCommand;
 
 extern const MicaCommand mica_command_mls, mica_command_run, mica_command_check, mica_command_sweep;
+extern const MicaCommand mica_command_stability;
 
 const MicaCommand *const *mica_commands(void); /* NULL-terminated */
 const MicaCommand *mica_command_find(const char *name);
