@@ -301,7 +301,6 @@ int stability_eigen(const StabilityOptions *o, RunProblem *rp, const char *outdi
   double *u = NULL, *R = NULL, *vectors = NULL, *rigid = NULL, *Zs = NULL;
   int dense = 1, ierr = MICA_SUCCESS;
   memset(&r, 0, sizeof r);
-  MICA_CALL(check_eigen_input(rp->deck, s));
   MICA_CALL(choose_dense(o, rp->deck, s->ndof, &dense));
   const long n = s->ndof;
   r.ndof = n;
@@ -375,9 +374,11 @@ int stability_conditioning(RunProblem *rp, MicaJson *summary) {
   const double *xw = disc->qx + worst * dim, cmax = cond[worst];
   qsort(cond, (size_t)n, sizeof *cond, compare_doubles);
   const double median = n % 2 ? cond[n / 2] : 0.5 * (cond[n / 2 - 1] + cond[n / 2]);
+  char point[96];
+  if (dim == 3) snprintf(point, sizeof point, "(%.6g, %.6g, %.6g)", xw[0], xw[1], xw[2]);
+  else snprintf(point, sizeof point, "(%.6g, %.6g)", xw[0], xw[1]);
   printf("moment matrix condition (2-norm, equilibrated) over %ld volume points: min %.4g, median %.4g, max %.4g at "
-         "(%.6g, %.6g%s%.6g)\n", n, cond[0], median, cmax, xw[0], xw[1], dim == 3 ? ", " : "", dim == 3 ? xw[2] : 0.0);
-  if (dim == 2) printf("(the last coordinate above is not used in 2-D)\n");
+         "%s\n", n, cond[0], median, cmax, point);
   MICA_CALL_CLEANUP(mica_json_number(summary, "cond_min", cond[0]));
   MICA_CALL_CLEANUP(mica_json_number(summary, "cond_median", median));
   MICA_CALL_CLEANUP(mica_json_number(summary, "cond_max", cmax));
@@ -409,6 +410,11 @@ static int stability_run(const MicaDeck *deck, const char *outdir, MicaJson *sum
     MICA_CALL_CLEANUP(mica_json_int(summary, "particles", rp.disc->nparticles));
     MICA_CALL_CLEANUP(mica_json_int(summary, "quadrature_points", rp.disc->nquad));
     MICA_CALL_CLEANUP(mica_json_int(summary, "dofs", rp.solid->ndof));
+  }
+  if (o.eigen) { /* refuse what the eigen analysis cannot do before anything runs */
+    int dense;
+    MICA_CALL_CLEANUP(check_eigen_input(deck, rp.solid));
+    MICA_CALL_CLEANUP(choose_dense(&o, deck, rp.solid->ndof, &dense));
   }
   if (o.conditioning) MICA_CALL_CLEANUP(stability_conditioning(&rp, summary));
   if (o.eigen) MICA_CALL_CLEANUP(stability_eigen(&o, &rp, outdir, summary));
