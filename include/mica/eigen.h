@@ -3,8 +3,9 @@
  *
  * Dense: LAPACK dsyevr (all eigenvalues, optionally all eigenvectors) and dsygvd (A x = λ B x, B symmetric
  * positive definite). Sparse: the eigenvalues nearest a shift σ of a symmetric MicaSparse by shift-invert
- * subspace iteration with Rayleigh–Ritz: X ← orth((K − σI)⁻¹ X), Ritz pairs of K on span X, until every
- * wanted Ritz pair has ‖K x − θ x‖ ≤ tol · scale. A block method, so an eigenvalue of multiplicity m (the
+ * block Krylov iteration with Rayleigh–Ritz: V = orth[X, A⁻¹X, A⁻²X, A⁻³X] with A = K − σI (factored once,
+ * CHOLMOD or UMFPACK), Ritz pairs of K on span V, restarted from the block of Ritz vectors nearest σ until
+ * every wanted pair has ‖K x − θ x‖ ≤ tol · scale. A block method, so an eigenvalue of multiplicity m (the
  * rigid-body modes of a free body) is found m times — a single-vector Lanczos would see it once.
  * Matrices are column-major; eigenvalues come out ascending.
  */
@@ -26,18 +27,19 @@ int mica_sparse_to_dense(const MicaSparse *A, double *dense);
 
 typedef struct MicaEigenOptions {
   int nev;            /* eigenvalues wanted: the nev nearest sigma */
-  int guard;          /* extra vectors in the block (0: max(nev, 8)); convergence of the last wanted one goes
-                         as ((λ_nev − σ) / (λ_{nev+guard+1} − σ)) per iteration */
+  int guard;          /* extra vectors in the block (0: max(nev/2, 8)); the block must be at least as wide as
+                         the largest multiplicity among the wanted eigenvalues */
   double sigma;       /* shift; K − σI must be nonsingular */
   double tol;         /* converged: ‖K x − θ x‖ ≤ tol · scale for the nev wanted pairs */
   double scale;       /* the residual's scale (> 0), e.g. an estimate of λ_max */
-  int max_iterations;
+  int max_iterations; /* restarts */
   unsigned long seed; /* of the random start block */
   const MicaLinearSolverOps *linear; /* NULL: CHOLMOD, falling back to UMFPACK if K − σI is indefinite */
 } MicaEigenOptions;
 
 typedef struct MicaEigenStats {
-  int iterations;
+  int iterations;        /* restarts */
+  long solves;           /* with the factor of K − σI */
   double max_residual;   /* of the wanted pairs, / scale */
   double time_factor, time_iterate;
   const char *linear_name;

@@ -106,17 +106,18 @@ static void fill_random(long n, double *x, MicaRandom *rng) {
   for (long i = 0; i < n; i++) x[i] = mica_random_uniform(rng) - 0.5;
 }
 
-/* Orthonormalizes the p columns of X (n each) by classical Gram–Schmidt applied twice (CGS2: orthogonal to
- * working precision). A column that vanishes against the earlier ones is replaced by a random vector. */
-static void orthonormalize(long n, int p, double *X, MicaRandom *rng) {
-  for (int j = 0; j < p; j++) {
+/* Orthonormalizes columns first..last−1 of X (n each) against the columns before them and each other, by
+ * classical Gram–Schmidt applied twice (CGS2: orthogonal to working precision). A column that vanishes
+ * against the earlier ones is replaced by a random vector. */
+static void orthonormalize_from(long n, int first, int last, double *X, MicaRandom *rng) {
+  for (int j = first; j < last; j++) {
     double *x = X + (size_t)j * n;
     for (int attempt = 0; attempt < 4; attempt++) {
       const double before = sqrt(dot(n, x, x));
       for (int pass = 0; pass < 2; pass++)
         for (int k = 0; k < j; k++) {
-          const double *q = X + (size_t)k * n, c = dot(n, q, x);
-          for (long i = 0; i < n; i++) x[i] -= c * q[i];
+          const double *e = X + (size_t)k * n, c = dot(n, e, x);
+          for (long i = 0; i < n; i++) x[i] -= c * e[i];
         }
       const double after = sqrt(dot(n, x, x));
       if (after > 1e-10 * before && after > 0) {
@@ -128,7 +129,7 @@ static void orthonormalize(long n, int p, double *X, MicaRandom *rng) {
   }
 }
 
-/* ---- shift-invert subspace iteration -------------------------------------------------------------------- */
+/* ---- shift-invert block Krylov iteration -------------------------------------------------------------------- */
 
 /* K − σI on K's pattern (which holds every diagonal entry: a particle always couples to itself). */
 static int shifted_copy(const MicaSparse *K, double sigma, MicaSparse **out) {
@@ -174,60 +175,68 @@ static int factor_shifted(const MicaEigenOptions *opt, const MicaSparse *A, Mica
   return ierr ? mica_error_trace(__FILE__, __LINE__, __func__, ierr) : MICA_SUCCESS;
 }
 
+/* The search space: a block Krylov space of (K − σI)⁻¹ on a block of p vectors, KRYLOV_DEPTH blocks deep
+ * (q = depth · p columns), restarted from the p Ritz vectors nearest σ. Plain subspace iteration (depth 1
+ * plus one solve) converges as ((λ_i − σ)/(λ_{p+1} − σ))^k; the Krylov blocks give every restart a
+ * polynomial of degree depth − 1 in (K − σI)⁻¹ instead of a power. Measured on the free 3-D box of 1911
+ * unknowns, 30 eigenpairs (p = 45): subspace iteration 6480 solves (50 s), depth 4 1890 solves (18 s),
+ * depth 8 1260 (13 s) but twice the memory (4 n q doubles); depth 4 it is. */
+enum { KRYLOV_DEPTH = 4 };
+
 typedef struct {
   long n;
-  int p;
-  double *X, *Y, *KY, *H, *theta, *V, *work;
+  int p, q;
+  double *V, *KV, *X, *H, *theta, *R, *work;
   int *order;
 } Subspace;
 
 static void subspace_free(Subspace *s) {
-  free(s->X), free(s->Y), free(s->KY), free(s->H), free(s->theta), free(s->V), free(s->work), free(s->order);
+  free(s->V), free(s->KV), free(s->X), free(s->H), free(s->theta), free(s->R), free(s->work), free(s->order);
 }
 
-static int subspace_alloc(long n, int p, Subspace *s) {
+static int subspace_alloc(long n, int p, int q, Subspace *s) {
   memset(s, 0, sizeof *s);
-  s->n = n, s->p = p;
-  MICA_CALL(MICA_MALLOC(s->X, (size_t)n * p));
-  MICA_CALL(MICA_MALLOC(s->Y, (size_t)n * p));
-  MICA_CALL(MICA_MALLOC(s->KY, (size_t)n * p));
-  MICA_CALL(MICA_MALLOC(s->H, (size_t)p * p));
-  MICA_CALL(MICA_MALLOC(s->theta, p));
-  MICA_CALL(MICA_MALLOC(s->V, (size_t)p * p));
-  MICA_CALL(MICA_MALLOC(s->work, (size_t)n * p));
-  MICA_CALL(MICA_MALLOC(s->order, p));
+  s->n = n, s->p = p, s->q = q;
+  MICA_CALL(MICA_MALLOC(s->V, (size_t)n * q));
+  MICA_CALL(MICA_MALLOC(s->KV, (size_t)n * q));
+  MICA_CALL(MICA_MALLOC(s->X, (size_t)n * q));
+  MICA_CALL(MICA_MALLOC(s->work, (size_t)n * q));
+  MICA_CALL(MICA_MALLOC(s->H, (size_t)q * q));
+  MICA_CALL(MICA_MALLOC(s->theta, q));
+  MICA_CALL(MICA_MALLOC(s->R, (size_t)q * q));
+  MICA_CALL(MICA_MALLOC(s->order, q));
   return MICA_SUCCESS;
 }
 
-/* Rayleigh–Ritz of K on the orthonormal columns of Y (K Y in KY): Ritz values theta (ascending), and
- * X = Y V, KY ← K Y V (the Ritz vectors and their images). */
+/* Rayleigh–Ritz of K on the orthonormal columns of V (K V in KV): Ritz values theta (ascending), Ritz
+ * vectors X = V R and their images K X (into KV). */
 static int rayleigh_ritz(Subspace *s) {
   const long n = s->n;
-  const int p = s->p;
-  for (int a = 0; a < p; a++)
+  const int q = s->q;
+  for (int a = 0; a < q; a++)
     for (int b = 0; b <= a; b++) {
-      const double h = 0.5 * (dot(n, s->Y + (size_t)a * n, s->KY + (size_t)b * n) +
-                              dot(n, s->Y + (size_t)b * n, s->KY + (size_t)a * n));
-      s->H[(size_t)b * p + a] = s->H[(size_t)a * p + b] = h;
+      const double h = 0.5 * (dot(n, s->V + (size_t)a * n, s->KV + (size_t)b * n) +
+                              dot(n, s->V + (size_t)b * n, s->KV + (size_t)a * n));
+      s->H[(size_t)b * q + a] = s->H[(size_t)a * q + b] = h;
     }
-  MICA_CALL(mica_eigen_dense(p, s->H, s->theta, s->V));
-  memset(s->X, 0, sizeof(double) * (size_t)n * p);
-  memset(s->work, 0, sizeof(double) * (size_t)n * p);
-  for (int j = 0; j < p; j++)
-    for (int k = 0; k < p; k++) {
-      const double v = s->V[(size_t)j * p + k];
-      const double *y = s->Y + (size_t)k * n, *ky = s->KY + (size_t)k * n;
+  MICA_CALL(mica_eigen_dense(q, s->H, s->theta, s->R));
+  memset(s->X, 0, sizeof(double) * (size_t)n * q);
+  memset(s->work, 0, sizeof(double) * (size_t)n * q);
+  for (int j = 0; j < q; j++)
+    for (int k = 0; k < q; k++) {
+      const double r = s->R[(size_t)j * q + k];
+      const double *v = s->V + (size_t)k * n, *kv = s->KV + (size_t)k * n;
       double *x = s->X + (size_t)j * n, *kx = s->work + (size_t)j * n;
-      for (long i = 0; i < n; i++) x[i] += v * y[i], kx[i] += v * ky[i];
+      for (long i = 0; i < n; i++) x[i] += r * v[i], kx[i] += r * kv[i];
     }
-  memcpy(s->KY, s->work, sizeof(double) * (size_t)n * p);
+  memcpy(s->KV, s->work, sizeof(double) * (size_t)n * q);
   return MICA_SUCCESS;
 }
 
 /* Ritz indices by distance of their value from sigma, nearest first. */
 static void order_by_distance(const Subspace *s, double sigma) {
-  for (int j = 0; j < s->p; j++) s->order[j] = j;
-  for (int a = 1; a < s->p; a++) {
+  for (int j = 0; j < s->q; j++) s->order[j] = j;
+  for (int a = 1; a < s->q; a++) {
     const int key = s->order[a];
     int b = a - 1;
     while (b >= 0 && fabs(s->theta[s->order[b]] - sigma) > fabs(s->theta[key] - sigma)) {
@@ -240,7 +249,7 @@ static void order_by_distance(const Subspace *s, double sigma) {
 
 static double residual(const Subspace *s, int j) {
   const long n = s->n;
-  const double *x = s->X + (size_t)j * n, *kx = s->KY + (size_t)j * n, t = s->theta[j];
+  const double *x = s->X + (size_t)j * n, *kx = s->KV + (size_t)j * n, t = s->theta[j];
   double r = 0;
   for (long i = 0; i < n; i++) r += (kx[i] - t * x[i]) * (kx[i] - t * x[i]);
   return sqrt(r);
@@ -255,12 +264,14 @@ static int check_options(const MicaSparse *K, const MicaEigenOptions *opt) {
   return MICA_SUCCESS;
 }
 
-/* One pass: Y = orth((K − σI)⁻¹ X), KY = K Y, then Rayleigh–Ritz. */
+/* One restart: V = orth[X, A⁻¹X, A⁻²X, ...] (X in V's first p columns), K V, then Rayleigh–Ritz. */
 static int iterate_once(const MicaSparse *K, MicaLinearSolver *solver, Subspace *s, MicaRandom *rng) {
   const long n = s->n;
-  for (int j = 0; j < s->p; j++) MICA_CALL(mica_linear_solver_solve(solver, s->X + (size_t)j * n, s->Y + (size_t)j * n));
-  orthonormalize(n, s->p, s->Y, rng);
-  for (int j = 0; j < s->p; j++) mica_sparse_matvec(K, s->Y + (size_t)j * n, s->KY + (size_t)j * n);
+  for (int c = s->p; c < s->q; c++) {
+    MICA_CALL(mica_linear_solver_solve(solver, s->V + (size_t)(c - s->p) * n, s->V + (size_t)c * n));
+    if ((c + 1) % s->p == 0 || c + 1 == s->q) orthonormalize_from(n, c - c % s->p, c + 1, s->V, rng);
+  }
+  for (int j = 0; j < s->q; j++) mica_sparse_matvec(K, s->V + (size_t)j * n, s->KV + (size_t)j * n);
   MICA_CALL(rayleigh_ritz(s));
   return MICA_SUCCESS;
 }
@@ -269,8 +280,9 @@ int mica_eigen_shift_invert(const MicaSparse *K, const MicaEigenOptions *opt, do
                             MicaEigenStats *stats) {
   MICA_CALL(check_options(K, opt));
   const long n = K->n;
-  const int nev = opt->nev, guard = opt->guard > 0 ? opt->guard : (nev > 8 ? nev : 8);
+  const int nev = opt->nev, guard = opt->guard > 0 ? opt->guard : (nev / 2 > 8 ? nev / 2 : 8);
   const int p = (long)(nev + guard) < n ? nev + guard : (int)n;
+  const int q = (long)p * KRYLOV_DEPTH < n ? p * KRYLOV_DEPTH : (int)n;
   MicaSparse *A = NULL;
   MicaLinearSolver *solver = NULL;
   Subspace s;
@@ -286,28 +298,33 @@ int mica_eigen_shift_invert(const MicaSparse *K, const MicaEigenOptions *opt, do
   stats->linear_name = solver->ops->name;
   stats->nnz_factor = solver->stats.nnz_factor;
   start = mica_wtime();
-  MICA_CALL_CLEANUP(subspace_alloc(n, p, &s));
-  fill_random(n * p, s.X, &rng);
-  orthonormalize(n, p, s.X, &rng);
+  MICA_CALL_CLEANUP(subspace_alloc(n, p, q, &s));
+  fill_random(n * p, s.V, &rng);
+  orthonormalize_from(n, 0, p, s.V, &rng);
   for (it = 1; it <= opt->max_iterations && !converged; it++) {
     MICA_CALL_CLEANUP(iterate_once(K, solver, &s, &rng));
     order_by_distance(&s, opt->sigma);
     worst = 0;
     for (int k = 0; k < nev; k++) worst = fmax(worst, residual(&s, s.order[k]) / opt->scale);
     converged = worst <= opt->tol;
+    if (!converged) { /* restart from the p Ritz vectors nearest σ */
+      for (int k = 0; k < p; k++) memcpy(s.V + (size_t)k * n, s.X + (size_t)s.order[k] * n, sizeof(double) * (size_t)n);
+      orthonormalize_from(n, 0, p, s.V, &rng);
+    }
   }
   stats->iterations = it - 1;
+  stats->solves = solver->stats.solves;
   stats->max_residual = worst;
   stats->time_iterate = mica_wtime() - start;
   if (!converged) {
     ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_NUMERIC,
-                          "shift-invert subspace iteration did not converge in %d iterations (largest relative residual "
-                          "%.3g, tolerance %.3g)", opt->max_iterations, worst, opt->tol);
+                          "shift-invert block Krylov iteration did not converge in %d restarts (largest relative "
+                          "residual %.3g, tolerance %.3g)", opt->max_iterations, worst, opt->tol);
     goto cleanup;
   }
-  /* the wanted pairs, ascending (order[0..nev) are the nearest σ; the Ritz values are ascending already) */
+  /* the wanted pairs, ascending (order[0..nev) are the nearest σ) */
   int *wanted = s.order;
-  for (int a = 1; a < nev; a++) /* sort the wanted indices by value */
+  for (int a = 1; a < nev; a++)
     for (int b = a; b > 0 && s.theta[wanted[b - 1]] > s.theta[wanted[b]]; b--) {
       const int t = wanted[b];
       wanted[b] = wanted[b - 1], wanted[b - 1] = t;
@@ -338,7 +355,7 @@ int mica_eigen_largest(const MicaSparse *K, int steps, unsigned long seed, doubl
   MICA_CALL_CLEANUP(MICA_CALLOC(beta, m + 1));
   MICA_CALL_CLEANUP(MICA_MALLOC(work, 2 * (size_t)m + 2));
   fill_random(n, V, &rng);
-  orthonormalize(n, 1, V, &rng);
+  orthonormalize_from(n, 0, 1, V, &rng);
   for (k = 0; k < m; k++) {
     double *v = V + (size_t)k * n;
     mica_sparse_matvec(K, v, w);
