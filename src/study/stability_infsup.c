@@ -171,6 +171,13 @@ static int inf_sup_one(const StabilityOptions *o, const RunProblem *rp, InfSupRo
   double *G = NULL, *S = NULL, *xv = NULL, *Z1 = NULL, *Z = NULL, *Gr = NULL, *Sr = NULL, *lambda = NULL;
   long nv = 0;
   int ierr = MICA_SUCCESS;
+  if (nu > o->dense_max_dofs) { /* dense (n_u)² matrices and an O(n_u³) eigenproblem */
+    char where[256];
+    mica_deck_where(rp->deck, "stability.inf_sup_counts", where, sizeof where);
+    MICA_ERROR(MICA_ERR_INPUT, "%s: the inf-sup eigenproblem is dense, and N = %ld gives %ld displacement unknowns, more "
+               "than stability.dense_max_dofs = %ld: lower the largest of stability.inf_sup_counts or raise "
+               "stability.dense_max_dofs", where, row->count[0], nu, o->dense_max_dofs);
+  }
   MICA_CALL_CLEANUP(MICA_CALLOC(G, (size_t)nu * nu));
   MICA_CALL_CLEANUP(MICA_CALLOC(S, (size_t)nu * nu));
   assemble_g_s(rp, G, S);

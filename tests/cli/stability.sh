@@ -103,5 +103,7 @@ expect_failure 2 'bc.method = "lagrange"' -- "$MICA" stability input/patch_linea
 expect_failure 2 "quadrature.vci" -- "$MICA" stability input/free_block.cfg -o "$out/bad3" --set quadrature.vci=true
 expect_failure 2 "stability.modes" -- "$MICA" stability input/free_block.cfg -o "$out/bad4" --set stability.solver=sparse \
   --set stability.modes=3 --set stability.patch=false --set stability.inf_sup=false
-for b in bad1 bad2 bad3 bad4; do [ ! -e "$out/$b" ] || fail "$b: a failed run left $out/$b"; done
+expect_failure 2 "stability.inf_sup_counts" -- "$MICA" stability input/free_block.cfg -o "$out/bad5" \
+  --set "stability.inf_sup_counts=[65]" --set stability.eigen=false --set stability.patch=false
+for b in bad1 bad2 bad3 bad4 bad5; do [ ! -e "$out/$b" ] || fail "$b: a failed run left $out/$b"; done
 ok "failed runs leave no output directory"
