@@ -17,6 +17,7 @@ typedef struct MicaCommand {
 
 extern const MicaCommand mica_command_mls, mica_command_run, mica_command_check, mica_command_sweep,
     mica_command_study;
+extern const MicaCommand mica_command_stability;
 
 const MicaCommand *const *mica_commands(void); /* NULL-terminated */
 const MicaCommand *mica_command_find(const char *name);

@@ -152,6 +152,12 @@ int mls_shape_destroy(MlsShape **shape);
  * point, its number of supporting particles, the condition estimate and the remedy. */
 int mls_eval(const MlsApprox *mls, const double *x, int nderiv, MlsShape *shape);
 
+/* The 2-norm condition number λ_max/λ_min of the equilibrated moment matrix D M D at x (D = diag(M_aa)^(−1/2):
+ * the matrix mls_eval factors, whose 1-norm estimate is 1/shape->rcond), from its eigenvalues (LAPACK). Uses
+ * the shape's workspace (its N, dN are not computed). A point without support or with a singular M is the
+ * same MICA_ERR_NUMERIC error as mls_eval's. */
+int mls_moment_condition(const MlsApprox *mls, const double *x, MlsShape *shape, double *cond);
+
 /* u_h = Σ N_k u[index_k] and, when asked, its gradient and Hessian, for one scalar field u[n]. */
 void mls_shape_apply(const MlsShape *shape, const double *u, double *uh, double *grad, double *hess);
 

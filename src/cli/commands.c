@@ -3,7 +3,7 @@
 
 #include "mica/command.h"
 
-static const MicaCommand *const commands[] = {&mica_command_run, &mica_command_check, &mica_command_mls, &mica_command_sweep, &mica_command_study, NULL};
+static const MicaCommand *const commands[] = {&mica_command_run, &mica_command_check, &mica_command_mls, &mica_command_sweep, &mica_command_study, &mica_command_stability, NULL};
 
 const MicaCommand *const *mica_commands(void) { return commands; }
 

@@ -427,6 +427,31 @@ int mls_eval(const MlsApprox *mls, const double *x, int nderiv, MlsShape *sh) {
   return MICA_SUCCESS;
 }
 
+/* The 2-norm condition number of the equilibrated moment matrix D M D at x — the matrix mls_eval factors —
+ * as the ratio of its extreme eigenvalues (LAPACK dsyev on the m×m matrix). */
+int mls_moment_condition(const MlsApprox *mls, const double *x, MlsShape *sh, double *cond) {
+  MICA_CHECK(sh->dim == mls->dim && cond, MICA_ERR_ARGUMENT, "mls_moment_condition: shape of dimension %d used with a "
+             "%d-D MLS", sh->dim, mls->dim);
+  long count = 0, cap = sh->cap;
+  MICA_CALL(mls_search_query(mls->search, x, &sh->index, &count, &cap));
+  if (cap > sh->cap) MICA_CALL(shape_reserve(sh, mls->m, cap));
+  sh->n = count;
+  sh->nderiv = MLS_VALUES;
+  if (count == 0) return report_no_support(mls, x);
+  ShapeWork *w = sh->work;
+  const int m = mls->m;
+  double scale[MLS_MAX_DIM], eig[MLS_MAX_TERMS];
+  eval_weights(mls, x, MLS_VALUES, sh);
+  basis_scale(mls, x, sh, scale);
+  eval_basis(mls, x, scale, sh);
+  if (assemble_moment(w, sh->n, m) < 0) return report_singular(mls, x, sh->n, 0.0);
+  const lapack_int info = LAPACKE_dsyev(LAPACK_COL_MAJOR, 'N', 'U', m, w->M, m, eig);
+  MICA_CHECK(info == 0, MICA_ERR_LIBRARY, "LAPACK dsyev failed on the moment matrix (info %d)", (int)info);
+  if (!(eig[0] > 0)) return report_singular(mls, x, sh->n, 0.0);
+  *cond = eig[m - 1] / eig[0];
+  return MICA_SUCCESS;
+}
+
 void mls_shape_apply(const MlsShape *sh, const double *u, double *uh, double *grad, double *hess) {
   const int dim = sh->dim, nh = mls_num_hess(dim);
   const long n = sh->n;

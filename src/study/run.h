@@ -82,6 +82,8 @@ typedef struct RunOutput {
 int run_output_step(void *ctx, int step, double t, const double *u);
 int run_output_finish(RunOutput *out);
 int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary);
+/* The relative errors run_error_norms reports (L2 of the values, H1 seminorm, energy), without writing them. */
+int run_error_values(RunProblem *rp, const double *u, double *rel_l2, double *rel_h1, double *rel_energy);
 int run_probes(RunProblem *rp, const double *u, MicaJson *summary);
 
 #endif

@@ -190,8 +190,8 @@ static int error_points(RunProblem *rp, const MicaShapeCache **c, const double *
 /* Relative errors over the volume quadrature points (error_points), of all unknowns: L2 of the values, H1
  * seminorm of the gradients, and the energy norm e·D₀·e with D₀ the model's D at q = 0 (for classical models:
  * ∇e:C:∇e). */
-int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary) {
-  if (!rp->has_exact) return MICA_SUCCESS;
+int run_error_values(RunProblem *rp, const double *u, double *rel_l2, double *rel_h1, double *rel_energy) {
+  MICA_CHECK(rp->has_exact, MICA_ERR_ARGUMENT, "run_error_values: the problem has no exact solution");
   const MicaSolid *s = rp->solid;
   const int dim = s->dim, mdim = s->model_dim, ncomp = s->ncomp, nq = s->nq, nvg = ncomp * (1 + mdim);
   const MicaShapeCache *c;
@@ -219,8 +219,17 @@ int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary) {
     l2[0] = sums[0], l2[1] = sums[1], h1[0] = sums[2], h1[1] = sums[3], en[0] = sums[4], en[1] = sums[5];
   }
   MICA_CALL(ierr);
-  const double el2 = sqrt(l2[0] / fmax(l2[1], 1e-300)), eh1 = sqrt(h1[0] / fmax(h1[1], 1e-300)),
-               een = sqrt(fabs(en[0]) / fmax(en[1], 1e-300));
+  *rel_l2 = sqrt(l2[0] / fmax(l2[1], 1e-300));
+  *rel_h1 = sqrt(h1[0] / fmax(h1[1], 1e-300));
+  *rel_energy = sqrt(fabs(en[0]) / fmax(en[1], 1e-300));
+  return MICA_SUCCESS;
+}
+
+
+int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary) {
+  if (!rp->has_exact) return MICA_SUCCESS;
+  double el2, eh1, een;
+  MICA_CALL(run_error_values(rp, u, &el2, &eh1, &een));
   MICA_CALL(mica_json_number(summary, "error_l2", el2));
   MICA_CALL(mica_json_number(summary, "error_h1", eh1));
   MICA_CALL(mica_json_number(summary, "error_energy", een));

@@ -1,6 +1,6 @@
 # The docs stay true to the code: every setting that `mica help <command>` lists is in docs/input.md.
 source "$(dirname "$0")/common.bash"
-for command in run sweep study mls; do
+for command in run sweep study mls stability; do
   settings=$("$MICA" help $command | awk 'f && NF {print $1} /^setting / {f=1}')
   [ -n "$settings" ] || fail "mica help $command lists no settings"
   for s in $settings; do

@@ -1,0 +1,109 @@
+# mica stability (docs/verification.md §stability): the free block of seed 000 §7.2.1 has exactly the 3 rigid
+# zero modes with an adequate Gauss rule and spurious ones with one point per cell; the free 3-D box has the 6
+# rigid modes, the same by the dense and the sparse (shift-invert) eigensolver; the linear patch test fails
+# on jittered particles without VCI and passes to round-off with it (quadratic: order 2 + VCI); the inf-sup
+# constant of the fully integrated displacement formulation decreases with N (locking) and that of the
+# one-point rule stays bounded; the moment-matrix conditioning is reported with its worst point; bad input
+# exits 2 naming the setting.
+source "$(dirname "$0")/common.bash"
+out="$OUT_DIR/stability"
+rm -rf "$out"
+mkdir -p "$out"
+
+stab() { # stab DIR DECK [--set ...]
+  local dir=$1 deck=$2; shift 2
+  "$MICA" stability "$deck" -o "$dir" "$@" > "$dir.log" 2>&1 || fail "mica stability $deck $* failed: $(tail -n 3 "$dir.log")"
+}
+value() { json_value "$1" "$2/summary.json"; }
+equals() { [ "$1" = "$2" ] || fail "$3: $1, expected $2"; ok "$3: $1"; }
+
+# ---- the free block, Gauss 4 × 4 per cell (the deck's rule) ---------------------------------------------
+g="$out/gauss"
+stab "$g" input/free_block.cfg
+equals "$(value zero_modes "$g")" 3 "free block, Gauss 4x4: zero modes"
+equals "$(value rigid_modes "$g")" 3 "free block, Gauss 4x4: rigid modes"
+equals "$(value spurious_modes "$g")" 0 "free block, Gauss 4x4: spurious modes"
+lmin=$(value lambda_min_nonzero "$g")
+at_least "$(value lambda_min_nonzero_relative "$g")" 1e-4 "free block: lowest nonzero eigenvalue ($lmin) far above zero_tol λ_max"
+rows=$(($(wc -l < "$g/eigenvalues.csv") - 1))
+equals "$rows" 462 "eigenvalues.csv: every eigenvalue of the 462 unknowns"
+for f in spectrum.png inf_sup.png inf_sup.csv mode_0004.vtu; do [ -s "$g/$f" ] || fail "missing $f"; done
+ok "spectrum.png, inf_sup.png, inf_sup.csv, mode VTU written"
+# conditioning: finite, and the worst point named
+cmax=$(value cond_max "$g")
+less_than "$cmax" 1e3 || fail "cond_max $cmax"
+grep -q "max .* at (" "$g.log" || fail "the worst conditioned point is not printed"
+ok "cond_max $cmax, worst point printed: $(grep -o 'max [^ ]* at ([^)]*)' "$g.log")"
+# inf-sup: β strictly decreasing with N (the displacement formulation locks)
+betas=$(awk -F, 'NR > 1 { printf "%s ", $7 }' "$g/inf_sup.csv")
+awk -F, 'NR > 2 && !($7 < prev) { exit 1 } { prev = $7 }' "$g/inf_sup.csv" || fail "inf-sup β does not decrease: $betas"
+slope=$(value inf_sup_slope "$g")
+less_than "$slope" -1.0 || fail "inf-sup slope $slope is not below -1"
+ok "inf-sup β decreasing with N = 5, 9, 17, 33: $betas(slope $slope)"
+# patch tests on the regular particles: reported, not exact without VCI
+at_least "$(value patch_linear_l2 "$g")" 1e-10 "regular particles, Gauss, no VCI: linear patch L2 error"
+
+# ---- one Gauss point per cell: spurious zero modes, and an inf-sup constant that stays bounded ----------
+l="$out/one_point"
+stab "$l" input/free_block.cfg --set quadrature.order=1 --set stability.patch=false
+equals "$(value zero_modes "$l")" 6 "free block, 1 point per cell: zero modes"
+equals "$(value rigid_modes "$l")" 3 "free block, 1 point per cell: rigid modes"
+equals "$(value spurious_modes "$l")" 3 "free block, 1 point per cell: spurious modes"
+[ -s "$l/spurious_01.vtu" ] && [ -s "$l/spurious_03.vtu" ] || fail "spurious mode VTU files missing"
+ok "spurious_01..03.vtu written"
+slope=$(value inf_sup_slope "$l")
+awk -v s="$slope" 'BEGIN { exit !(s > -0.1 && s < 0.1) }' || fail "one-point rule: inf-sup slope $slope, expected bounded"
+ok "one-point rule: inf-sup β bounded ($(awk -F, 'NR > 1 { printf "%s ", $7 }' "$l/inf_sup.csv")slope $slope)"
+
+# ---- the free 3-D box: dense and sparse shift-invert -----------------------------------------------------
+d="$out/box_dense" s="$out/box_sparse"
+stab "$d" input/free_block3d.cfg --set stability.inf_sup=false
+stab "$s" input/free_block3d.cfg --set stability.inf_sup=false --set stability.patch=false --set stability.solver=sparse
+for dir in "$d" "$s"; do
+  equals "$(value zero_modes "$dir")" 6 "free 3-D box ($(value eigen_solver "$dir")): zero modes"
+  equals "$(value rigid_modes "$dir")" 6 "free 3-D box ($(value eigen_solver "$dir")): rigid modes"
+done
+worst=$(paste -d, <(sed -n '8,31p' "$d/eigenvalues.csv") <(sed -n '8,31p' "$s/eigenvalues.csv") |
+        awk -F, '{ r = ($2 - $6) / $2; if (r < 0) r = -r; if (r > m) m = r } END { printf "%.2e", m }')
+less_than "$worst" 1e-8 || fail "dense and sparse eigenvalues 7..30 differ by $worst (relative)"
+ok "3-D box: eigenvalues 7..30 of dense and shift-invert agree to $worst (relative)"
+
+# ---- patch tests on jittered particles: VCI makes the linear (and, with order 2, the quadratic) exact ----
+j="$out/jitter" v="$out/jitter_vci" q="$out/jitter_vci2"
+common=(--set particles.layout=jittered --set stability.eigen=false --set stability.inf_sup=false)
+stab "$j" input/free_block.cfg "${common[@]}"
+stab "$v" input/free_block.cfg "${common[@]}" --set quadrature.vci=true
+stab "$q" input/free_block.cfg "${common[@]}" --set quadrature.vci=true --set mls.order=2 --set mls.dilation=3.0
+at_least "$(value patch_linear_l2 "$j")" 1e-10 "jittered, Gauss, no VCI: linear patch L2 error"
+less_than "$(value patch_linear_l2 "$v")" 1e-10 || fail "VCI linear patch L2 $(value patch_linear_l2 "$v")"
+less_than "$(value patch_linear_h1 "$v")" 1e-10 || fail "VCI linear patch H1 $(value patch_linear_h1 "$v")"
+ok "jittered, VCI: linear patch L2 $(value patch_linear_l2 "$v"), H1 $(value patch_linear_h1 "$v")"
+at_least "$(value patch_quadratic_l2 "$v")" 1e-10 "jittered, VCI, linear basis: quadratic patch L2 error"
+less_than "$(value patch_quadratic_l2 "$q")" 1e-10 || fail "order 2 + VCI quadratic patch L2 $(value patch_quadratic_l2 "$q")"
+ok "jittered, order 2 + VCI: quadratic patch L2 $(value patch_quadratic_l2 "$q")"
+
+# ---- a free Cosserat body: rigid motions rotate the micro-structure with the body (φ = ω) ---------------
+cat > "$out/cosserat_free.cfg" <<'EOF'
+geometry = { shape = "box"; lower = [0.0, 0.0]; upper = [4.0, 2.0]; };
+particles = { count = [9, 5]; };
+material = { model = "cosserat"; G = 100.0; nu = 0.3; N = 0.5; l = 1.0; };
+bc = { method = "penalty"; };
+stability = { patch = false; inf_sup = false; };
+EOF
+c="$out/cosserat"
+stab "$c" "$out/cosserat_free.cfg"
+equals "$(value zero_modes "$c")" 3 "free 2-D Cosserat body: zero modes"
+equals "$(value rigid_modes "$c")" 3 "free 2-D Cosserat body: rigid modes (u = a + ω × x, φ = ω)"
+
+# ---- bad input: exit 2 naming the setting, nothing written -----------------------------------------------
+expect_failure 2 "stability.dense_max_dofs" -- "$MICA" stability input/free_block.cfg -o "$out/bad1" \
+  --set stability.dense_max_dofs=100
+expect_failure 2 'bc.method = "lagrange"' -- "$MICA" stability input/patch_linear.cfg -o "$out/bad2" \
+  --set bc.method=lagrange
+expect_failure 2 "quadrature.vci" -- "$MICA" stability input/free_block.cfg -o "$out/bad3" --set quadrature.vci=true
+expect_failure 2 "stability.modes" -- "$MICA" stability input/free_block.cfg -o "$out/bad4" --set stability.solver=sparse \
+  --set stability.modes=3 --set stability.patch=false --set stability.inf_sup=false
+expect_failure 2 "stability.inf_sup_counts" -- "$MICA" stability input/free_block.cfg -o "$out/bad5" \
+  --set "stability.inf_sup_counts=[65]" --set stability.eigen=false --set stability.patch=false
+for b in bad1 bad2 bad3 bad4 bad5; do [ ! -e "$out/$b" ] || fail "$b: a failed run left $out/$b"; done
+ok "failed runs leave no output directory"
