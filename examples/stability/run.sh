@@ -21,11 +21,11 @@ variants=(
   "gauss1|quadrature.order=1"
   "gauss2|quadrature.order=2"
   "gauss4|quadrature.order=4"
-  # ---- to be enabled when the other branches are merged (the lead's comparison) ----------------------
-  # "nodal|quadrature.mode=nodal"          # direct nodal integration (quadrature.mode, issue 5)
-  # "scni|quadrature.mode=scni"            # stabilized conforming nodal integration (quadrature.mode)
-  # "fe_q1|problem.method=fe"              # the FE baseline (problem.method)
-  # -----------------------------------------------------------------------------------------------------
+  "nodal|quadrature.mode=nodal stability.inf_sup=false"                  # direct nodal integration
+  "nodal_d3|quadrature.mode=nodal mls.dilation=3 stability.inf_sup=false"  # ... with a wide support: low-energy modes
+  "scni|quadrature.mode=scni stability.inf_sup=false"                    # stabilized conforming nodal integration
+  "scni_d3|quadrature.mode=scni mls.dilation=3 stability.inf_sup=false"    # ... with a wide support: low-energy modes too
+  "fe_q1|problem.method=fe"                      # the FE baseline on the same nodes
 )
 
 out="$here/out"
