@@ -319,7 +319,8 @@ def cosserat(variant, k, timer):
     Vg = FunctionSpace(mesh, "DG", du - 1)
     from dolfin import project
     s11 = project(lam * (uh[0].dx(0) + uh[1].dx(1)) + 2 * G * uh[0].dx(0), Vg, solver_type="mumps")
-    scf = s11(Point(0.0, a * (1 - 1e-12))) / p
+    s11.set_allow_extrapolation(True)  # the point lies on the curved edge; the affine cell search may miss it
+    scf = s11(Point(0.0, a * (1 + 1e-10))) / p
     timer.add("time_post", time.perf_counter() - t4)
     timer.add("time_mesh", t1 - t0)
     timer.add("time_jit", t2 - t1)
