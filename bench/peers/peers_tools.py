@@ -52,6 +52,8 @@ def best_time(rows, problem, code, variant, level):
     variants = sorted({r["variant"] for r in rows if r["problem"] == problem and r["code"] == code}) \
         if variant == "*" else [variant]
     found = [time_to_error(curve(rows, problem, code, v), level) for v in variants]
+    if any(s == "below range" for _, s in found):  # that variant's time is unknown (below its coarsest)
+        return None, "below range"
     times = [t for t, s in found if t is not None]
     if times:
         return min(times), "ok"
