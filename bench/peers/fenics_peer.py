@@ -262,8 +262,9 @@ def cosserat(variant, k, timer):
     """Plane-strain Cosserat, unknowns (u1, u2, φ3), the constitutive law of docs/theory.md:
     ε_kl = u_l,k + e_lkm φ_m, σ_kl = λ ε_rr δ_kl + (μ + κ) ε_kl + μ ε_lk, in-plane m = γ ∇φ3,
     W = ½ σ:ε + ½ γ |∇φ3|²; technical constants G, ν, N, l as mica converts them.
-    Mesh: mica's plate_hole map and graded layout, particles.count = [8k+1, 6k+1] → the same (8k) × (6k) grid
-    of cells, each split into two triangles with quadratic (curved) edges."""
+    Mesh: mica's plate_hole map and graded layout (ratio 40 outwards) on a (4k) × (3k) grid of cells (mica's
+    k of peers.py has (8k) × (6k): FEniCS k = 2 is mica's grid), each split into two triangles with quadratic
+    (curved) edges."""
     du, dp = int(variant[1]), int(variant[3])
     a, aol, Nc, G, nu, p = 1.0, 1.063, 0.93, 1000.0, 0.3, 1.0
     b, l = 40 * a, a / aol
@@ -273,8 +274,8 @@ def cosserat(variant, k, timer):
     gam = 4 * G * l ** 2
     t0 = time.perf_counter()
     fname = os.path.join(os.environ.get("PEERS_TMP", "/tmp"), "peers_hole_%d_%d.xdmf" % (k, os.getpid()))
-    mesh = quadratic_quad_mesh(lambda s, t: plate_hole_map(a, b, s, t), np.linspace(0, 1, 8 * k + 1),
-                               graded_axis(6 * k + 1, 40.0), fname)
+    mesh = quadratic_quad_mesh(lambda s, t: plate_hole_map(a, b, s, t), np.linspace(0, 1, 4 * k + 1),
+                               graded_axis(3 * k + 1, 40.0), fname)
     os.remove(fname)
     t1 = time.perf_counter()
     el = MixedElement([VectorElement("P", mesh.ufl_cell(), du), FiniteElement("P", mesh.ufl_cell(), dp)])
