@@ -4,11 +4,12 @@
 #   make test       install, build, run the unit and verification tests
 #   make test SAN=1 the same under AddressSanitizer + UndefinedBehaviorSanitizer
 #   make bench      benchmarks (rates and ratios; never pass/fail on time)
+#   make bench-peers mica against legacy FEniCS on the same problems (~15 min; docs/performance.md)
 #
 # Normal builds go to bin/ lib/ build/; sanitizer builds to build-san/ so both can coexist.
 
 DEB_PKGS := libsuitesparse-dev liblapacke-dev libopenblas-dev libopenmpi-dev openmpi-bin libmetis-dev \
-            libconfig-dev libcmocka-dev gnuplot-nox libmatheval-dev
+            libconfig-dev libcmocka-dev gnuplot-nox libmatheval-dev python3
 
 CC := mpicc
 CSTD := -std=c11 -D_POSIX_C_SOURCE=200809L
@@ -43,13 +44,13 @@ TEST_BIN := $(TEST_SRC:tests/unit/%.c=$(OUT)/tests/%)
 BENCH_SRC := $(wildcard bench/bench_*.c)
 BENCH_BIN := $(BENCH_SRC:bench/%.c=$(OUT)/bench/%)
 
-.PHONY: all deps run test bench clean help
+.PHONY: all deps run test bench bench-peers clean help
 .DEFAULT_GOAL := all
 
 all: $(BIN)/mica | deps
 
 help:
-	@sed -n '3,8p' Makefile
+	@sed -n '3,9p' Makefile
 
 # Installs whatever Debian package is missing (as root; sudo otherwise). Cheap when nothing is.
 deps:
@@ -93,6 +94,16 @@ test: $(BIN)/mica $(TEST_BIN) | deps
 bench: $(BIN)/mica $(BENCH_BIN) | deps
 	@for b in $(BENCH_BIN); do echo "== $$b"; $$b || exit 1; done
 	@for b in bench/bench_*.sh; do echo "== $$b"; MICA_BIN=$(BIN)/mica bash $$b || exit 1; done
+
+# Not part of test or bench. Installs Debian's python3-dolfin (legacy FEniCS, for /usr/bin/python3) when missing.
+bench-peers: $(BIN)/mica | deps
+	@/usr/bin/python3 -c 'import dolfin' 2>/dev/null || { \
+	  echo "make bench-peers: installing python3-dolfin"; \
+	  sudo=""; [ "$$(id -u)" = 0 ] || sudo=sudo; \
+	  $$sudo apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends python3-dolfin \
+	    || { echo "make bench-peers: apt-get failed; install python3-dolfin" >&2; exit 1; }; }
+	MICA_BIN=$(BIN)/mica /usr/bin/python3 bench/peers/peers.py
 
 clean:
 	rm -rf build build-san bin lib out
