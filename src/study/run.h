@@ -47,6 +47,23 @@ const char *run_unknown_name(const RunProblem *rp, int c);
 /* The model and its constants from material.* (run_material.c). */
 int run_read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt);
 
+/* The approximation and integration choices (run_method.c). problem.method: run_is_fe; for "fe", the deck
+ * checks (grid, order, odd counts, cells = elements; *order from mls.order), the mesh and discretization
+ * that replace the shape's, and the model / multiplier restrictions. quadrature.mode: nodal cells for
+ * "nodal" and "scni" (run_read_integration, with the discretization), opt->scni and its restrictions
+ * (run_read_scni). run_check_serial_only refuses both measuring sticks under MPI. All with the deck line. */
+int run_is_fe(const MicaDeck *deck, int *fe);
+int run_check_fe_deck(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                      const MicaCellSpec *cells, int *order);
+int run_build_fe(const MicaLayoutSpec *layout, const MicaCellSpec *cells, int order, RunProblem *rp);
+int run_check_fe_model(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt);
+int run_check_fe_multipliers(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt, int n,
+                             const MicaDirichlet *c);
+int run_read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                         const MicaCellSpec *cells, RunProblem *rp);
+int run_read_scni(const MicaDeck *deck, RunProblem *rp, MicaSolidOptions *opt);
+int run_check_serial_only(const MicaDeck *deck, const RunProblem *rp);
+
 /* Builds discretization, MLS, model, conditions and the solid from the deck; with reuse, takes what the
  * previous run left there when it fits, and leaves this run's parts there in run_problem_free. */
 int run_problem_build(const MicaDeck *deck, RunProblem *rp);
