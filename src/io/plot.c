@@ -27,3 +27,9 @@ int mica_gnuplot(const char *dir, const char *script, const char *switch_off) {
              WIFEXITED(status) ? WEXITSTATUS(status) : -1);
   return MICA_SUCCESS;
 }
+
+void mica_gnuplot_label(const char *in, char *out, size_t size) {
+  size_t j = 0;
+  for (size_t i = 0; in[i] && j + 1 < size; i++) out[j++] = (in[i] == '"' || in[i] == '\\' || in[i] == '\'') ? ' ' : in[i];
+  out[j] = '\0';
+}

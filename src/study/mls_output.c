@@ -69,18 +69,11 @@ cleanup:
   return ierr;
 }
 
-/* Variant names go into gnuplot strings: keep them printable and free of quotes. */
-static void gnuplot_safe(const char *in, char *out, size_t size) {
-  size_t j = 0;
-  for (size_t i = 0; in[i] && j + 1 < size; i++) out[j++] = (in[i] == '"' || in[i] == '\\' || in[i] == '\'') ? ' ' : in[i];
-  out[j] = '\0';
-}
-
 static void write_panel(FILE *fp, int nvariants, int column, const char *ylabel, const MlsVariantResult *r) {
   fprintf(fp, "set ylabel '%s'\nplot ", ylabel);
   for (int v = 0; v < nvariants; v++) {
     char name[160];
-    gnuplot_safe(r[v].name, name, sizeof name);
+    mica_gnuplot_label(r[v].name, name, sizeof name);
     fprintf(fp, "%s'mls_line.dat' index %d using 1:($%d > 0 ? $%d : 1/0) with lines lw 1.5 title \"%s\"",
             v ? ", " : "", v, column, column, name);
   }
@@ -92,7 +85,7 @@ static int write_chart_script(const MlsVariantResult *r, int nvariants, const ch
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   const char axis = (char)('x' + r[0].axis);
-  gnuplot_safe(title && title[0] ? title : "MLS approximation error along the sample line", safe_title,
+  mica_gnuplot_label(title && title[0] ? title : "MLS approximation error along the sample line", safe_title,
                sizeof safe_title);
   MICA_CALL_CLEANUP(mica_path_join(outdir, "mls_chart.gp", &path));
   MICA_CALL_CLEANUP(mica_out_open(path, &out));

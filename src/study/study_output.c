@@ -84,13 +84,6 @@ cleanup:
 
 /* ---- chart data --------------------------------------------------------------------------------------- */
 
-/* gnuplot strings: printable, without quotes or backslashes. */
-static void gnuplot_safe(const char *in, char *out, size_t size) {
-  size_t j = 0;
-  for (size_t i = 0; in[i] && j + 1 < size; i++) out[j++] = (in[i] == '"' || in[i] == '\\' || in[i] == '\'') ? ' ' : in[i];
-  out[j] = '\0';
-}
-
 static int plotted(const StudyRow *row) {
   return row->status == MICA_SUCCESS && row->error > 0 && row->time > 0 && isfinite(row->error) && isfinite(row->time);
 }
@@ -175,7 +168,7 @@ static int write_front(const StudySpec *spec, const StudyRow *rows, const char *
       if (rows[p].pareto && plotted(&rows[p]) && rows[p].time == last) {
         char text[LABEL_MAX], safe[LABEL_MAX];
         study_choice_text(spec, rows[p].choice, text, sizeof text);
-        gnuplot_safe(text, safe, sizeof safe);
+        mica_gnuplot_label(text, safe, sizeof safe);
         fprintf(out.fp, "%.10g %.10g %ld \"%s\"\n", rows[p].time, rows[p].error, rows[p].dofs, safe);
         ++*nfront;
       }
@@ -221,7 +214,7 @@ static void write_chart(const StudySpec *spec, const StudyRow *rows, const Curve
   for (long k = 0; k < cv->n; k++) {
     if (!cv->npoints[k]) continue;
     curve_label(spec, rows, cv->first[k], label, sizeof label);
-    gnuplot_safe(label, safe, sizeof safe);
+    mica_gnuplot_label(label, safe, sizeof safe);
     snprintf(text, sizeof text,
              "'study_points.dat' index %ld using %s:($2 > 0 ? $2 : 1/0) with linespoints lw 1.2 pt %ld ps 0.9 lc %ld "
              "title \"%s\"", k, x, 4 + 2 * (k / 8 % 4), k % 8 + 1, safe);
@@ -254,7 +247,7 @@ static int write_script(const StudySpec *spec, const StudyRow *rows, const Curve
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_deck_string(spec->deck, "problem.title", &deck_title));
-  gnuplot_safe(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);
+  mica_gnuplot_label(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);
   study_error_title(spec, error_title, sizeof error_title);
   MICA_CALL_CLEANUP(mica_path_join(outdir, "study_chart.gp", &path));
   MICA_CALL_CLEANUP(mica_out_open(path, &out));

@@ -167,13 +167,6 @@ static void curve_label(const SweepSpec *spec, const SweepPoint *pts, long first
   if (!used) snprintf(buf, size, "%s", spec->probes[spec->probe]);
 }
 
-/* gnuplot strings: printable, without quotes. */
-static void gnuplot_safe(const char *in, char *out, size_t size) {
-  size_t j = 0;
-  for (size_t i = 0; in[i] && j + 1 < size; i++) out[j++] = (in[i] == '"' || in[i] == '\\' || in[i] == '\'') ? ' ' : in[i];
-  out[j] = '\0';
-}
-
 /* One block per curve: the curve's successful points by increasing x. Returns the number of points. */
 static int write_curve(FILE *fp, const SweepSpec *spec, const SweepPoint *pts, long first) {
   const SweepAxis *xa = &spec->axes[spec->x];
@@ -333,7 +326,7 @@ cleanup:
 static void plot_item(const SweepSpec *spec, Chart *ch, const char *file, int index, const char *style,
                       const char *title) {
   char safe[512];
-  gnuplot_safe(title, safe, sizeof safe);
+  mica_gnuplot_label(title, safe, sizeof safe);
   fprintf(ch->script, "%s'%s' index %d using %s:%s %s title \"%s\"", ch->nplots++ ? ", \\\n     " : "", file, index,
           spec->logx ? "($1 > 0 ? $1 : 1/0)" : "1", spec->logy ? "($2 > 0 ? $2 : 1/0)" : "2", style, safe);
 }
@@ -376,7 +369,7 @@ static int write_script(const SweepSpec *spec, const SweepPoint *pts, const char
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_deck_string(spec->deck, "problem.title", &deck_title));
-  gnuplot_safe(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);
+  mica_gnuplot_label(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);
   MICA_CALL_CLEANUP(mica_path_join(outdir, "sweep_chart.gp", &path));
   MICA_CALL_CLEANUP(mica_out_open(path, &out));
   ch->script = out.fp;
