@@ -14,40 +14,12 @@
 
 #include "mica/model.h"
 
-static double rnd(uint64_t *state) {
-  *state = *state * 6364136223846793005ULL + 1442695040888963407ULL;
-  return (double)(*state >> 11) / 9007199254740992.0 * 2 - 1;
-}
+#include "field_check.h"
 
 static void make_model(MicaFieldModel *m, int dim, const MicaModelOps *micro, const double *sizes) {
   MicaMaterial mat;
   assert_int_equal(mica_material_set(micro, 1000.0, 0.3, dim == 2 ? MICA_PLANE_STRAIN : MICA_PLANE_NONE, &mat), 0);
   assert_int_equal(mica_micromorph_set(m, dim, micro, &mat, sizes), 0);
-}
-
-static void random_q(int nq, double amplitude, uint64_t *state, double *q) {
-  for (int j = 0; j < nq; j++) q[j] = amplitude * rnd(state);
-}
-
-/* Largest |s − ∇W| / max|s| and |D − ∇s| / max|D| by central differences (step 1e-6). */
-static void check_derivatives(const MicaFieldModel *m, int dim, const double *q, double *err_s, double *err_d) {
-  const int nq = mica_field_model_nq(m, dim);
-  double s[64], D[64 * 64], qp[64], qm[64], sp[64], sm[64], Wp, Wm, W;
-  assert_int_equal(m->ops->eval(m, dim, q, &W, s, D), 0);
-  double smax = 0, dmax = 0;
-  for (int j = 0; j < nq; j++) smax = fmax(smax, fabs(s[j]));
-  for (int j = 0; j < nq * nq; j++) dmax = fmax(dmax, fabs(D[j]));
-  *err_s = *err_d = 0;
-  const double h = 1e-6;
-  for (int j = 0; j < nq; j++) {
-    memcpy(qp, q, sizeof(double) * (size_t)nq);
-    memcpy(qm, q, sizeof(double) * (size_t)nq);
-    qp[j] += h, qm[j] -= h;
-    assert_int_equal(m->ops->eval(m, dim, qp, &Wp, sp, NULL), 0);
-    assert_int_equal(m->ops->eval(m, dim, qm, &Wm, sm, NULL), 0);
-    *err_s = fmax(*err_s, fabs((Wp - Wm) / (2 * h) - s[j]) / smax);
-    for (int i = 0; i < nq; i++) *err_d = fmax(*err_d, fabs((sp[i] - sm[i]) / (2 * h) - D[i * nq + j]) / dmax);
-  }
 }
 
 static void test_tangents_match_finite_differences(void **state) {
