@@ -337,10 +337,12 @@ static int count_low_energy(const StabilityOptions *o, RunProblem *rp, int dense
     r->ratio_min = r->in_band ? fmin(r->ratio_min, r->energy_ratio[k]) : r->energy_ratio[k];
     if (r->energy_ratio[k] < o->low_energy_ratio) r->kind[k] = MODE_LOW_ENERGY, r->low_energy++;
   }
-  printf("reference (%s): lowest nonzero eigenvalue λ₁,ref %.6g; %d modes below it, energy ratios λ/(vᵀK_ref v) "
-         "down to %.3g; %d below low_energy_ratio %.3g\n",
-         ref.self ? "the deck's own Gauss rule" : "the deck's particles and MLS on Gauss cells", ref.lambda1,
-         r->in_band, r->ratio_min, r->low_energy, o->low_energy_ratio);
+  printf("reference (%s): lowest nonzero eigenvalue λ₁,ref %.6g; %d nonzero modes below it", ref.self
+         ? "the deck's own Gauss rule" : "the deck's particles and MLS on Gauss cells", ref.lambda1, r->in_band);
+  if (r->in_band > 0)
+    printf(", energy ratios λ/(vᵀK_ref v) down to %.3g: %d below stability.low_energy_ratio = %.3g", r->ratio_min,
+           r->low_energy, o->low_energy_ratio);
+  printf("\n");
   if (!dense && r->zero + r->in_band == r->nvalues) {
     char where[256];
     mica_deck_where(rp->deck, "stability.modes", where, sizeof where);
