@@ -269,7 +269,8 @@ const MicaDeckKey mica_run_schema[] = {
      "Gauss points per direction per cell of the reference (at least; the deck's own rule is the reference when it "
      "is Gauss of this order or more, without VCI)"},
     {"stability.low_energy_ratio", MICA_KEY_FLOAT, "0.1", 0, 1, NULL, 0, 0,
-     "a nonzero eigenvalue λ < low_energy_ratio · λ₁,ref is a spurious low-energy mode (docs/theory.md)"},
+     "a nonzero mode v below λ₁,ref is a spurious low-energy mode when its energy under the deck's rule is less "
+     "than low_energy_ratio times its energy under the reference: λ < ratio · vᵀK_ref v, |v| = 1 (docs/theory.md)"},
     {"stability.vtu_modes", MICA_KEY_INT, "4", 0, 1000, NULL, 0, 0,
      "mode shapes written as VTU: the spurious zero modes first, then the low-energy and the lowest nonzero modes"},
     {"stability.inf_sup_counts", MICA_KEY_INTS, "[5, 9, 17]", 2, 100000, NULL, 1, 16,

@@ -507,8 +507,10 @@ const MicaCommand mica_command_stability = {
     "stability and consistency of a deck's discretization: tangent eigenmodes, patch tests, inf-sup, MLS conditioning",
     "On the run deck as it stands (its particles, MLS, quadrature, boundary method, VCI): (1) eigenvalues of the\n"
     "tangent at u = 0 with the deck's conditions (a free body without them): zero modes, rigid modes (the span of\n"
-    "the exact rigid motions), spurious = zero − rigid, the lowest nonzero eigenvalue; eigenvalues.csv,\n"
-    "spectrum.png and VTU files of the lowest spurious and nonzero modes; (2) linear and quadratic patch tests with\n"
+    "the exact rigid motions), spurious zero modes = zero − rigid, low-energy modes (below the lowest nonzero\n"
+    "eigenvalue of the same particles and MLS on Gauss cells, with less than stability.low_energy_ratio of the\n"
+    "energy that rule gives them), the lowest nonzero eigenvalue; eigenvalues.csv, spectrum.png and VTU files of\n"
+    "the spurious, low-energy and lowest nonzero modes; (2) linear and quadratic patch tests with\n"
     "the exact field prescribed on the whole boundary; (3) the numerical inf-sup test of Chapelle & Bathe over\n"
     "stability.inf_sup_counts (inf_sup.csv, inf_sup.png); (4) the condition number of the MLS moment matrix at\n"
     "every volume quadrature point. Settings: the `stability` group (docs/input.md).",
