@@ -69,7 +69,7 @@ static int spectrum_script(FILE *fp, const void *ctx) {
     fprintf(fp, pass == 0 ? "set terminal pngcairo size 900,600 noenhanced\nset output 'spectrum.png'\n"
                           : "set terminal svg size 900,600 noenhanced\nset output 'spectrum.svg'\n");
     fprintf(fp, "set title 'Tangent at u = 0: %d eigenvalues of %ld unknowns; %d zero (%d rigid, %d spurious), %d "
-                "low-energy'\nset logscale y\nset format y '%%.0e'\nset grid\nset key top left\n"
+                "low-energy'\nset logscale y\nset format y '%%.0e'\nset grid\nset key bottom right\n"
                 "set xrange [0.5:%d.5]\nset xlabel 'index'\nset ylabel '|eigenvalue| / lambda_max'\n",
             r->nvalues, r->ndof, r->zero, r->rigid, r->spurious_zero, r->low_energy, r->nvalues);
     fprintf(fp, "plot 'spectrum.dat' index 2 using 1:2 with points pt 7 ps 0.5 lc rgb '#1f77b4' title 'nonzero', "
