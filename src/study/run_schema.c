@@ -262,8 +262,17 @@ const MicaDeckKey mica_run_schema[] = {
     {"stability.tol", MICA_KEY_FLOAT, "1e-10", 1e-15, 1e-2, NULL, 0, 0,
      "sparse: an eigenpair is converged when ‖K x − λ x‖ ≤ tol · λ_max"},
     {"stability.max_iterations", MICA_KEY_INT, "3000", 1, 1000000, NULL, 0, 0, "sparse: subspace iterations allowed"},
+    {"stability.reference", MICA_KEY_CHOICE, "\"gauss\"", NOLIMIT, "gauss|none", 0, 0,
+     "low-energy modes: gauss (the deck's particles and MLS integrated by stability.reference_order Gauss points "
+     "per direction, no VCI: its lowest nonzero eigenvalue λ₁,ref is the scale), none (count zero modes only)"},
+    {"stability.reference_order", MICA_KEY_INT, "4", 2, 20, NULL, 0, 0,
+     "Gauss points per direction per cell of the reference (at least; the deck's own rule is the reference when it "
+     "is Gauss of this order or more, without VCI)"},
+    {"stability.low_energy_ratio", MICA_KEY_FLOAT, "0.1", 0, 1, NULL, 0, 0,
+     "a nonzero mode v below λ₁,ref is a spurious low-energy mode when its energy under the deck's rule is less "
+     "than low_energy_ratio times its energy under the reference: λ < ratio · vᵀK_ref v, |v| = 1 (docs/theory.md)"},
     {"stability.vtu_modes", MICA_KEY_INT, "4", 0, 1000, NULL, 0, 0,
-     "mode shapes written as VTU: the spurious zero modes first, then the lowest nonzero modes"},
+     "mode shapes written as VTU: the spurious zero modes first, then the low-energy and the lowest nonzero modes"},
     {"stability.inf_sup_counts", MICA_KEY_INTS, "[5, 9, 17]", 2, 100000, NULL, 1, 16,
      "inf-sup: particles along the first axis of each refinement (the other axes keep the deck's spacing ratio)"},
     {"stability.chart", MICA_KEY_BOOL, "true", NOLIMIT, NULL, 0, 0, "draw spectrum.png and inf_sup.png with gnuplot"},

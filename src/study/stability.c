@@ -1,8 +1,11 @@
 /* `mica stability`: is the deck's discretization stable and consistent? (docs/theory.md §stability; seed
  * 000 §7.2). On the run deck as it stands:
  *   1. eigen-mode analysis of the tangent K at u = 0 with the deck's conditions: zero modes (|λ| ≤ zero_tol
- *      λ_max), how many of them the exact rigid-body motions span, spurious = zero − rigid, the lowest
- *      nonzero eigenvalue; dense LAPACK or sparse shift-invert;
+ *      λ_max), how many of them the exact rigid-body motions span, spurious zero modes = zero − rigid,
+ *      low-energy modes (nonzero modes below λ₁,ref, the lowest nonzero eigenvalue of the same deck integrated
+ *      by an adequate Gauss rule, whose energy under the deck's rule is less than ρ times their energy under
+ *      that rule: stability_reference.c), spurious = both, the lowest nonzero eigenvalue; dense LAPACK or
+ *      sparse shift-invert;
  *   2. linear and quadratic patch tests (stability_patch.c);
  *   3. the numerical inf-sup test over a refinement series (stability_infsup.c);
  *   4. the condition number of the MLS moment matrix at every volume quadrature point.
@@ -36,6 +39,10 @@ int stability_read_options(const MicaDeck *deck, StabilityOptions *o) {
   MICA_CALL(mica_deck_float(deck, "stability.zero_tol", &o->zero_tol));
   MICA_CALL(mica_deck_float(deck, "stability.shift", &o->shift));
   MICA_CALL(mica_deck_float(deck, "stability.tol", &o->tol));
+  MICA_CALL(mica_deck_string(deck, "stability.reference", &solver));
+  o->reference = !strcmp(solver, "gauss");
+  MICA_CALL(mica_deck_int(deck, "stability.reference_order", &o->reference_order));
+  MICA_CALL(mica_deck_float(deck, "stability.low_energy_ratio", &o->low_energy_ratio));
   MICA_CALL(mica_deck_ints(deck, "stability.inf_sup_counts", o->inf_sup_counts, 16, &n));
   o->ninf_sup = n;
   return MICA_SUCCESS;
@@ -256,11 +263,19 @@ static int write_modes(const StabilityOptions *o, RunProblem *rp, const EigenRes
   const long n = r->ndof;
   long written = 0;
   char name[64];
-  for (int k = 0; k < r->spurious && written < o->vtu_modes; k++, written++) {
+  for (int k = 0; k < r->spurious_zero && written < o->vtu_modes; k++, written++) {
     snprintf(name, sizeof name, "spurious_%02d.vtu", k + 1);
     MICA_CALL(stability_write_mode(rp, Zs + (size_t)k * n, outdir, name, 0.0));
   }
-  for (int k = r->zero; k < r->nvalues && written < o->vtu_modes; k++, written++) {
+  for (int k = r->zero, low = 0; k < r->nvalues && written < o->vtu_modes; k++) /* low-energy modes next */
+    if (r->kind[k] == MODE_LOW_ENERGY) {
+      snprintf(name, sizeof name, "low_energy_%02d.vtu", ++low);
+      MICA_CALL(stability_write_mode(rp, vectors + (size_t)k * n, outdir, name, r->lambda[k]));
+      written++;
+    }
+  for (int k = r->zero; k < r->nvalues && written < o->vtu_modes; k++) {
+    if (r->kind[k] == MODE_LOW_ENERGY) continue;
+    written++;
     snprintf(name, sizeof name, "mode_%04d.vtu", k + 1);
     MICA_CALL(stability_write_mode(rp, vectors + (size_t)k * n, outdir, name, r->lambda[k]));
   }
@@ -274,6 +289,8 @@ static int eigen_summary(const EigenResult *r, int dense, MicaJson *summary) {
   MICA_CALL(mica_json_number(summary, "lambda_max", r->lambda_max));
   MICA_CALL(mica_json_int(summary, "zero_modes", r->zero));
   MICA_CALL(mica_json_int(summary, "rigid_modes", r->rigid));
+  MICA_CALL(mica_json_int(summary, "spurious_zero_modes", r->spurious_zero));
+  MICA_CALL(mica_json_int(summary, "low_energy_modes", r->low_energy));
   MICA_CALL(mica_json_int(summary, "spurious_modes", r->spurious));
   MICA_CALL(mica_json_number(summary, "rigid_cos_min", r->rigid_cos_min));
   if (r->zero < r->nvalues) {
@@ -287,13 +304,62 @@ static int eigen_summary(const EigenResult *r, int dense, MicaJson *summary) {
 }
 
 static void eigen_print(const EigenResult *r) {
-  printf("eigen: %ld unknowns, λ_max %.6g; %d zero modes (|λ| ≤ zero_tol λ_max): %d rigid, %d spurious",
-         r->ndof, r->lambda_max, r->zero, r->rigid, r->spurious);
+  printf("eigen: %ld unknowns, λ_max %.6g; %d zero modes (|λ| ≤ zero_tol λ_max): %d rigid, %d spurious; %d "
+         "low-energy; %d spurious in all", r->ndof, r->lambda_max, r->zero, r->rigid, r->spurious_zero, r->low_energy,
+         r->spurious);
   if (r->zero < r->nvalues) printf("; lowest nonzero λ %.10g", r->lambda[r->zero]);
   printf("\n");
   printf("lowest nonzero eigenvalues:");
   for (int k = r->zero; k < r->nvalues && k < r->zero + 6; k++) printf(" %.8g", r->lambda[k]);
   printf("\n");
+}
+
+/* Low-energy spurious modes (docs/theory.md §Stability studies): the nonzero modes v_k below λ₁,ref whose
+ * energy under the deck's rule, λ_k, is less than ρ times their energy under the reference rule, v_kᵀ K_ref v_k
+ * (|v_k| = 1). With the sparse solver, computed modes that all lie below λ₁,ref leave the count open: an error
+ * asking for more modes. */
+static int count_low_energy(const StabilityOptions *o, RunProblem *rp, int dense, int nr, const double *vectors,
+                            EigenResult *r, MicaJson *summary) {
+  StabilityReference ref;
+  double *work = NULL;
+  int ierr = MICA_SUCCESS;
+  r->ratio_min = NAN;
+  MICA_CALL(mica_json_string(summary, "reference", o->reference ? "gauss" : "none"));
+  if (!o->reference || r->zero == r->nvalues) return MICA_SUCCESS;
+  MICA_CALL_CLEANUP(stability_reference_create(o, rp, &ref));
+  if (ref.self) ref.lambda1 = r->lambda[r->zero];
+  else MICA_CALL_CLEANUP(stability_reference_spectrum(o, dense, nr, &ref));
+  r->band = ref.lambda1;
+  MICA_CALL_CLEANUP(MICA_MALLOC(work, r->ndof));
+  for (int k = r->zero; k < r->nvalues && r->lambda[k] < r->band; k++, r->in_band++) {
+    const double e = stability_reference_energy(&ref, vectors + (size_t)k * r->ndof, work);
+    r->energy_ratio[k] = e > 0 ? r->lambda[k] / e : 0;
+    r->ratio_min = r->in_band ? fmin(r->ratio_min, r->energy_ratio[k]) : r->energy_ratio[k];
+    if (r->energy_ratio[k] < o->low_energy_ratio) r->kind[k] = MODE_LOW_ENERGY, r->low_energy++;
+  }
+  printf("reference (%s): lowest nonzero eigenvalue λ₁,ref %.6g; %d nonzero modes below it", ref.self
+         ? "the deck's own Gauss rule" : "the deck's particles and MLS on Gauss cells", ref.lambda1, r->in_band);
+  if (r->in_band > 0)
+    printf(", energy ratios λ/(vᵀK_ref v) down to %.3g: %d below stability.low_energy_ratio = %.3g", r->ratio_min,
+           r->low_energy, o->low_energy_ratio);
+  printf("\n");
+  if (!dense && r->zero + r->in_band == r->nvalues) {
+    char where[256];
+    mica_deck_where(rp->deck, "stability.modes", where, sizeof where);
+    ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_INPUT,
+                          "%s: all %d eigenvalues computed lie below the reference's lowest nonzero one (%.6g), so "
+                          "there may be more low-energy modes: raise stability.modes", where, r->nvalues, ref.lambda1);
+    goto cleanup;
+  }
+  MICA_CALL_CLEANUP(mica_json_number(summary, "reference_lambda_min_nonzero", ref.lambda1));
+  MICA_CALL_CLEANUP(mica_json_bool(summary, "reference_is_deck", ref.self));
+  MICA_CALL_CLEANUP(mica_json_number(summary, "low_energy_ratio", o->low_energy_ratio));
+  MICA_CALL_CLEANUP(mica_json_int(summary, "modes_below_reference", r->in_band));
+  if (r->in_band > 0) MICA_CALL_CLEANUP(mica_json_number(summary, "energy_ratio_min", r->ratio_min));
+cleanup:
+  free(work);
+  stability_reference_destroy(&ref);
+  return ierr;
 }
 
 int stability_eigen(const StabilityOptions *o, RunProblem *rp, const char *outdir, MicaJson *summary) {
@@ -338,16 +404,22 @@ int stability_eigen(const StabilityOptions *o, RunProblem *rp, const char *outdi
   MICA_CALL_CLEANUP(MICA_CALLOC(Zs, (size_t)n * (r.zero > 0 ? r.zero : 1)));
   if (r.zero > 0) MICA_CALL_CLEANUP(classify_zero_space(n, r.zero, vectors, rigid, nr, &r, Zs));
   else r.rigid_cos_min = 0;
-  r.spurious = r.zero - r.rigid;
+  r.spurious_zero = r.zero - r.rigid;
   MICA_CALL_CLEANUP(MICA_MALLOC(r.kind, r.nvalues));
-  for (int k = 0; k < r.nvalues; k++) r.kind[k] = k < r.rigid ? MODE_RIGID : k < r.zero ? MODE_SPURIOUS : MODE_NONZERO;
+  MICA_CALL_CLEANUP(MICA_MALLOC(r.energy_ratio, r.nvalues));
+  for (int k = 0; k < r.nvalues; k++) {
+    r.kind[k] = k < r.rigid ? MODE_RIGID : k < r.zero ? MODE_SPURIOUS : MODE_NONZERO;
+    r.energy_ratio[k] = NAN;
+  }
+  MICA_CALL_CLEANUP(count_low_energy(o, rp, dense, nr, vectors, &r, summary));
+  r.spurious = r.spurious_zero + r.low_energy;
   eigen_print(&r);
   MICA_CALL_CLEANUP(eigen_summary(&r, dense, summary));
   MICA_CALL_CLEANUP(mica_json_number(summary, "time_eigen", mica_wtime() - start));
   MICA_CALL_CLEANUP(stability_write_eigenvalues(&r, o->zero_tol, outdir, o->chart));
   MICA_CALL_CLEANUP(write_modes(o, rp, &r, Zs, vectors, outdir));
 cleanup:
-  free(u), free(R), free(vectors), free(rigid), free(Zs), free(r.lambda), free(r.kind);
+  free(u), free(R), free(vectors), free(rigid), free(Zs), free(r.lambda), free(r.kind), free(r.energy_ratio);
   return ierr;
 }
 
@@ -435,8 +507,10 @@ const MicaCommand mica_command_stability = {
     "stability and consistency of a deck's discretization: tangent eigenmodes, patch tests, inf-sup, MLS conditioning",
     "On the run deck as it stands (its particles, MLS, quadrature, boundary method, VCI): (1) eigenvalues of the\n"
     "tangent at u = 0 with the deck's conditions (a free body without them): zero modes, rigid modes (the span of\n"
-    "the exact rigid motions), spurious = zero − rigid, the lowest nonzero eigenvalue; eigenvalues.csv,\n"
-    "spectrum.png and VTU files of the lowest spurious and nonzero modes; (2) linear and quadratic patch tests with\n"
+    "the exact rigid motions), spurious zero modes = zero − rigid, low-energy modes (below the lowest nonzero\n"
+    "eigenvalue of the same particles and MLS on Gauss cells, with less than stability.low_energy_ratio of the\n"
+    "energy that rule gives them), the lowest nonzero eigenvalue; eigenvalues.csv, spectrum.png and VTU files of\n"
+    "the spurious, low-energy and lowest nonzero modes; (2) linear and quadratic patch tests with\n"
     "the exact field prescribed on the whole boundary; (3) the numerical inf-sup test of Chapelle & Bathe over\n"
     "stability.inf_sup_counts (inf_sup.csv, inf_sup.png); (4) the condition number of the MLS moment matrix at\n"
     "every volume quadrature point. Settings: the `stability` group (docs/input.md).",

@@ -10,7 +10,7 @@
 #include "mica/vtk.h"
 #include "stability.h"
 
-static const char *const KIND_NAMES[] = {"rigid", "spurious", "nonzero"};
+static const char *const KIND_NAMES[] = {"rigid", "spurious", "nonzero", "low_energy"};
 
 static int write_text(const char *outdir, const char *name, int (*body)(FILE *fp, const void *ctx), const void *ctx) {
   char *path = NULL;
@@ -35,17 +35,20 @@ typedef struct {
 
 static int eigen_csv(FILE *fp, const void *ctx) {
   const EigenResult *r = ((const SpectrumCtx *)ctx)->r;
-  fprintf(fp, "index,eigenvalue,relative,kind\n");
-  for (int k = 0; k < r->nvalues; k++)
-    fprintf(fp, "%d,%.17g,%.6e,%s\n", k + 1, r->lambda[k], r->lambda[k] / r->lambda_max, KIND_NAMES[r->kind[k]]);
+  fprintf(fp, "index,eigenvalue,relative,kind,energy_ratio\n"); /* energy_ratio: λ / (vᵀ K_ref v), below λ₁,ref */
+  for (int k = 0; k < r->nvalues; k++) {
+    fprintf(fp, "%d,%.17g,%.6e,%s,", k + 1, r->lambda[k], r->lambda[k] / r->lambda_max, KIND_NAMES[r->kind[k]]);
+    if (isnan(r->energy_ratio[k])) fprintf(fp, "\n");
+    else fprintf(fp, "%.6e\n", r->energy_ratio[k]);
+  }
   return MICA_SUCCESS;
 }
 
-/* |λ|/λ_max per kind, one gnuplot block each (index 0, 1, 2); zeros are drawn at their round-off size, or at
+/* |λ|/λ_max per kind, one gnuplot block each (index 0, 1, 2, 3 as ModeKind); zeros are drawn at their round-off size, or at
  * 1e-18 if exactly 0, so the log scale can show them. */
 static int spectrum_data(FILE *fp, const void *ctx) {
   const EigenResult *r = ((const SpectrumCtx *)ctx)->r;
-  for (int kind = 0; kind < 3; kind++) {
+  for (int kind = 0; kind < 4; kind++) {
     fprintf(fp, "# %s\n", KIND_NAMES[kind]);
     int any = 0;
     for (int k = 0; k < r->nvalues; k++)
@@ -65,15 +68,20 @@ static int spectrum_script(FILE *fp, const void *ctx) {
   for (int pass = 0; pass < 2; pass++) {
     fprintf(fp, pass == 0 ? "set terminal pngcairo size 900,600 noenhanced\nset output 'spectrum.png'\n"
                           : "set terminal svg size 900,600 noenhanced\nset output 'spectrum.svg'\n");
-    fprintf(fp, "set title 'Tangent at u = 0: %d eigenvalues of %ld unknowns; %d zero (%d rigid, %d spurious)'\n"
-                "set logscale y\nset format y '%%.0e'\nset grid\nset key top left\nset xrange [0.5:%d.5]\n"
-                "set xlabel 'index'\nset ylabel '|eigenvalue| / lambda_max'\n",
-            r->nvalues, r->ndof, r->zero, r->rigid, r->spurious, r->nvalues);
+    fprintf(fp, "set title 'Tangent at u = 0: %d eigenvalues of %ld unknowns; %d zero (%d rigid, %d spurious), %d "
+                "low-energy'\nset logscale y\nset format y '%%.0e'\nset grid\nset key bottom right\n"
+                "set xrange [0.5:%d.5]\nset xlabel 'index'\nset ylabel '|eigenvalue| / lambda_max'\n",
+            r->nvalues, r->ndof, r->zero, r->rigid, r->spurious_zero, r->low_energy, r->nvalues);
     fprintf(fp, "plot 'spectrum.dat' index 2 using 1:2 with points pt 7 ps 0.5 lc rgb '#1f77b4' title 'nonzero', "
                 "'spectrum.dat' index 0 using 1:2 with points pt 5 ps 1 lc rgb '#2ca02c' title 'rigid', "
                 "'spectrum.dat' index 1 using 1:2 with points pt 9 ps 1.2 lc rgb '#d62728' title 'spurious', "
-                "%.6e with lines dt 2 lc rgb 'black' title 'zero_tol'\nset output\n",
+                "'spectrum.dat' index 3 using 1:2 with points pt 11 ps 1.2 lc rgb '#ff7f0e' title 'low-energy', "
+                "%.6e with lines dt 2 lc rgb 'black' title 'zero_tol'",
             c->zero_tol > 0 ? c->zero_tol : 1e-18);
+    if (r->band > 0) /* low-energy modes are sought below the reference's lowest nonzero eigenvalue */
+      fprintf(fp, ", %.6e with lines dt 4 lc rgb '#ff7f0e' title 'lowest nonzero of the Gauss reference'",
+              r->band / r->lambda_max);
+    fprintf(fp, "\nset output\n");
   }
   return MICA_SUCCESS;
 }

@@ -168,7 +168,10 @@ static int patch_one(RunProblem *rp, int degree, const MicaMaterial *mat, double
     for (int J = 0; J < rp->disc->dim; J++) MICA_CALL_CLEANUP(mica_function_derivative(patch.exact[c], J, &patch.exact_grad[c][J]));
   }
   memset(&nopt, 0, sizeof nopt);
-  nopt.steps = 1, nopt.max_iterations = 4, nopt.rtol = 1e-12, nopt.atol = 0, nopt.max_cuts = 0;
+  /* a linear problem: one solve, a second to mop up; 1e-10 (not tighter) because saddle points that are
+   * nearly singular (Lagrange multipliers meeting at a corner with a linear basis: docs/verification.md)
+   * stall near 1e-11 |R_0|, and the error is what the test reports */
+  nopt.steps = 1, nopt.max_iterations = 4, nopt.rtol = 1e-10, nopt.atol = 0, nopt.max_cuts = 0;
   MICA_CALL_CLEANUP(MICA_CALLOC(u, patch.solid->ndof));
   MICA_CALL_CLEANUP(mica_newton_solve(patch.solid, &nopt, u, NULL, NULL, &stats));
   MICA_CALL_CLEANUP(run_error_values(&patch, u, l2, h1, &energy));
