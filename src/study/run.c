@@ -260,6 +260,13 @@ static int read_bc_method(const MicaDeck *deck, MicaSolidOptions *opt) {
   MICA_CALL(mica_deck_string(deck, "bc.method", &name));
   opt->bc_method = mica_bc_method_find(name);
   MICA_CHECK(opt->bc_method, MICA_ERR_ARGUMENT, "schema and boundary-method registry disagree on '%s'", name);
+  if (opt->bc_method->needs_model_traction && opt->field.ops->order != 1) { /* Nitsche: tractions s·n */
+    char where[256];
+    mica_deck_where(deck, "bc.method", where, sizeof where);
+    MICA_ERROR(MICA_ERR_INPUT, "%s: bc.method = \"%s\" needs a classical model or a first-order field model; model "
+               "'%s' uses second derivatives (its tractions include double tractions): use \"lagrange\" or "
+               "\"penalty\"", where, name, opt->field.ops->name);
+  }
   opt->bc_alpha = opt->bc_method->default_alpha;
   if (mica_deck_has(deck, "bc.alpha")) MICA_CALL(mica_deck_float(deck, "bc.alpha", &opt->bc_alpha));
   MICA_CALL(mica_deck_bool(deck, "solver.ramp", &opt->ramp));
