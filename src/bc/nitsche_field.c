@@ -31,18 +31,20 @@ typedef struct {
 
 static int grad_slot(const FieldPoint *fp, int b, int J) { return fp->ncomp + b * fp->dim + J; }
 
-/* α k_b from the model's D at q = 0. */
+/* α k_b from the model's D at q = 0. A component without gradient stiffness at q = 0 (no traction to be
+ * consistent with) takes the largest k, so that its condition is still imposed (as a penalty). */
 static int stabilization(const MicaSolid *s, FieldPoint *fp) {
-  double q0[NQ_MAX] = {0}, s0[NQ_MAX], D0[NQ_MAX * NQ_MAX], W;
+  double q0[NQ_MAX] = {0}, s0[NQ_MAX], D0[NQ_MAX * NQ_MAX], W, k[MICA_MAX_COMP], kmax = 0;
   MICA_CALL(s->opt.field.ops->eval(&s->opt.field, s->dim, q0, &W, s0, D0));
   for (int b = 0; b < fp->ncomp; b++) {
-    double k = 0;
+    k[b] = 0;
     for (int J = 0; J < fp->dim; J++) {
       const int j = grad_slot(fp, b, J);
-      k = fmax(k, D0[j * fp->nq + j]);
+      k[b] = fmax(k[b], D0[j * fp->nq + j]);
     }
-    fp->alpha_k[b] = s->opt.bc_alpha * k;
+    kmax = fmax(kmax, k[b]);
   }
+  for (int b = 0; b < fp->ncomp; b++) fp->alpha_k[b] = s->opt.bc_alpha * (k[b] > 1e-12 * kmax ? k[b] : kmax);
   return MICA_SUCCESS;
 }
 
