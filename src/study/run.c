@@ -260,13 +260,6 @@ static int read_bc_method(const MicaDeck *deck, MicaSolidOptions *opt) {
   MICA_CALL(mica_deck_string(deck, "bc.method", &name));
   opt->bc_method = mica_bc_method_find(name);
   MICA_CHECK(opt->bc_method, MICA_ERR_ARGUMENT, "schema and boundary-method registry disagree on '%s'", name);
-  if (opt->bc_method->needs_model_traction && opt->field.ops->order != 1) { /* Nitsche: tractions s·n */
-    char where[256];
-    mica_deck_where(deck, "bc.method", where, sizeof where);
-    MICA_ERROR(MICA_ERR_INPUT, "%s: bc.method = \"%s\" needs a classical model or a first-order field model; model "
-               "'%s' uses second derivatives (its tractions include double tractions): use \"lagrange\" or "
-               "\"penalty\"", where, name, opt->field.ops->name);
-  }
   opt->bc_alpha = opt->bc_method->default_alpha;
   if (mica_deck_has(deck, "bc.alpha")) MICA_CALL(mica_deck_float(deck, "bc.alpha", &opt->bc_alpha));
   MICA_CALL(mica_deck_bool(deck, "solver.ramp", &opt->ramp));
@@ -307,6 +300,17 @@ static int check_axisymmetric_model(const MicaDeck *deck, const MicaFieldModel *
   mica_deck_where(deck, "material.model", where, sizeof where);
   MICA_ERROR(MICA_ERR_INPUT, "%s: model '%s' has no axisymmetric form (it needs second derivatives in cylindrical "
              "coordinates): use a plane or 3-D run", where, m->ops->name);
+}
+
+/* Nitsche needs the model's traction s·n: first-order models (checked after the integration settings, whose
+ * refusals of second-order models say more). */
+static int check_nitsche_model(const MicaDeck *deck, const MicaSolidOptions *opt) {
+  if (!opt->bc_method->needs_model_traction || opt->field.ops->order == 1) return MICA_SUCCESS;
+  char where[256];
+  mica_deck_where(deck, "bc.method", where, sizeof where);
+  MICA_ERROR(MICA_ERR_INPUT, "%s: bc.method = \"%s\" needs a classical model or a first-order field model; model "
+             "'%s' uses second derivatives (its tractions include double tractions): use \"lagrange\" or "
+             "\"penalty\"", where, opt->bc_method->name, opt->field.ops->name);
 }
 
 /* quadrature.vci: first-order models only, and boundary sets that cover the whole boundary once. */
@@ -353,6 +357,7 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   opt.basis_order = (int)order;
   MICA_CALL_CLEANUP(read_vci(deck, rp->disc, &opt));
   MICA_CALL_CLEANUP(run_read_scni(deck, rp, &opt));
+  MICA_CALL_CLEANUP(check_nitsche_model(deck, &opt));
   const MicaDiscretization *disc = rp->disc;
   if (mica_parallel_active()) { /* MPI: this rank's share of the quadrature points (run_parallel.c) */
     MICA_CALL_CLEANUP(run_check_serial_only(deck, rp));
