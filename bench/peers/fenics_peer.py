@@ -3,7 +3,8 @@
 
     /usr/bin/python3 bench/peers/fenics_peer.py PROBLEM VARIANT N
 
-PROBLEM VARIANT: timoshenko P1|P2, cook P2|P3, cosserat P2P1|P3P2, block3d P1|P2|P3. N is the refinement
+PROBLEM VARIANT: timoshenko P1|P2, cook P2|P3, cosserat P2P1|P2P2|P3P2 (suffix r: half the cells along the
+hole), block3d P1|P2|P3. N is the refinement
 parameter (the same k as the mica side uses, see peers.py). Prints one JSON object on the last line:
 dofs, cells, qoi (the quantity each problem measures: see below), error (only where an exact solution
 exists), and the times
@@ -263,9 +264,10 @@ def cosserat(variant, k, timer):
     ε_kl = u_l,k + e_lkm φ_m, σ_kl = λ ε_rr δ_kl + (μ + κ) ε_kl + μ ε_lk, in-plane m = γ ∇φ3,
     W = ½ σ:ε + ½ γ |∇φ3|²; technical constants G, ν, N, l as mica converts them.
     Mesh: mica's plate_hole map and graded layout (ratio 40 outwards) on a (4k) × (3k) grid of cells (mica's
-    k of peers.py has (8k) × (6k): FEniCS k = 2 is mica's grid), each split into two triangles with quadratic
-    (curved) edges."""
+    k of peers.py has (8k) × (6k): FEniCS k = 2 is mica's grid; variants ending in r: (2k) × (3k)), each split
+    into two triangles with quadratic (curved) edges."""
     du, dp = int(variant[1]), int(variant[3])
+    angular = 2 * k if variant.endswith("r") else 4 * k  # "r": half the cells along the hole (mica's nitsche-q8r)
     a, aol, Nc, G, nu, p = 1.0, 1.063, 0.93, 1000.0, 0.3, 1.0
     b, l = 40 * a, a / aol
     lam = 2 * G * nu / (1 - 2 * nu)
@@ -274,7 +276,7 @@ def cosserat(variant, k, timer):
     gam = 4 * G * l ** 2
     t0 = time.perf_counter()
     fname = os.path.join(os.environ.get("PEERS_TMP", "/tmp"), "peers_hole_%d_%d.xdmf" % (k, os.getpid()))
-    mesh = quadratic_quad_mesh(lambda s, t: plate_hole_map(a, b, s, t), np.linspace(0, 1, 4 * k + 1),
+    mesh = quadratic_quad_mesh(lambda s, t: plate_hole_map(a, b, s, t), np.linspace(0, 1, angular + 1),
                                graded_axis(3 * k + 1, 40.0), fname)
     os.remove(fname)
     t1 = time.perf_counter()

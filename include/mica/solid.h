@@ -115,7 +115,7 @@ typedef struct MicaBoundaryMethodOps {
   double default_alpha;    /* β = α E / h (penalty, Nitsche stabilization); unused by lagrange */
   int symmetric_definite;  /* 1 if the tangent stays symmetric positive definite (CHOLMOD can be used) */
   int needs_multipliers;   /* 1: multiplier nodes on the constrained sets */
-  int needs_model_traction; /* 1: uses the classical traction P n (Nitsche): classical models only */
+  int needs_model_traction; /* 1: uses the model's traction s·n (Nitsche): first-order models only */
   /* Adds the residual (into R, over all dofs) and, if K, the tangent of condition c at load factor t. */
   int (*add)(struct MicaSolid *s, const MicaDirichlet *c, double t, const double *u, double *R, MicaSparse *K);
 } MicaBoundaryMethodOps;

@@ -183,9 +183,10 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
   MICA_CHECK(!opt->vci || !opt->parallel, MICA_ERR_INPUT,
              "quadrature.vci is not available in parallel runs yet (its correction sums over every particle's "
              "support); run on one process");
-  MICA_CHECK(opt->field.ops == &mica_field_classical || !opt->bc_method->needs_model_traction, MICA_ERR_INPUT,
-             "bc.method = \"%s\" needs a classical model; model '%s' has generalized tractions: use \"lagrange\" or "
-             "\"penalty\"", opt->bc_method->name, opt->field.ops->name);
+  MICA_CHECK(opt->field.ops->order == 1 || !opt->bc_method->needs_model_traction, MICA_ERR_INPUT,
+             "bc.method = \"%s\" needs a classical model or a first-order field model; model '%s' uses second "
+             "derivatives (its tractions include double tractions): use \"lagrange\" or \"penalty\"",
+             opt->bc_method->name, opt->field.ops->name);
   return MICA_SUCCESS;
 }
 

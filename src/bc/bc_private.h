@@ -22,4 +22,8 @@ static inline double bc_beta(const MicaSolid *s, const BcPoint *bp) {
   return s->opt.bc_alpha * s->opt.field.material.E / bp->h;
 }
 
+/* Symmetric Nitsche for first-order field models (nitsche_field.c): the generalized tractions from the
+ * model's s and D. */
+int bc_nitsche_field_add(MicaSolid *s, const MicaDirichlet *c, double t, const double *u, double *R, MicaSparse *K);
+
 #endif

@@ -302,6 +302,17 @@ static int check_axisymmetric_model(const MicaDeck *deck, const MicaFieldModel *
              "coordinates): use a plane or 3-D run", where, m->ops->name);
 }
 
+/* Nitsche needs the model's traction s·n: first-order models (checked after the integration settings, whose
+ * refusals of second-order models say more). */
+static int check_nitsche_model(const MicaDeck *deck, const MicaSolidOptions *opt) {
+  if (!opt->bc_method->needs_model_traction || opt->field.ops->order == 1) return MICA_SUCCESS;
+  char where[256];
+  mica_deck_where(deck, "bc.method", where, sizeof where);
+  MICA_ERROR(MICA_ERR_INPUT, "%s: bc.method = \"%s\" needs a classical model or a first-order field model; model "
+             "'%s' uses second derivatives (its tractions include double tractions): use \"lagrange\" or "
+             "\"penalty\"", where, opt->bc_method->name, opt->field.ops->name);
+}
+
 /* quadrature.vci: first-order models only, and boundary sets that cover the whole boundary once. */
 static int read_vci(const MicaDeck *deck, const MicaDiscretization *disc, MicaSolidOptions *opt) {
   MICA_CALL(mica_deck_bool(deck, "quadrature.vci", &opt->vci));
@@ -346,6 +357,7 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   opt.basis_order = (int)order;
   MICA_CALL_CLEANUP(read_vci(deck, rp->disc, &opt));
   MICA_CALL_CLEANUP(run_read_scni(deck, rp, &opt));
+  MICA_CALL_CLEANUP(check_nitsche_model(deck, &opt));
   const MicaDiscretization *disc = rp->disc;
   if (mica_parallel_active()) { /* MPI: this rank's share of the quadrature points (run_parallel.c) */
     MICA_CALL_CLEANUP(run_check_serial_only(deck, rp));

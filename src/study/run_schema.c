@@ -95,7 +95,8 @@ const MicaDeckKey mica_run_schema[] = {
     {"bc.method", MICA_KEY_CHOICE, "\"nitsche\"", NOLIMIT, "penalty|nitsche|lagrange", 0, 0,
      "how Dirichlet conditions are imposed (docs/verification.md says why nitsche is the default)"},
     {"bc.alpha", MICA_KEY_FLOAT, NULL, 1e-6, 1e12, NULL, 0, 0,
-     "penalty / Nitsche factor α in β = α E / h (default: 1e3 penalty, 100 Nitsche)"},
+     "penalty / Nitsche factor α in β = α E / h (Cosserat and other field models: β_b = α k_b / h per unknown, "
+     "docs/theory.md; default: 1e3 penalty, 100 Nitsche)"},
     {"bcs.dirichlet", MICA_KEY_LIST, NULL, NOLIMIT, NULL, 0, 0,
      "prescribed displacements: ( { set = \"left\"; ux = \"0\"; uy = \"0\"; }, ... ); omitted components are free"},
     {"bcs.dirichlet.[].set", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, 0, "boundary set name"},
