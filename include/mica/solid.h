@@ -31,6 +31,7 @@ typedef struct MicaShapeCache {
   double *dN_test; /* [nnz*dim] VCI-corrected gradients of the test functions (mica_vci_correct), else NULL:
                       the test functions are the trial functions */
   long max_support;
+  double time_build, time_search; /* seconds to build it, and the neighbor search within (profiles) */
   int shares;   /* holders beyond the first (0 when allocated): the solids of consecutive runs may share a
                    cache (mica_shape_cache_share) */
 } MicaShapeCache;
@@ -167,6 +168,8 @@ typedef struct MicaSolid {
   long nmultiplier_nodes;
   MicaSparse *K;                  /* the tangent, pattern built once */
   double time_vci;                /* seconds spent on the VCI correction (0 without it, or shared) */
+  double time_shape, time_search, time_pattern; /* seconds: caches built for this solid (shape functions, of
+                                   which neighbor search) and the sparsity pattern (profiles) */
   int caches_built, caches_shared; /* shape-function caches computed for this solid / taken from a donor */
   double *work;                   /* per-point scratch: element matrices */
   long *work_nodes;               /* per-point scratch: clique node lists */

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "mica/solid.h"
+#include "mica/timer.h"
 
 /* Appends one point's shape functions, growing the arrays geometrically. */
 static int append_point(MicaShapeCache *c, const MlsShape *sh, long p, long *cap) {
@@ -37,6 +38,7 @@ int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x,
   MlsShape *sh = NULL;
   int ierr = MICA_SUCCESS;
   long cap = 0;
+  const double start = mica_wtime();
   MICA_CALL(MICA_CALLOC(c, 1));
   c->dim = mls_dim(mls);
   c->order = order >= 2 ? 2 : 1;
@@ -53,6 +55,8 @@ int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x,
     }
     MICA_CALL_CLEANUP(append_point(c, sh, p, &cap));
   }
+  c->time_search = sh->time_search;
+  c->time_build = mica_wtime() - start;
   *out = c;
   c = NULL;
 cleanup:

@@ -60,8 +60,11 @@ static int build_boundary_caches(MicaSolid *s, const MicaSolid *donor) {
     } else {
       char label[96];
       snprintf(label, sizeof label, "boundary set '%s'", disc->sets[set].name);
+      const double start = mica_wtime();
       MICA_CALL(s->approx.ops->points(s->approx.ctx, disc->sets[set].n, disc->sets[set].x, disc->sets[set].cell,
                                       s->opt.field.ops->order, label, &s->boundary[set]));
+      s->time_shape += mica_wtime() - start;
+      s->time_search += s->boundary[set]->time_search;
       s->caches_built++;
     }
     MICA_CALL(boundary_spacing(s, set));
@@ -213,11 +216,14 @@ static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
     s->caches_shared++;
     return MICA_SUCCESS;
   }
+  const double start = mica_wtime();
   if (opt->scni)
     MICA_CALL(mica_scni_cache_create(disc, s->mls, &s->volume));
   else
     MICA_CALL(s->approx.ops->points(s->approx.ctx, disc->nquad, disc->qx, disc->qcell, order, "volume quadrature",
                                     &s->volume));
+  s->time_shape += mica_wtime() - start;
+  s->time_search += s->volume->time_search;
   s->caches_built++;
   if (opt->vci) MICA_CALL(apply_vci(s));
   return MICA_SUCCESS;
@@ -255,7 +261,9 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
   MICA_CALL_CLEANUP(build_boundary_caches(s, donor));
   MICA_CALL_CLEANUP(number_multipliers(s));
   s->ndof = (s->nparticles + s->nmultiplier_nodes) * s->ncomp;
+  const double start = mica_wtime();
   MICA_CALL_CLEANUP(build_pattern(s));
+  s->time_pattern = mica_wtime() - start;
   /* scratch: the model's D (nq × nq), the element matrix (m × m) and the projections G (m × nq) */
   const long m = largest_clique(s) * s->ncomp;
   MICA_CALL_CLEANUP(MICA_MALLOC(s->work, (long)s->nq * s->nq + m * m + m * s->nq + 64));

@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mica/timer.h"
 #include "mls_private.h"
 
 /* Per-point scratch, sized for m basis terms and `cap` supporting particles. */
@@ -406,7 +407,9 @@ int mls_eval(const MlsApprox *mls, const double *x, int nderiv, MlsShape *sh) {
   MICA_CHECK(sh->dim == mls->dim, MICA_ERR_ARGUMENT, "shape of dimension %d used with a %d-D MLS", sh->dim,
              mls->dim);
   long count = 0, cap = sh->cap;
+  const double start = mica_wtime();
   MICA_CALL(mls_search_query(mls->search, x, &sh->index, &count, &cap));
+  sh->time_search += mica_wtime() - start;
   /* the query grows the index array itself when a point has more support than any before it */
   if (cap > sh->cap) MICA_CALL(shape_reserve(sh, mls->m, cap));
   sh->n = count;

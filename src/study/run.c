@@ -579,6 +579,10 @@ static int add_counts(const RunProblem *rp, const RunTotals *c, MicaJson *summar
   MICA_CALL(mica_json_number(summary, "time_cache_and_pattern", rp->time_cache_pattern));
   MICA_CALL(mica_json_bool(summary, "vci", s->opt.vci));
   MICA_CALL(mica_json_number(summary, "time_vci", s->time_vci)); /* part of time_cache_and_pattern */
+  /* the split of time_cache_and_pattern: shape functions (without their neighbor search), search, pattern */
+  MICA_CALL(mica_json_number(summary, "time_search", s->time_search));
+  MICA_CALL(mica_json_number(summary, "time_shape_functions", s->time_shape - s->time_search));
+  MICA_CALL(mica_json_number(summary, "time_pattern", s->time_pattern));
   MICA_CALL(mica_json_bool(summary, "reused_discretization", rp->reused_geometry));
   MICA_CALL(mica_json_int(summary, "shape_caches_built", s->caches_built));
   MICA_CALL(mica_json_int(summary, "shape_caches_shared", s->caches_shared));
@@ -673,9 +677,12 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(add_newton_stats(&stats, summary));
   MICA_CALL_CLEANUP(run_parallel_solver_stats(&rp, summary));
   MICA_CALL_CLEANUP(run_parallel_memory(&rp, summary));
+  const double output_start = mica_wtime();
   MICA_CALL_CLEANUP(run_output_finish(&out));
   MICA_CALL_CLEANUP(run_error_norms(&rp, u, summary));
   MICA_CALL_CLEANUP(run_probes(&rp, u, summary));
+  /* fields per step (inside time_newton), the PVD, error norms and probes */
+  MICA_CALL_CLEANUP(mica_json_number(summary, "time_output", out.time_output + mica_wtime() - output_start));
   printf("solved in %d load step%s, %d Newton iterations (%s)\n", stats.steps_done, stats.steps_done > 1 ? "s" : "",
          stats.iterations_total, stats.linear_name);
 cleanup:

@@ -94,6 +94,7 @@ typedef struct RunOutput {
   int nsteps;
   double times[1024];
   char files[1024][32];
+  double time_output; /* seconds writing fields per step, error norms and probes (profiles) */
 } RunOutput;
 
 int run_output_step(void *ctx, int step, double t, const double *u);

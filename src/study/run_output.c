@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "mica/files.h"
+#include "mica/timer.h"
 #include "mica/vtk.h"
 #include "run.h"
 
@@ -137,6 +138,7 @@ static int fields_compute(RunProblem *rp, const double *u, ParticleFields *f) {
 int run_output_step(void *ctx, int step, double t, const double *u) {
   RunOutput *out = ctx;
   if (!out->vtu || out->nsteps >= 1024 || mica_parallel_rank() != 0) return MICA_SUCCESS; /* MPI: rank 0 writes */
+  const double start = mica_wtime();
   ParticleFields f = {0};
   char *path = NULL;
   int ierr = MICA_SUCCESS;
@@ -157,6 +159,7 @@ int run_output_step(void *ctx, int step, double t, const double *u) {
 cleanup:
   free(path);
   fields_free(&f);
+  out->time_output += mica_wtime() - start;
   return ierr;
 }
 
