@@ -194,6 +194,12 @@ int mica_solid_destroy(MicaSolid **solid);
  * test functions are the trial functions (no VCI). */
 int mica_solid_symmetric_definite(const MicaSolid *s);
 
+/* 1 if the residual is affine in u, R(u) = K u − f, so that R(u + Δu) = R(u) + K Δu exactly (Newton takes the
+ * residual after a solve from the tangent, mica_newton_solve): a model with linear kinematics and a quadratic
+ * energy (classical "linear", small-strain Cosserat, strain gradient), dead loads, and the weak boundary
+ * methods (all linear in u); serial runs only (in parallel the tangent is distributed). */
+int mica_solid_linear(const MicaSolid *s);
+
 /* Residual R(u; t) = internal − external forces + boundary-method terms, and (if K != NULL) the tangent
  * into K (zeroed first). */
 int mica_solid_assemble(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K);
@@ -226,6 +232,8 @@ typedef struct MicaNewtonStats {
   double increment_history[64]; /* |Δu| per iteration of the last step (quadratic convergence evidence) */
   int nhistory, nincrements;
   double time_assemble, time_factor, time_solve;
+  int assemblies, tangent_assemblies; /* assembly passes (all; of which with the tangent) */
+  int residual_updates; /* residuals of a linear problem taken as R + K du instead of an assembly */
   const char *linear_name;
   MicaLinearSolverStats linear;
 } MicaNewtonStats;

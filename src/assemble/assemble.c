@@ -8,6 +8,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "mica/cosserat.h"
 #include "mica/parallel.h"
 #include "mica/solid.h"
 
@@ -211,6 +212,14 @@ static int assemble_points(MicaSolid *s, double t, const double *u, double *R, M
   MICA_CALL(assemble_tractions(s, t, R));
   for (int c = 0; c < s->ndirichlet; c++) MICA_CALL(s->opt.bc_method->add(s, &s->dirichlet[c], t, u, R, K));
   return MICA_SUCCESS;
+}
+
+int mica_solid_linear(const MicaSolid *s) {
+  const MicaFieldModel *m = &s->opt.field;
+  const int quadratic_energy = m->ops == &mica_field_classical ? !m->classical->finite_strain
+                                                               : m->ops == &mica_field_cosserat ||
+                                                                     m->ops == &mica_field_strain_gradient;
+  return quadratic_energy && !s->opt.parallel;
 }
 
 int mica_solid_assemble(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K) {

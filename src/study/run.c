@@ -646,6 +646,9 @@ static int add_newton_stats(const MicaNewtonStats *st, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "symbolic_analyses", st->linear.analyses));
   MICA_CALL(mica_json_int(summary, "factorizations", st->linear.factorizations));
   MICA_CALL(mica_json_number(summary, "time_assemble", st->time_assemble));
+  MICA_CALL(mica_json_int(summary, "assemblies", st->assemblies)); /* passes; of which with the tangent: */
+  MICA_CALL(mica_json_int(summary, "tangent_assemblies", st->tangent_assemblies));
+  MICA_CALL(mica_json_int(summary, "residual_updates", st->residual_updates)); /* linear: R + K du */
   MICA_CALL(mica_json_number(summary, "time_analyze", st->linear.time_analyze));
   MICA_CALL(mica_json_number(summary, "time_factor", st->time_factor));
   MICA_CALL(mica_json_number(summary, "time_solve", st->time_solve));
