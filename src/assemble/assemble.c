@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "mica/cosserat.h"
+#include "mica/kernel.h"
 #include "mica/parallel.h"
 #include "mica/solid.h"
 
@@ -145,6 +146,12 @@ static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, 
     }
 }
 
+void mica_solid_element_stiffness(const MicaSolid *s, const MicaShapeCache *c, long p, const double *D, double w,
+                                  double *G, double *Ke) {
+  const Layout L = layout_of(s);
+  element_stiffness(&L, c, p, s->nq, D, w, G, Ke);
+}
+
 /* Load scaling: with ramping, every load and prescribed value grows with the load factor t. */
 static double load_scale(const MicaSolid *s, double t) { return s->opt.ramp ? t : 1.0; }
 
@@ -160,32 +167,128 @@ static void add_body_force(const MicaSolid *s, long p, double t, double scale, d
     for (int a = 0; a < ncomp; a++) R[c->index[e] * ncomp + a] -= w * c->N[e] * b[a];
 }
 
-static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K) {
+/* What every volume point contributes before its stiffness: the model at q(u), the internal force and body load
+ * into R, and (with_tangent) D into s->work. */
+typedef struct {
+  const Layout *L;
+  double t, scale;
+  int has_body;
+} VolumeTerms;
+
+static int point_residual(MicaSolid *s, const VolumeTerms *v, long p, const double *u, double *R, int with_tangent) {
   const MicaShapeCache *c = s->volume;
-  const Layout L = layout_of(s);
-  const int nq = s->nq;
-  int has_body = 0;
-  for (int a = 0; a < s->ncomp; a++) has_body |= s->opt.body[a] != NULL;
-  const double scale = load_scale(s, t);
   double q[128], sq[128], W;
-  double *D = s->work; /* nq², then the element matrix and G after it */
+  mica_solid_kinematics(s, c, p, u, q);
+  const int ierr = s->opt.field.ops->eval(&s->opt.field, v->L->dim, q, &W, sq, with_tangent ? s->work : NULL);
+  if (ierr) {
+    mica_error_prefix("volume quadrature point %ld", p + 1);
+    return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  }
+  add_internal_force(v->L, c, p, sq, s->disc->qw[p], R);
+  if (v->has_body) add_body_force(s, p, v->t, v->scale, R);
+  return MICA_SUCCESS;
+}
+
+/* ---- the general path: one full element matrix per point ---- */
+
+static int assemble_points_general(MicaSolid *s, const VolumeTerms *v, const double *u, double *R, MicaSparse *K) {
+  const MicaShapeCache *c = s->volume;
+  const int nq = s->nq;
   for (long p = 0; p < c->npoints; p++) {
-    const long n = c->ptr[p + 1] - c->ptr[p], m = n * L.ncomp;
-    const double w = s->disc->qw[p];
-    mica_solid_kinematics(s, c, p, u, q);
-    int ierr = s->opt.field.ops->eval(&s->opt.field, L.dim, q, &W, sq, K ? D : NULL);
-    if (ierr) {
-      mica_error_prefix("volume quadrature point %ld", p + 1);
-      return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
-    }
-    add_internal_force(&L, c, p, sq, w, R);
-    if (has_body) add_body_force(s, p, t, scale, R);
+    MICA_CALL(point_residual(s, v, p, u, R, K != NULL));
     if (!K) continue;
-    double *Ke = D + nq * nq, *G = Ke + m * m;
-    element_stiffness(&L, c, p, nq, D, w, G, Ke);
+    const long n = c->ptr[p + 1] - c->ptr[p], m = n * v->L->ncomp;
+    double *D = s->work, *Ke = D + nq * nq, *G = Ke + m * m;
+    element_stiffness(v->L, c, p, nq, D, s->disc->qw[p], G, Ke);
     MICA_CALL(mica_sparse_add_clique(K, n, c->index + c->ptr[p], Ke));
   }
   return MICA_SUCCESS;
+}
+
+/* ---- the classical path: symmetric half, points of a background cell together ---- */
+
+/* The classical kernel (mica/kernel.h) serves plane and 3-D classical models whose test functions are the trial
+ * functions: K is then symmetric and only its upper blocks are computed and scattered. VCI (Petrov–Galerkin),
+ * axisymmetric hoop terms and generalized continua take the slot-based element_stiffness. */
+static int classical_kernel_applies(const MicaSolid *s, const MicaShapeCache *c) {
+  return s->opt.field.ops == &mica_field_classical && !s->opt.axisymmetric && !c->dN_test && s->ncomp == s->dim &&
+         (s->dim == 2 || s->dim == 3) && !s->opt.general_kernel;
+}
+
+/* The gradient block of D, A_aJbL = D[(ncomp + aJ)(ncomp + bL)], as a dense dim² × dim² matrix. */
+static void gradient_tangent(const MicaSolid *s, const double *D, double *A) {
+  const int dd = s->dim * s->dim, first = s->ncomp;
+  for (int r = 0; r < dd; r++)
+    for (int col = 0; col < dd; col++) A[r * dd + col] = D[(first + r) * s->nq + first + col];
+}
+
+/* Consecutive points first, first + 1, ... whose supports together hold at most 1/8 more particles than the
+ * first one's (and at most cell_cap): the Gauss points of a background cell are stored together, and on a
+ * regular grid with a whole-number dilation their supports coincide. The union goes to cell_nodes, ascending,
+ * and each member's position to cell_slot. Returns the point after the group. Why: the group's matrix is
+ * scattered once instead of once per point (25 or 64 times), and the scatter is what costs; the bound keeps
+ * each point's share of the group matrix (rows over the union) close to its own support
+ * (docs/performance.md §kernel). */
+static long cell_group(MicaSolid *s, long first, long *u_out) {
+  const MicaShapeCache *c = s->volume;
+  const long n_first = c->ptr[first + 1] - c->ptr[first];
+  const long bound = n_first + n_first / 8 < s->cell_cap ? n_first + n_first / 8 : s->cell_cap;
+  long u = 0, p = first;
+  for (; p < c->npoints; p++) {
+    long extra = 0;
+    for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) extra += s->cell_slot[c->index[e]] < 0;
+    if (p > first && u + extra > bound) break;
+    for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
+      if (s->cell_slot[c->index[e]] < 0) s->cell_slot[c->index[e]] = 0, s->cell_nodes[u++] = c->index[e];
+  }
+  for (long i = 1; i < u; i++) { /* insertion sort: the union is short and mostly ascending already */
+    const long node = s->cell_nodes[i];
+    long j = i;
+    for (; j > 0 && s->cell_nodes[j - 1] > node; j--) s->cell_nodes[j] = s->cell_nodes[j - 1];
+    s->cell_nodes[j] = node;
+  }
+  for (long i = 0; i < u; i++) s->cell_slot[s->cell_nodes[i]] = i;
+  *u_out = u;
+  return p;
+}
+
+static int assemble_cell(MicaSolid *s, const VolumeTerms *v, long first, long last, long u, const double *uvec,
+                         double *R, MicaSparse *K) {
+  const MicaShapeCache *c = s->volume;
+  const int dim = s->dim;
+  double *Kc = s->cell_matrix, *kwork = Kc + mica_kernel_ke_size(dim, u), *A = kwork + mica_kernel_work_size(dim, u);
+  long *loc = s->work_nodes;
+  memset(Kc, 0, sizeof(double) * (size_t)mica_kernel_ke_size(dim, u));
+  for (long p = first; p < last; p++) {
+    MICA_CALL(point_residual(s, v, p, uvec, R, 1));
+    const long n = c->ptr[p + 1] - c->ptr[p];
+    for (long k = 0; k < n; k++) loc[k] = s->cell_slot[c->index[c->ptr[p] + k]];
+    gradient_tangent(s, s->work, A);
+    mica_kernel_classical_mapped(dim, n, c->dN + c->ptr[p] * dim, loc, u, A, s->disc->qw[p],
+                                 MICA_KERNEL_HALF | MICA_KERNEL_ADD, kwork, Kc);
+  }
+  return mica_sparse_add_clique_upper(K, u, s->cell_nodes, Kc, mica_kernel_padded(u));
+}
+
+static int assemble_points_classical(MicaSolid *s, const VolumeTerms *v, const double *u, double *R, MicaSparse *K) {
+  const MicaShapeCache *c = s->volume;
+  for (long first = 0, last, nu; first < c->npoints; first = last) {
+    last = cell_group(s, first, &nu);
+    const int ierr = assemble_cell(s, v, first, last, nu, u, R, K);
+    for (long i = 0; i < nu; i++) s->cell_slot[s->cell_nodes[i]] = -1;
+    MICA_CALL(ierr);
+  }
+  /* before the boundary terms, which add full (and for some methods unsymmetric) blocks */
+  mica_sparse_mirror_upper(K);
+  return MICA_SUCCESS;
+}
+
+static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K) {
+  const Layout L = layout_of(s);
+  VolumeTerms v = {&L, t, load_scale(s, t), 0};
+  for (int a = 0; a < s->ncomp; a++) v.has_body |= s->opt.body[a] != NULL;
+  if (K && classical_kernel_applies(s, s->volume)) return assemble_points_classical(s, &v, u, R, K);
+  return assemble_points_general(s, &v, u, R, K);
 }
 
 /* Dead generalized tractions (forces on displacements, couples on rotations): R_kc −= ∫ t̄_c N_k dΓ. */

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mica/kernel.h"
 #include "mica/solid.h"
 #include "mica/timer.h"
 
@@ -229,6 +230,20 @@ static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
   return MICA_SUCCESS;
 }
 
+/* Scratch of the classical kernel's cell matrices (assemble.c): a union of up to twice the largest support. */
+static int cell_scratch(MicaSolid *s) {
+  const int dim = s->dim;
+  s->cell_cap = 2 * s->volume->max_support;
+  if (s->cell_cap > s->nparticles) s->cell_cap = s->nparticles;
+  if (s->cell_cap < 1) s->cell_cap = 1;
+  const long u = s->cell_cap;
+  MICA_CALL(MICA_MALLOC(s->cell_matrix, mica_kernel_ke_size(dim, u) + mica_kernel_work_size(dim, u) + 81));
+  MICA_CALL(MICA_MALLOC(s->cell_nodes, u));
+  MICA_CALL(MICA_MALLOC(s->cell_slot, s->nparticles + 1));
+  for (long i = 0; i < s->nparticles; i++) s->cell_slot[i] = -1;
+  return MICA_SUCCESS;
+}
+
 int mica_solid_create(const MicaDiscretization *disc, const MicaApprox *approx, const MicaSolidOptions *opt,
                       int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
                       MicaSolid **out) {
@@ -264,10 +279,12 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
   const double start = mica_wtime();
   MICA_CALL_CLEANUP(build_pattern(s));
   s->time_pattern = mica_wtime() - start;
-  /* scratch: the model's D (nq × nq), the element matrix (m × m) and the projections G (m × nq) */
+  /* scratch: the model's D (nq × nq), the element matrix (m × m) and the projections G (m × nq); the
+   * classical kernel's padded element matrix and its scratch (mica/kernel.h) fit in the extra 8 m ncomp */
   const long m = largest_clique(s) * s->ncomp;
-  MICA_CALL_CLEANUP(MICA_MALLOC(s->work, (long)s->nq * s->nq + m * m + m * s->nq + 64));
+  MICA_CALL_CLEANUP(MICA_MALLOC(s->work, (long)s->nq * s->nq + m * m + m * s->nq + 8 * m * s->ncomp + 64));
   MICA_CALL_CLEANUP(MICA_MALLOC(s->work_nodes, largest_clique(s)));
+  MICA_CALL_CLEANUP(cell_scratch(s));
   *out = s;
   return MICA_SUCCESS;
 cleanup:
@@ -297,6 +314,9 @@ int mica_solid_destroy(MicaSolid **solid) {
   mica_sparse_destroy(&s->K);
   MICA_FREE(s->work);
   MICA_FREE(s->work_nodes);
+  MICA_FREE(s->cell_matrix);
+  MICA_FREE(s->cell_nodes);
+  MICA_FREE(s->cell_slot);
   MICA_FREE(*solid);
   return MICA_SUCCESS;
 }
