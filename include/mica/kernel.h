@@ -46,6 +46,9 @@ void mica_kernel_classical_mapped(int dim, long n, const double *dN, const long 
 
 /* The instruction set the kernel runs with on this CPU: "avx512", "avx2" (with FMA) or "baseline". */
 const char *mica_kernel_isa(void);
+/* Runs the kernel with a narrower instruction set ("baseline", "avx2", "avx512") from now on, for tests and
+ * benchmarks; returns 0 (and changes nothing) if this CPU cannot run it. */
+int mica_kernel_use_isa(const char *isa);
 
 /* Useful floating-point operations of one call (a multiply-add counts 2): the two steps above, half or full. */
 double mica_kernel_flops(int dim, long n, int flags);

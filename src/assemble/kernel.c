@@ -96,20 +96,34 @@ static const char *rows_isa(void) {
   return "baseline";
 }
 
+static const char *chosen_isa; /* NULL until the first call: then rows_isa(), or what mica_kernel_use_isa set */
+
 static RowsFn *rows_for(int dim) {
-  static RowsFn *chosen[2];
-  RowsFn **slot = &chosen[dim == 3];
-  if (*slot) return *slot;
-  const char *isa = rows_isa();
-  RowsFn *f = dim == 3 ? rows_base_3d : rows_base_2d;
+  if (!chosen_isa) chosen_isa = rows_isa();
 #ifdef KERNEL_DISPATCH
-  if (!strcmp(isa, "avx512")) f = dim == 3 ? rows_avx512_3d : rows_avx512_2d;
-  if (!strcmp(isa, "avx2")) f = dim == 3 ? rows_avx2_3d : rows_avx2_2d;
+  if (!strcmp(chosen_isa, "avx512")) return dim == 3 ? rows_avx512_3d : rows_avx512_2d;
+  if (!strcmp(chosen_isa, "avx2")) return dim == 3 ? rows_avx2_3d : rows_avx2_2d;
 #endif
-  return *slot = f;
+  return dim == 3 ? rows_base_3d : rows_base_2d;
 }
 
-const char *mica_kernel_isa(void) { return rows_isa(); }
+const char *mica_kernel_isa(void) {
+  if (!chosen_isa) chosen_isa = rows_isa();
+  return chosen_isa;
+}
+
+int mica_kernel_use_isa(const char *isa) {
+  static const char *const order[] = {"baseline", "avx2", "avx512"}; /* each runs where the next does */
+  const char *best = rows_isa();
+  int wanted = -1, available = 0;
+  for (int i = 0; i < 3; i++) {
+    if (!strcmp(isa, order[i])) wanted = i;
+    if (!strcmp(best, order[i])) available = i;
+  }
+  if (wanted < 0 || wanted > available) return 0;
+  chosen_isa = order[wanted];
+  return 1;
+}
 
 void mica_kernel_classical_mapped(int dim, long n, const double *dN, const long *loc, long u, const double *A,
                                   double w, int flags, double *work, double *Ke) {
