@@ -37,20 +37,36 @@ static int check_cliques(long nnodes, long ncliques, const long *clique_ptr, con
 
 /* ---- Step 1: the cliques of each node ----------------------------------------------------------------- */
 
-/* node_ptr[nnodes+1], node_cliques[Σ sizes]: the cliques containing node i, in ascending clique order. */
+/* Is clique c the same node list as clique c − 1? The quadrature points of a background cell often share
+ * their support: such repeats add no coupling, and skipping them saves their (clique size)² marker tests. */
+static int repeats_previous(const long *clique_ptr, const long *clique_nodes, long c) {
+  const long size = clique_ptr[c + 1] - clique_ptr[c];
+  return c > 0 && clique_ptr[c] - clique_ptr[c - 1] == size &&
+         !memcmp(clique_nodes + clique_ptr[c - 1], clique_nodes + clique_ptr[c], sizeof(long) * (size_t)size);
+}
+
+/* node_ptr[nnodes+1], node_cliques[Σ sizes]: the cliques containing node i, in ascending clique order
+ * (repeats of the previous clique left out). */
 static int transpose_cliques(long nnodes, long ncliques, const long *clique_ptr, const long *clique_nodes,
                              long **node_ptr_out, long **node_cliques_out) {
-  long total = ncliques > 0 ? clique_ptr[ncliques] - clique_ptr[0] : 0;
+  long total = 0;
   long *node_ptr = NULL, *node_cliques = NULL;
+  unsigned char *repeat = NULL;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(MICA_CALLOC(node_ptr, nnodes + 1));
-  MICA_CALL_CLEANUP(MICA_MALLOC(node_cliques, total));
+  MICA_CALL_CLEANUP(MICA_MALLOC(repeat, ncliques + 1));
+  for (long c = 0; c < ncliques; c++) {
+    repeat[c] = (unsigned char)repeats_previous(clique_ptr, clique_nodes, c);
+    if (!repeat[c]) total += clique_ptr[c + 1] - clique_ptr[c];
+  }
+  MICA_CALL_CLEANUP(MICA_MALLOC(node_cliques, total + 1));
   for (long c = 0; c < ncliques; c++)
-    for (long k = clique_ptr[c]; k < clique_ptr[c + 1]; k++) node_ptr[clique_nodes[k] + 1]++;
+    for (long k = clique_ptr[c]; k < clique_ptr[c + 1] && !repeat[c]; k++) node_ptr[clique_nodes[k] + 1]++;
   for (long i = 0; i < nnodes; i++) node_ptr[i + 1] += node_ptr[i];
   /* node_ptr[i] serves as node i's fill cursor, then is shifted back into place */
   for (long c = 0; c < ncliques; c++)
-    for (long k = clique_ptr[c]; k < clique_ptr[c + 1]; k++) node_cliques[node_ptr[clique_nodes[k]]++] = c;
+    for (long k = clique_ptr[c]; k < clique_ptr[c + 1] && !repeat[c]; k++) node_cliques[node_ptr[clique_nodes[k]]++] = c;
+  free(repeat);
   for (long i = nnodes; i > 0; i--) node_ptr[i] = node_ptr[i - 1];
   node_ptr[0] = 0;
   *node_ptr_out = node_ptr;
@@ -59,6 +75,7 @@ static int transpose_cliques(long nnodes, long ncliques, const long *clique_ptr,
 cleanup:
   free(node_ptr);
   free(node_cliques);
+  free(repeat);
   return ierr;
 }
 
