@@ -655,6 +655,17 @@ static int add_newton_stats(const MicaNewtonStats *st, MicaJson *summary) {
   return MICA_SUCCESS;
 }
 
+/* Memory per dof (docs/performance.md §memory): the shape-function caches (N, ∇N, ∇∇N, particle index, point
+ * offsets), the tangent (values, row indices, column offsets) and its factor's values (8 bytes × nnz_factor;
+ * CHOLMOD's supernodal indices and UMFPACK's pattern come on top). */
+static int add_memory_per_dof(const RunProblem *rp, const RunTotals *c, const MicaNewtonStats *st, MicaJson *summary) {
+  const double dofs = (double)rp->solid->ndof;
+  MICA_CALL(mica_json_number(summary, "memory_cache_bytes_per_dof", (double)c->cache_bytes / dofs));
+  MICA_CALL(mica_json_number(summary, "memory_matrix_bytes_per_dof", (double)(c->nnz * 16 + (rp->solid->ndof + 1) * 8) / dofs));
+  MICA_CALL(mica_json_number(summary, "memory_factor_bytes_per_dof", 8.0 * (double)st->linear.nnz_factor / dofs));
+  return MICA_SUCCESS;
+}
+
 int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summary, RunReuse *reuse) {
   RunProblem rp;
   MicaNewtonOptions nopt;
@@ -678,6 +689,7 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(mica_newton_solve(rp.solid, &nopt, u, run_output_step, &out, &stats));
   MICA_CALL_CLEANUP(mica_json_number(summary, "time_newton", mica_wtime() - start));
   MICA_CALL_CLEANUP(add_newton_stats(&stats, summary));
+  MICA_CALL_CLEANUP(add_memory_per_dof(&rp, &totals, &stats, summary));
   MICA_CALL_CLEANUP(run_parallel_solver_stats(&rp, summary));
   MICA_CALL_CLEANUP(run_parallel_memory(&rp, summary));
   const double output_start = mica_wtime();
