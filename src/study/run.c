@@ -411,6 +411,24 @@ static int build_geometry(const MicaDeck *deck, RunProblem *rp) {
   return MICA_SUCCESS;
 }
 
+int run_error_discretization(const RunProblem *rp, MicaDiscretization **disc) {
+  long order;
+  *disc = NULL;
+  MICA_CALL(mica_deck_int(rp->deck, "quadrature.error_order", &order));
+  if (order <= 0) return MICA_SUCCESS;
+  MicaShapeSpec shape;
+  MicaLayoutSpec layout;
+  MicaCellSpec cells;
+  char mesh[1024];
+  MICA_CALL(read_shape(rp->deck, &shape, mesh, sizeof mesh));
+  MICA_CALL(read_layout(rp->deck, shape.dim, shape.kind == MICA_SHAPE_GMSH, &layout, &cells));
+  cells.order = (int)order;
+  MICA_CALL(mica_discretization_create(&shape, &layout, &cells, disc));
+  const int ierr = rp->axisymmetric ? mica_discretization_revolve(*disc) : MICA_SUCCESS;
+  if (ierr) mica_discretization_destroy(disc);
+  return ierr;
+}
+
 /* ---- reuse between runs ---------------------------------------------------------------------------------- */
 
 /* What the discretization and the MLS approximation depend on: the deck file (Gmsh paths are relative to
@@ -518,6 +536,7 @@ void run_problem_free(RunProblem *rp) {
     mica_discretization_destroy(&rp->disc);
   }
   mica_shape_cache_destroy(&rp->at_gauss);
+  mica_discretization_destroy(&rp->error_disc);
   for (int a = 0; a < MICA_MAX_COMP; a++) {
     mica_function_destroy(&rp->exact[a]);
     for (int J = 0; J < 3; J++) mica_function_destroy(&rp->exact_grad[a][J]);
