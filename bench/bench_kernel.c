@@ -146,8 +146,8 @@ static void kernel_row(int dim, long n) {
   const double f_half = mica_kernel_flops(dim, n, 1), f_full = mica_kernel_flops(dim, n, 0);
   const double f_gemm = 2.0 * (double)m * (double)m * dim * dim;
   const double r_half = f_half / t_half * 1e-9, r_gemm = f_gemm / t_gemm * 1e-9;
-  printf("%d-D n %3ld  half %7.2f us %6.2f GF/s  full %7.2f us %6.2f GF/s  general %8.2f us  dgemm %3ldx%dx%-3ld %7.2f us "
-         "%6.2f GF/s  ratio %5.2f  time %5.2f  diff %.1e\n",
+  printf("%d-D n %3ld  half %7.2f us %6.2f GF/s  full %7.2f us %6.2f GF/s  general %8.2f us  "
+         "dgemm %3ldx%dx%-3ld %7.2f us %6.2f GF/s  ratio %5.2f  time %5.2f  diff %.1e\n",
          dim, n, t_half * 1e6, r_half, t_full * 1e6, f_full / t_full * 1e-9, t_gen * 1e6, m, dim * dim, m,
          t_gemm * 1e6, r_gemm, r_half / r_gemm, t_half / t_gemm, half_vs_general(&pt));
   point_free(&pt);
@@ -216,11 +216,13 @@ static void assembly_row(const char *label, const MicaShapeSpec *shape, const lo
 int main(void) {
   printf("stiffness kernel per quadrature point vs DGEMM (one core, CPU time, best of 3; kernel ISA: %s)\n",
          mica_kernel_isa());
-  printf("flops: kernel 2 n dim^4 + 2 dim^3 x blocks (half: n(n+1)/2, full: n^2); dgemm 2 m^2 k, m = n dim, k = dim^2\n");
+  printf("flops: kernel 2 n dim^4 + 2 dim^3 x blocks (half: n(n+1)/2, full: n^2); "
+         "dgemm 2 m^2 k, m = n dim, k = dim^2\n");
   const long n2[] = {20, 32, 40}, n3[] = {30, 60, 90, 120};
   for (int i = 0; i < 3; i++) kernel_row(2, n2[i]);
   for (int i = 0; i < 4; i++) kernel_row(3, n3[i]);
-  printf("(ratio = kernel GF/s / dgemm GF/s; time = kernel time / dgemm time; diff = max |half - general| / max |general|)\n");
+  printf("(ratio = kernel GF/s / dgemm GF/s; time = kernel time / dgemm time; "
+         "diff = max |half - general| / max |general|)\n");
   printf("whole assemblies, linear elasticity, no boundary conditions (classical kernel + upper scatter + mirror vs "
          "general Ke + full scatter)\n");
   const MicaShapeSpec beam = {.kind = MICA_SHAPE_BOX, .dim = 2, .lower = {0, -6}, .upper = {48, 6}};

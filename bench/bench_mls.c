@@ -220,14 +220,16 @@ static double dgemm_rate(int a, int k, int b) {
   long reps = 1;
   for (;;) {
     const double t0 = cpu_now();
-    for (long r = 0; r < reps; r++) cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, a, b, k, 1.0, A, k, B, b, 0.0, C, b);
+    for (long r = 0; r < reps; r++)
+      cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, a, b, k, 1.0, A, k, B, b, 0.0, C, b);
     if (cpu_now() - t0 > 0.05) break;
     reps *= 2;
   }
   double best = INFINITY;
   for (int t = 0; t < 3; t++) {
     const double t0 = cpu_now();
-    for (long r = 0; r < reps; r++) cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, a, b, k, 1.0, A, k, B, b, 0.0, C, b);
+    for (long r = 0; r < reps; r++)
+      cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, a, b, k, 1.0, A, k, B, b, 0.0, C, b);
     best = fmin(best, (cpu_now() - t0) / (double)reps);
   }
   free(A), free(B), free(C);
@@ -298,7 +300,8 @@ int main(int argc, char **argv) {
   double *x = grid_particles(&n), *points = malloc(sizeof(double) * (size_t)(npoints * DIM));
   MicaRandom rng = mica_random_seed(42);
   for (long p = 0; p < npoints * DIM; p++) points[p] = -4.5 + 9 * mica_random_uniform(&rng);
-  printf("MLS shape functions in 3-D: %ld particles (21^3, spacing 0.5), %ld random points, best of 3 (CPU time)\n", n, npoints);
+  printf("MLS shape functions in 3-D: %ld particles (21^3, spacing 0.5), %ld random points, best of 3 (CPU time)\n", n,
+         npoints);
   printf("fused: mica (Cholesky of M once, derivative RHS as vectors); reference: explicit M^-1, M,i, M,ij\n");
   printf("flops/pt: the fused method's (bench/bench_mls.c header); GF/s = flops/pt x fused rate; dgemm at the\n"
          "moment matrix's shape (m x n x m), one core. DGEMM 500 x 500 x 500 on this core: %.2f GF/s\n",

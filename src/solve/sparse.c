@@ -65,7 +65,8 @@ static int transpose_cliques(long nnodes, long ncliques, const long *clique_ptr,
   for (long i = 0; i < nnodes; i++) node_ptr[i + 1] += node_ptr[i];
   /* node_ptr[i] serves as node i's fill cursor, then is shifted back into place */
   for (long c = 0; c < ncliques; c++)
-    for (long k = clique_ptr[c]; k < clique_ptr[c + 1] && !repeat[c]; k++) node_cliques[node_ptr[clique_nodes[k]]++] = c;
+    for (long k = clique_ptr[c]; k < clique_ptr[c + 1] && !repeat[c]; k++)
+      node_cliques[node_ptr[clique_nodes[k]]++] = c;
   free(repeat);
   for (long i = nnodes; i > 0; i--) node_ptr[i] = node_ptr[i - 1];
   node_ptr[0] = 0;

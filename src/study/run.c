@@ -680,7 +680,8 @@ static int add_newton_stats(const MicaNewtonStats *st, MicaJson *summary) {
 static int add_memory_per_dof(const RunProblem *rp, const RunTotals *c, const MicaNewtonStats *st, MicaJson *summary) {
   const double dofs = (double)rp->solid->ndof;
   MICA_CALL(mica_json_number(summary, "memory_cache_bytes_per_dof", (double)c->cache_bytes / dofs));
-  MICA_CALL(mica_json_number(summary, "memory_matrix_bytes_per_dof", (double)(c->nnz * 16 + (rp->solid->ndof + 1) * 8) / dofs));
+  const double matrix_bytes = (double)(c->nnz * 16 + (rp->solid->ndof + 1) * 8);
+  MICA_CALL(mica_json_number(summary, "memory_matrix_bytes_per_dof", matrix_bytes / dofs));
   MICA_CALL(mica_json_number(summary, "memory_factor_bytes_per_dof", 8.0 * (double)st->linear.nnz_factor / dofs));
   return MICA_SUCCESS;
 }
