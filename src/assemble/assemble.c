@@ -118,9 +118,10 @@ static void add_internal_force(const Layout *L, const MicaShapeCache *c, long p,
 }
 
 /* Ke[(k c),(l d)] = w Σ_ij B_i(k,c) D_ij B_j(l,d) through G_(k c)[j] = Σ_i B_i(k,c) D_ij; rows are test
- * functions, columns trial functions. */
+ * functions, columns trial functions. lower = 1: only the blocks of row particle k ≥ column particle l (a
+ * symmetric Ke's other half is their transpose). */
 static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, int nq, const double *D, double w,
-                              double *G, double *Ke) {
+                              int lower, double *G, double *Ke) {
   int slot[16];
   double b[16];
   const long first = c->ptr[p], n = c->ptr[p + 1] - first, m = n * L->ncomp;
@@ -137,7 +138,7 @@ static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, 
   for (long l = 0; l < n; l++)
     for (int d = 0; d < L->ncomp; d++) {
       const int nb = b_entries(L, c, c->dN, p, first + l, d, slot, b);
-      for (long row = 0; row < m; row++) {
+      for (long row = lower ? l * L->ncomp : 0; row < m; row++) {
         const double *g = G + row * nq;
         double sum = 0;
         for (int j = 0; j < nb; j++) sum += g[slot[j]] * b[j];
@@ -149,7 +150,7 @@ static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, 
 void mica_solid_element_stiffness(const MicaSolid *s, const MicaShapeCache *c, long p, const double *D, double w,
                                   double *G, double *Ke) {
   const Layout L = layout_of(s);
-  element_stiffness(&L, c, p, s->nq, D, w, G, Ke);
+  element_stiffness(&L, c, p, s->nq, D, w, 0, G, Ke);
 }
 
 /* Load scaling: with ramping, every load and prescribed value grows with the load factor t. */
@@ -189,7 +190,7 @@ static int point_residual(MicaSolid *s, const VolumeTerms *v, long p, const doub
   return MICA_SUCCESS;
 }
 
-/* ---- the general path: one full element matrix per point ---- */
+/* ---- the general path: one full element matrix per point (VCI: Petrov–Galerkin, unsymmetric) ---- */
 
 static int assemble_points_general(MicaSolid *s, const VolumeTerms *v, const double *u, double *R, MicaSparse *K) {
   const MicaShapeCache *c = s->volume;
@@ -199,7 +200,7 @@ static int assemble_points_general(MicaSolid *s, const VolumeTerms *v, const dou
     if (!K) continue;
     const long n = c->ptr[p + 1] - c->ptr[p], m = n * v->L->ncomp;
     double *D = s->work, *Ke = D + nq * nq, *G = Ke + m * m;
-    element_stiffness(v->L, c, p, nq, D, s->disc->qw[p], G, Ke);
+    element_stiffness(v->L, c, p, nq, D, s->disc->qw[p], 0, G, Ke);
     MICA_CALL(mica_sparse_add_clique(K, n, c->index + c->ptr[p], Ke));
   }
   return MICA_SUCCESS;
@@ -270,11 +271,62 @@ static int assemble_cell(MicaSolid *s, const VolumeTerms *v, long first, long la
   return mica_sparse_add_clique_upper(K, u, s->cell_nodes, Kc, mica_kernel_padded(u));
 }
 
-static int assemble_points_classical(MicaSolid *s, const VolumeTerms *v, const double *u, double *R, MicaSparse *K) {
+/* The symmetric half needs a symmetric D: every model's D is the Hessian of its energy W(q), symmetric up to
+ * round-off; a D that is not would make the mirrored matrix wrong, so it is an error, not a silent answer. */
+static int check_symmetric(const double *D, int nq, long p) {
+  double largest = 0, asymmetry = 0;
+  for (int i = 0; i < nq; i++)
+    for (int j = 0; j < nq; j++) {
+      largest = fmax(largest, fabs(D[i * nq + j]));
+      asymmetry = fmax(asymmetry, fabs(D[i * nq + j] - D[j * nq + i]));
+    }
+  MICA_CHECK(asymmetry <= 1e-10 * largest, MICA_ERR_NUMERIC,
+             "volume quadrature point %ld: the model's tangent D is not symmetric (%.2e relative), which the "
+             "symmetric assembly requires", p + 1, largest > 0 ? asymmetry / largest : 0.0);
+  return MICA_SUCCESS;
+}
+
+/* Lower blocks (K ≤ I) of a row-major Ke over the point's n particles into the group's planar matrix at loc. */
+static void add_lower_blocks(int nc, long n, const long *loc, long npu, const double *Ke, double *Kc) {
+  const long m = n * nc;
+  for (long I = 0; I < n; I++)
+    for (int a = 0; a < nc; a++) {
+      const double *krow = Ke + (I * nc + a) * m;
+      double *crow = Kc + (loc[I] * nc + a) * nc * npu;
+      for (long K = 0; K <= I; K++)
+        for (int b = 0; b < nc; b++) crow[b * npu + loc[K]] += krow[K * nc + b];
+    }
+}
+
+/* A group of points through the general element stiffness, lower half, into one matrix scattered once: the
+ * generalized continua (Cosserat, micromorph, strain gradient) and axisymmetric solids, test = trial functions. */
+static int assemble_cell_general(MicaSolid *s, const VolumeTerms *v, long first, long last, long u, const double *uvec,
+                                 double *R, MicaSparse *K) {
+  const MicaShapeCache *c = s->volume;
+  const int nc = s->ncomp, nq = s->nq;
+  const long npu = mica_kernel_padded(u);
+  double *Kc = s->cell_matrix;
+  long *loc = s->work_nodes;
+  memset(Kc, 0, sizeof(double) * (size_t)mica_kernel_ke_size(nc, u));
+  for (long p = first; p < last; p++) {
+    MICA_CALL(point_residual(s, v, p, uvec, R, 1));
+    MICA_CALL(check_symmetric(s->work, nq, p));
+    const long n = c->ptr[p + 1] - c->ptr[p], m = n * nc;
+    double *D = s->work, *Ke = D + nq * nq, *G = Ke + m * m;
+    element_stiffness(v->L, c, p, nq, D, s->disc->qw[p], 1, G, Ke);
+    for (long k = 0; k < n; k++) loc[k] = s->cell_slot[c->index[c->ptr[p] + k]];
+    add_lower_blocks(nc, n, loc, npu, Ke, Kc);
+  }
+  return mica_sparse_add_clique_upper(K, u, s->cell_nodes, Kc, npu);
+}
+
+static int assemble_points_grouped(MicaSolid *s, const VolumeTerms *v, int classical, const double *u, double *R,
+                                   MicaSparse *K) {
   const MicaShapeCache *c = s->volume;
   for (long first = 0, last, nu; first < c->npoints; first = last) {
     last = cell_group(s, first, &nu);
-    const int ierr = assemble_cell(s, v, first, last, nu, u, R, K);
+    const int ierr = classical ? assemble_cell(s, v, first, last, nu, u, R, K)
+                               : assemble_cell_general(s, v, first, last, nu, u, R, K);
     for (long i = 0; i < nu; i++) s->cell_slot[s->cell_nodes[i]] = -1;
     MICA_CALL(ierr);
   }
@@ -287,7 +339,9 @@ static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, M
   const Layout L = layout_of(s);
   VolumeTerms v = {&L, t, load_scale(s, t), 0};
   for (int a = 0; a < s->ncomp; a++) v.has_body |= s->opt.body[a] != NULL;
-  if (K && classical_kernel_applies(s, s->volume)) return assemble_points_classical(s, &v, u, R, K);
+  if (K && classical_kernel_applies(s, s->volume)) return assemble_points_grouped(s, &v, 1, u, R, K);
+  /* symmetric (test = trial functions) and one scatter per group, unless VCI's Petrov–Galerkin */
+  if (K && !s->volume->dN_test && !s->opt.general_kernel) return assemble_points_grouped(s, &v, 0, u, R, K);
   return assemble_points_general(s, &v, u, R, K);
 }
 

@@ -230,14 +230,15 @@ static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
   return MICA_SUCCESS;
 }
 
-/* Scratch of the classical kernel's cell matrices (assemble.c): a union of up to twice the largest support. */
+/* Scratch of the group matrices (assemble.c: a group's union holds at most 1/8 more particles than the largest
+ * support), in the planar layout of mica/kernel.h over ncomp unknowns, and the classical kernel's scratch. */
 static int cell_scratch(MicaSolid *s) {
   const int dim = s->dim;
-  s->cell_cap = 2 * s->volume->max_support;
+  s->cell_cap = s->volume->max_support + s->volume->max_support / 8 + 1;
   if (s->cell_cap > s->nparticles) s->cell_cap = s->nparticles;
   if (s->cell_cap < 1) s->cell_cap = 1;
   const long u = s->cell_cap;
-  MICA_CALL(MICA_MALLOC(s->cell_matrix, mica_kernel_ke_size(dim, u) + mica_kernel_work_size(dim, u) + 81));
+  MICA_CALL(MICA_MALLOC(s->cell_matrix, mica_kernel_ke_size(s->ncomp, u) + mica_kernel_work_size(dim, u) + 81));
   MICA_CALL(MICA_MALLOC(s->cell_nodes, u));
   MICA_CALL(MICA_MALLOC(s->cell_slot, s->nparticles + 1));
   for (long i = 0; i < s->nparticles; i++) s->cell_slot[i] = -1;
