@@ -31,7 +31,7 @@ typedef struct MicaShapeCache {
   double *dN_test; /* [nnz*dim] VCI-corrected gradients of the test functions (mica_vci_correct), else NULL:
                       the test functions are the trial functions */
   long max_support;
-  double time_build, time_search; /* seconds to build it, and the neighbor search within (profiles) */
+  double time_search; /* seconds of neighbor search while it was built (profiles; 0 unless MLS) */
   int shares;   /* holders beyond the first (0 when allocated): the solids of consecutive runs may share a
                    cache (mica_shape_cache_share) */
 } MicaShapeCache;

@@ -5,7 +5,6 @@
 #include <string.h>
 
 #include "mica/solid.h"
-#include "mica/timer.h"
 
 /* Appends one point's shape functions, growing the arrays geometrically. */
 static int append_point(MicaShapeCache *c, const MlsShape *sh, long p, long *cap) {
@@ -38,7 +37,6 @@ int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x,
   MlsShape *sh = NULL;
   int ierr = MICA_SUCCESS;
   long cap = 0;
-  const double start = mica_wtime();
   MICA_CALL(MICA_CALLOC(c, 1));
   c->dim = mls_dim(mls);
   c->order = order >= 2 ? 2 : 1;
@@ -56,7 +54,6 @@ int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x,
     MICA_CALL_CLEANUP(append_point(c, sh, p, &cap));
   }
   c->time_search = sh->time_search;
-  c->time_build = mica_wtime() - start;
   *out = c;
   c = NULL;
 cleanup:
