@@ -5,7 +5,21 @@
  * the linear algebra only. The largest difference between the two is printed as a check of both.
  *
  * Prints rates and ratios; never fails on time. Configurations: Pascal order 1 and 2, box and ball
- * supports, dilation 2 and 3, gradients only and gradients + Hessians; 21³ particles, random points. */
+ * supports, dilation 2 and 3, gradients only and gradients + Hessians; 21³ particles, random points.
+ *
+ * Flop rate of the fused evaluation (issue 7, item 5): the useful floating-point operations of the method per
+ * point, a multiply-add counting 2, with n supporting particles, m basis terms, d = 3, h = 6 Hessian entries
+ * (0 without), r = 1 + d + h right-hand sides:
+ *   moment matrix M = Σ Φ q qᵀ (upper triangle)       n m (m + 1) + n m
+ *   Cholesky m³/3; condition estimate 5 solves          m³/3 + 5 · 2 m²
+ *   r solves with the factor                            r · 2 m²
+ *   projections q_k · b (r vectors)                     2 n m r
+ *   derivative right-hand sides Σ coef q_k              2 n m (d + h)
+ *   combinations into N, ∇N, ∇∇N                        n (1 + 4 d + 12 h)
+ * The weights, the basis values and the neighbor search are not counted (no flops to speak of, but time).
+ * Printed beside DGEMM of the same BLAS on the same core, at the moment matrix's shape (m × n)·(n × m) and at
+ * 500 × 500 × 500. */
+#include <cblas.h>
 #include <lapacke.h>
 #include <math.h>
 #include <stdio.h>
@@ -15,6 +29,7 @@
 #include "mica/mls.h"
 #include "mica/random.h"
 #include "mica/timer.h"
+#include <time.h>
 
 enum { DIM = 3, NH = 6, GRID = 21, MAXM = 10 };
 
@@ -183,6 +198,44 @@ static double *grid_particles(long *n) {
   return x;
 }
 
+/* The fused evaluation's flops per point (the formula above); n the mean support. */
+static double fused_flops(int m, double n, int hess) {
+  const int d = DIM, h = hess ? NH : 0, r = 1 + d + h;
+  return n * m * (m + 1) + n * m + m * m * m / 3.0 + 10.0 * m * m + 2.0 * r * m * m + 2.0 * n * m * r +
+         2.0 * n * m * (d + h) + n * (1 + 4 * d + 12 * h);
+}
+
+static double cpu_now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* DGEMM rate (GFLOP/s) of (a × k)·(k × b), CPU time, best of 3 runs of ≥ 0.05 s. */
+static double dgemm_rate(int a, int k, int b) {
+  double *A = malloc(sizeof(double) * (size_t)(a * k)), *B = malloc(sizeof(double) * (size_t)(k * b));
+  double *C = malloc(sizeof(double) * (size_t)(a * b));
+  for (long i = 0; i < (long)a * k; i++) A[i] = 1.0 / (double)(i + 1);
+  for (long i = 0; i < (long)k * b; i++) B[i] = 1.0 / (double)(i + 2);
+  long reps = 1;
+  for (;;) {
+    const double t0 = cpu_now();
+    for (long r = 0; r < reps; r++)
+      cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, a, b, k, 1.0, A, k, B, b, 0.0, C, b);
+    if (cpu_now() - t0 > 0.05) break;
+    reps *= 2;
+  }
+  double best = INFINITY;
+  for (int t = 0; t < 3; t++) {
+    const double t0 = cpu_now();
+    for (long r = 0; r < reps; r++)
+      cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, a, b, k, 1.0, A, k, B, b, 0.0, C, b);
+    best = fmin(best, (cpu_now() - t0) / (double)reps);
+  }
+  free(A), free(B), free(C);
+  return 2.0 * a * k * b / best * 1e-9;
+}
+
 static int run_case(const Case *c, const double *x, long n, const double *points, long npoints) {
   MlsOptions opt;
   mls_options_default(&opt);
@@ -218,21 +271,23 @@ static int run_case(const Case *c, const double *x, long n, const double *points
   }
   double best_fused = INFINITY, best_ref = INFINITY;
   for (int rep = 0; rep < 3; rep++) {
-    double t0 = mica_wtime();
+    double t0 = cpu_now();
     for (long p = 0; p < npoints; p++) {
       MICA_CALL(mls_eval(mls, points + p * DIM, nderiv, sh));
       support_sum += sh->n;
     }
-    best_fused = fmin(best_fused, mica_wtime() - t0);
-    t0 = mica_wtime();
+    best_fused = fmin(best_fused, cpu_now() - t0);
+    t0 = cpu_now();
     for (long p = 0; p < npoints / 4; p++) MICA_CALL(ref_eval(&ref, points + p * DIM, c->hess, N, dN, ddN));
-    best_ref = fmin(best_ref, (mica_wtime() - t0) * 4);
+    best_ref = fmin(best_ref, (cpu_now() - t0) * 4);
   }
   const double rate = (double)npoints / best_fused, ref_rate = (double)npoints / best_ref;
+  const double support = (double)support_sum / (3.0 * (double)npoints), flops = fused_flops(m, support, c->hess);
   printf("pascal %d  %-4s dilation %.0f  %-9s  support %5.1f  fused %9.0f /s  reference %9.0f /s  ratio %5.2f"
-         "  max diff %.1e\n",
+         "  max diff %.1e  flops/pt %6.0f  %5.2f GF/s  dgemm(%dx%.0fx%d) %5.2f GF/s\n",
          c->order, c->support == MLS_SUPPORT_BOX ? "box" : "ball", c->dilation, c->hess ? "+hessian" : "gradient",
-         (double)support_sum / (3.0 * (double)npoints), rate, ref_rate, rate / ref_rate, diff / scale);
+         support, rate, ref_rate, rate / ref_rate, diff / scale, flops, flops * rate * 1e-9, m, support, m,
+         dgemm_rate(m, (int)lround(support), m));
   free(N), free(dN), free(ddN), free(ref.P), free(ref.w), free(ref.dw), free(ref.ddw), free(ref.index);
   mls_search_destroy(&ref.search);
   mls_shape_destroy(&sh);
@@ -245,8 +300,12 @@ int main(int argc, char **argv) {
   double *x = grid_particles(&n), *points = malloc(sizeof(double) * (size_t)(npoints * DIM));
   MicaRandom rng = mica_random_seed(42);
   for (long p = 0; p < npoints * DIM; p++) points[p] = -4.5 + 9 * mica_random_uniform(&rng);
-  printf("MLS shape functions in 3-D: %ld particles (21^3, spacing 0.5), %ld random points, best of 3\n", n, npoints);
+  printf("MLS shape functions in 3-D: %ld particles (21^3, spacing 0.5), %ld random points, best of 3 (CPU time)\n", n,
+         npoints);
   printf("fused: mica (Cholesky of M once, derivative RHS as vectors); reference: explicit M^-1, M,i, M,ij\n");
+  printf("flops/pt: the fused method's (bench/bench_mls.c header); GF/s = flops/pt x fused rate; dgemm at the\n"
+         "moment matrix's shape (m x n x m), one core. DGEMM 500 x 500 x 500 on this core: %.2f GF/s\n",
+         dgemm_rate(500, 500, 500));
   const int orders[] = {1, 2};
   const MlsSupportKind supports[] = {MLS_SUPPORT_BOX, MLS_SUPPORT_BALL};
   const double dilations[] = {2, 3};

@@ -18,4 +18,4 @@ for n in "65,17" "129,33" "257,65"; do
     "$(v nnz_factor "$s")" "$(v time_discretize "$s")" "$mls_cache" "$(v time_assemble "$s")" "$(v time_analyze "$s")" \
     "$(v time_factor "$s")" "$(v time_solve "$s")" "$(v tip_uy "$s")"
 done
-echo "(seconds; mls+cache = MLS setup + shape-function cache + sparsity pattern; assemble includes the residual check)"
+echo "(seconds; mls+cache = MLS setup + shape-function cache + sparsity pattern; assemble: one pass, residual and tangent)"

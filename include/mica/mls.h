@@ -141,6 +141,7 @@ typedef struct MlsShape {
   double *ddN;   /* [nhess][n]: ddN[h*n + k], h = mls_hess_index (nderiv = 2) */
   double rcond;  /* reciprocal 1-norm condition estimate of M at this point */
   long cap;      /* capacity of the per-particle arrays */
+  double time_search; /* seconds spent in the neighbor search, summed over mls_eval calls (profiles) */
   void *work;    /* private workspace */
 } MlsShape;
 

@@ -31,6 +31,7 @@ typedef struct MicaShapeCache {
   double *dN_test; /* [nnz*dim] VCI-corrected gradients of the test functions (mica_vci_correct), else NULL:
                       the test functions are the trial functions */
   long max_support;
+  double time_search; /* seconds of neighbor search while it was built (profiles; 0 unless MLS) */
   int shares;   /* holders beyond the first (0 when allocated): the solids of consecutive runs may share a
                    cache (mica_shape_cache_share) */
 } MicaShapeCache;
@@ -140,6 +141,8 @@ typedef struct MicaSolidOptions {
                                    the tangent is unsymmetric), first-order models only */
   int scni;                     /* 1: smoothed (SCNI) gradients at the particles: disc must be nodal
                                    (mica_discretization_nodal); first-order, non-axisymmetric models only */
+  int general_kernel;           /* 1: the slot-based element stiffness even where the classical kernel applies
+                                   (mica/kernel.h; tests and benchmarks compare the two) */
   struct MicaDistribution *parallel; /* NULL: serial. Else (src/parallel, mica/parallel.h) the discretization
                                    holds this rank's share of the quadrature points: residuals are summed over
                                    the ranks, terms added once per problem come from rank 0, and Newton solves
@@ -167,9 +170,17 @@ typedef struct MicaSolid {
   long nmultiplier_nodes;
   MicaSparse *K;                  /* the tangent, pattern built once */
   double time_vci;                /* seconds spent on the VCI correction (0 without it, or shared) */
+  double time_shape, time_search, time_pattern; /* seconds: caches built for this solid (shape functions, of
+                                   which neighbor search) and the sparsity pattern (profiles) */
   int caches_built, caches_shared; /* shape-function caches computed for this solid / taken from a donor */
   double *work;                   /* per-point scratch: element matrices */
   long *work_nodes;               /* per-point scratch: clique node lists */
+  /* classical kernel (mica/kernel.h): the points of a background cell add into one matrix over the union of
+   * their supports (at most cell_cap particles), scattered once per cell */
+  long cell_cap;
+  double *cell_matrix;            /* planar lower blocks over the union, and the kernel's scratch */
+  long *cell_nodes;               /* [cell_cap] the union, ascending */
+  long *cell_slot;                /* [nparticles] position of a particle in the union, −1 outside it */
 } MicaSolid;
 
 /* Builds the caches (volume and the boundary sets that carry conditions) from the approximation, the
@@ -191,9 +202,21 @@ int mica_solid_destroy(MicaSolid **solid);
  * test functions are the trial functions (no VCI). */
 int mica_solid_symmetric_definite(const MicaSolid *s);
 
+/* 1 if the residual is affine in u, R(u) = K u − f, so that R(u + Δu) = R(u) + K Δu exactly (Newton takes the
+ * residual after a solve from the tangent, mica_newton_solve): a model with linear kinematics and a quadratic
+ * energy (classical "linear", small-strain Cosserat, strain gradient), dead loads, and the weak boundary
+ * methods (all linear in u); serial runs only (in parallel the tangent is distributed). */
+int mica_solid_linear(const MicaSolid *s);
+
 /* Residual R(u; t) = internal − external forces + boundary-method terms, and (if K != NULL) the tangent
  * into K (zeroed first). */
 int mica_solid_assemble(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K);
+
+/* The general (slot-based) element stiffness at point p of cache c: Ke[(k c)(l d)] = w Σ_ij B_i(k,c) D_ij B_j(l,d),
+ * row-major m × m (m = support × ncomp), rows test functions; G is m × nq scratch. The classical kernel
+ * (mica/kernel.h) must agree with it (tests/unit/test_kernel.c). */
+void mica_solid_element_stiffness(const MicaSolid *s, const MicaShapeCache *c, long p, const double *D, double w,
+                                  double *G, double *Ke);
 
 /* The generalized kinematics q (values, gradients, Hessians of the ncomp unknowns; layout of mica/model.h)
  * at point p of cache c for particle parameters u. */
@@ -223,6 +246,8 @@ typedef struct MicaNewtonStats {
   double increment_history[64]; /* |Δu| per iteration of the last step (quadratic convergence evidence) */
   int nhistory, nincrements;
   double time_assemble, time_factor, time_solve;
+  int assemblies, tangent_assemblies; /* assembly passes (all; of which with the tangent) */
+  int residual_updates; /* residuals of a linear problem taken as R + K du instead of an assembly */
   const char *linear_name;
   MicaLinearSolverStats linear;
 } MicaNewtonStats;

@@ -19,6 +19,7 @@ typedef struct MicaSparse {
   long *colptr; /* [n+1] */
   long *rowind; /* [nnz], ascending within a column */
   double *val;  /* [nnz] */
+  long *cursor; /* [n] scratch of mica_sparse_mirror_upper */
 } MicaSparse;
 
 /* Pattern of nnodes × ndof unknowns from ncliques cliques: clique c holds the nodes
@@ -31,6 +32,15 @@ void mica_sparse_zero(MicaSparse *A);
  * in ASCENDING order (n nodes, K dense row-major (n·ndof)²). Every pair must be in the pattern
  * (MICA_ERR_ARGUMENT otherwise). Cost O(Σ column lengths touched), no allocation. */
 int mica_sparse_add_clique(MicaSparse *A, long n, const long *nodes, const double *K);
+/* The same for a symmetric clique matrix given by its lower blocks in the planar layout of mica/kernel.h
+ * (ndof = dim): adds the upper blocks, node pairs a ≤ b (clique order, ascending nodes), entry (a i, b j) read
+ * from its transpose at K[(b·ndof + j)·(ndof·np) + i·np + a]. The lower triangle is left to
+ * mica_sparse_mirror_upper. The nodes may be the union of several cliques: a pair outside the pattern is
+ * skipped if its block is zero (no clique coupled it), an error otherwise. */
+int mica_sparse_add_clique_upper(MicaSparse *A, long n, const long *nodes, const double *K, long np);
+/* A_ji = A_ij for every stored i < j: makes A symmetric from its upper triangle after upper-block cliques
+ * (overwrites the strict lower triangle; the pattern is symmetric). O(nnz), no allocation. */
+void mica_sparse_mirror_upper(MicaSparse *A);
 /* y = A x */
 void mica_sparse_matvec(const MicaSparse *A, const double *x, double *y);
 /* max |A − Aᵀ| / max |A|: 0 for a symmetric matrix. */

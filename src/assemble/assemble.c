@@ -8,6 +8,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "mica/cosserat.h"
+#include "mica/kernel.h"
 #include "mica/parallel.h"
 #include "mica/solid.h"
 
@@ -116,9 +118,10 @@ static void add_internal_force(const Layout *L, const MicaShapeCache *c, long p,
 }
 
 /* Ke[(k c),(l d)] = w Σ_ij B_i(k,c) D_ij B_j(l,d) through G_(k c)[j] = Σ_i B_i(k,c) D_ij; rows are test
- * functions, columns trial functions. */
+ * functions, columns trial functions. lower = 1: only the blocks of row particle k ≥ column particle l (a
+ * symmetric Ke's other half is their transpose). */
 static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, int nq, const double *D, double w,
-                              double *G, double *Ke) {
+                              int lower, double *G, double *Ke) {
   int slot[16];
   double b[16];
   const long first = c->ptr[p], n = c->ptr[p + 1] - first, m = n * L->ncomp;
@@ -135,13 +138,19 @@ static void element_stiffness(const Layout *L, const MicaShapeCache *c, long p, 
   for (long l = 0; l < n; l++)
     for (int d = 0; d < L->ncomp; d++) {
       const int nb = b_entries(L, c, c->dN, p, first + l, d, slot, b);
-      for (long row = 0; row < m; row++) {
+      for (long row = lower ? l * L->ncomp : 0; row < m; row++) {
         const double *g = G + row * nq;
         double sum = 0;
         for (int j = 0; j < nb; j++) sum += g[slot[j]] * b[j];
         Ke[row * m + l * L->ncomp + d] = w * sum;
       }
     }
+}
+
+void mica_solid_element_stiffness(const MicaSolid *s, const MicaShapeCache *c, long p, const double *D, double w,
+                                  double *G, double *Ke) {
+  const Layout L = layout_of(s);
+  element_stiffness(&L, c, p, s->nq, D, w, 0, G, Ke);
 }
 
 /* Load scaling: with ramping, every load and prescribed value grows with the load factor t. */
@@ -159,32 +168,181 @@ static void add_body_force(const MicaSolid *s, long p, double t, double scale, d
     for (int a = 0; a < ncomp; a++) R[c->index[e] * ncomp + a] -= w * c->N[e] * b[a];
 }
 
-static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K) {
+/* What every volume point contributes before its stiffness: the model at q(u), the internal force and body load
+ * into R, and (with_tangent) D into s->work. */
+typedef struct {
+  const Layout *L;
+  double t, scale;
+  int has_body;
+} VolumeTerms;
+
+static int point_residual(MicaSolid *s, const VolumeTerms *v, long p, const double *u, double *R, int with_tangent) {
   const MicaShapeCache *c = s->volume;
-  const Layout L = layout_of(s);
-  const int nq = s->nq;
-  int has_body = 0;
-  for (int a = 0; a < s->ncomp; a++) has_body |= s->opt.body[a] != NULL;
-  const double scale = load_scale(s, t);
   double q[128], sq[128], W;
-  double *D = s->work; /* nq², then the element matrix and G after it */
+  mica_solid_kinematics(s, c, p, u, q);
+  const int ierr = s->opt.field.ops->eval(&s->opt.field, v->L->dim, q, &W, sq, with_tangent ? s->work : NULL);
+  if (ierr) {
+    mica_error_prefix("volume quadrature point %ld", p + 1);
+    return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  }
+  add_internal_force(v->L, c, p, sq, s->disc->qw[p], R);
+  if (v->has_body) add_body_force(s, p, v->t, v->scale, R);
+  return MICA_SUCCESS;
+}
+
+/* ---- the general path: one full element matrix per point (VCI: Petrov–Galerkin, unsymmetric) ---- */
+
+static int assemble_points_general(MicaSolid *s, const VolumeTerms *v, const double *u, double *R, MicaSparse *K) {
+  const MicaShapeCache *c = s->volume;
+  const int nq = s->nq;
   for (long p = 0; p < c->npoints; p++) {
-    const long n = c->ptr[p + 1] - c->ptr[p], m = n * L.ncomp;
-    const double w = s->disc->qw[p];
-    mica_solid_kinematics(s, c, p, u, q);
-    int ierr = s->opt.field.ops->eval(&s->opt.field, L.dim, q, &W, sq, K ? D : NULL);
-    if (ierr) {
-      mica_error_prefix("volume quadrature point %ld", p + 1);
-      return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
-    }
-    add_internal_force(&L, c, p, sq, w, R);
-    if (has_body) add_body_force(s, p, t, scale, R);
+    MICA_CALL(point_residual(s, v, p, u, R, K != NULL));
     if (!K) continue;
-    double *Ke = D + nq * nq, *G = Ke + m * m;
-    element_stiffness(&L, c, p, nq, D, w, G, Ke);
+    const long n = c->ptr[p + 1] - c->ptr[p], m = n * v->L->ncomp;
+    double *D = s->work, *Ke = D + nq * nq, *G = Ke + m * m;
+    element_stiffness(v->L, c, p, nq, D, s->disc->qw[p], 0, G, Ke);
     MICA_CALL(mica_sparse_add_clique(K, n, c->index + c->ptr[p], Ke));
   }
   return MICA_SUCCESS;
+}
+
+/* ---- the classical path: symmetric half, points of a background cell together ---- */
+
+/* The classical kernel (mica/kernel.h) serves plane and 3-D classical models whose test functions are the trial
+ * functions: K is then symmetric and only its upper blocks are computed and scattered. VCI (Petrov–Galerkin),
+ * axisymmetric hoop terms and generalized continua take the slot-based element_stiffness. */
+static int classical_kernel_applies(const MicaSolid *s, const MicaShapeCache *c) {
+  return s->opt.field.ops == &mica_field_classical && !s->opt.axisymmetric && !c->dN_test && s->ncomp == s->dim &&
+         (s->dim == 2 || s->dim == 3) && !s->opt.general_kernel;
+}
+
+/* The gradient block of D, A_aJbL = D[(ncomp + aJ)(ncomp + bL)], as a dense dim² × dim² matrix. */
+static void gradient_tangent(const MicaSolid *s, const double *D, double *A) {
+  const int dd = s->dim * s->dim, first = s->ncomp;
+  for (int r = 0; r < dd; r++)
+    for (int col = 0; col < dd; col++) A[r * dd + col] = D[(first + r) * s->nq + first + col];
+}
+
+/* Consecutive points first, first + 1, ... whose supports together hold at most 1/8 more particles than the
+ * first one's (and at most cell_cap): the Gauss points of a background cell are stored together, and on a
+ * regular grid with a whole-number dilation their supports coincide. The union goes to cell_nodes, ascending,
+ * and each member's position to cell_slot. Returns the point after the group. Why: the group's matrix is
+ * scattered once instead of once per point (25 or 64 times), and the scatter is what costs; the bound keeps
+ * each point's share of the group matrix (rows over the union) close to its own support
+ * (docs/performance.md §kernel). */
+static long cell_group(MicaSolid *s, long first, long *u_out) {
+  const MicaShapeCache *c = s->volume;
+  const long n_first = c->ptr[first + 1] - c->ptr[first];
+  const long bound = n_first + n_first / 8 < s->cell_cap ? n_first + n_first / 8 : s->cell_cap;
+  long u = 0, p = first;
+  for (; p < c->npoints; p++) {
+    long extra = 0;
+    for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) extra += s->cell_slot[c->index[e]] < 0;
+    if (p > first && u + extra > bound) break;
+    for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
+      if (s->cell_slot[c->index[e]] < 0) s->cell_slot[c->index[e]] = 0, s->cell_nodes[u++] = c->index[e];
+  }
+  for (long i = 1; i < u; i++) { /* insertion sort: the union is short and mostly ascending already */
+    const long node = s->cell_nodes[i];
+    long j = i;
+    for (; j > 0 && s->cell_nodes[j - 1] > node; j--) s->cell_nodes[j] = s->cell_nodes[j - 1];
+    s->cell_nodes[j] = node;
+  }
+  for (long i = 0; i < u; i++) s->cell_slot[s->cell_nodes[i]] = i;
+  *u_out = u;
+  return p;
+}
+
+static int assemble_cell(MicaSolid *s, const VolumeTerms *v, long first, long last, long u, const double *uvec,
+                         double *R, MicaSparse *K) {
+  const MicaShapeCache *c = s->volume;
+  const int dim = s->dim;
+  double *Kc = s->cell_matrix, *kwork = Kc + mica_kernel_ke_size(dim, u), *A = kwork + mica_kernel_work_size(dim, u);
+  long *loc = s->work_nodes;
+  memset(Kc, 0, sizeof(double) * (size_t)mica_kernel_ke_size(dim, u));
+  for (long p = first; p < last; p++) {
+    MICA_CALL(point_residual(s, v, p, uvec, R, 1));
+    const long n = c->ptr[p + 1] - c->ptr[p];
+    for (long k = 0; k < n; k++) loc[k] = s->cell_slot[c->index[c->ptr[p] + k]];
+    gradient_tangent(s, s->work, A);
+    mica_kernel_classical_mapped(dim, n, c->dN + c->ptr[p] * dim, loc, u, A, s->disc->qw[p],
+                                 MICA_KERNEL_HALF | MICA_KERNEL_ADD, kwork, Kc);
+  }
+  return mica_sparse_add_clique_upper(K, u, s->cell_nodes, Kc, mica_kernel_padded(u));
+}
+
+/* The symmetric half needs a symmetric D: every model's D is the Hessian of its energy W(q), symmetric up to
+ * round-off; a D that is not would make the mirrored matrix wrong, so it is an error, not a silent answer. */
+static int check_symmetric(const double *D, int nq, long p) {
+  double largest = 0, asymmetry = 0;
+  for (int i = 0; i < nq; i++)
+    for (int j = 0; j < nq; j++) {
+      largest = fmax(largest, fabs(D[i * nq + j]));
+      asymmetry = fmax(asymmetry, fabs(D[i * nq + j] - D[j * nq + i]));
+    }
+  MICA_CHECK(asymmetry <= 1e-10 * largest, MICA_ERR_NUMERIC,
+             "volume quadrature point %ld: the model's tangent D is not symmetric (%.2e relative), which the "
+             "symmetric assembly requires", p + 1, largest > 0 ? asymmetry / largest : 0.0);
+  return MICA_SUCCESS;
+}
+
+/* Lower blocks (K ≤ I) of a row-major Ke over the point's n particles into the group's planar matrix at loc. */
+static void add_lower_blocks(int nc, long n, const long *loc, long npu, const double *Ke, double *Kc) {
+  const long m = n * nc;
+  for (long I = 0; I < n; I++)
+    for (int a = 0; a < nc; a++) {
+      const double *krow = Ke + (I * nc + a) * m;
+      double *crow = Kc + (loc[I] * nc + a) * nc * npu;
+      for (long K = 0; K <= I; K++)
+        for (int b = 0; b < nc; b++) crow[b * npu + loc[K]] += krow[K * nc + b];
+    }
+}
+
+/* A group of points through the general element stiffness, lower half, into one matrix scattered once: the
+ * generalized continua (Cosserat, micromorph, strain gradient) and axisymmetric solids, test = trial functions. */
+static int assemble_cell_general(MicaSolid *s, const VolumeTerms *v, long first, long last, long u, const double *uvec,
+                                 double *R, MicaSparse *K) {
+  const MicaShapeCache *c = s->volume;
+  const int nc = s->ncomp, nq = s->nq;
+  const long npu = mica_kernel_padded(u);
+  double *Kc = s->cell_matrix;
+  long *loc = s->work_nodes;
+  memset(Kc, 0, sizeof(double) * (size_t)mica_kernel_ke_size(nc, u));
+  for (long p = first; p < last; p++) {
+    MICA_CALL(point_residual(s, v, p, uvec, R, 1));
+    MICA_CALL(check_symmetric(s->work, nq, p));
+    const long n = c->ptr[p + 1] - c->ptr[p], m = n * nc;
+    double *D = s->work, *Ke = D + nq * nq, *G = Ke + m * m;
+    element_stiffness(v->L, c, p, nq, D, s->disc->qw[p], 1, G, Ke);
+    for (long k = 0; k < n; k++) loc[k] = s->cell_slot[c->index[c->ptr[p] + k]];
+    add_lower_blocks(nc, n, loc, npu, Ke, Kc);
+  }
+  return mica_sparse_add_clique_upper(K, u, s->cell_nodes, Kc, npu);
+}
+
+static int assemble_points_grouped(MicaSolid *s, const VolumeTerms *v, int classical, const double *u, double *R,
+                                   MicaSparse *K) {
+  const MicaShapeCache *c = s->volume;
+  for (long first = 0, last, nu; first < c->npoints; first = last) {
+    last = cell_group(s, first, &nu);
+    const int ierr = classical ? assemble_cell(s, v, first, last, nu, u, R, K)
+                               : assemble_cell_general(s, v, first, last, nu, u, R, K);
+    for (long i = 0; i < nu; i++) s->cell_slot[s->cell_nodes[i]] = -1;
+    MICA_CALL(ierr);
+  }
+  /* before the boundary terms, which add full (and for some methods unsymmetric) blocks */
+  mica_sparse_mirror_upper(K);
+  return MICA_SUCCESS;
+}
+
+static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K) {
+  const Layout L = layout_of(s);
+  VolumeTerms v = {&L, t, load_scale(s, t), 0};
+  for (int a = 0; a < s->ncomp; a++) v.has_body |= s->opt.body[a] != NULL;
+  if (K && classical_kernel_applies(s, s->volume)) return assemble_points_grouped(s, &v, 1, u, R, K);
+  /* symmetric (test = trial functions) and one scatter per group, unless VCI's Petrov–Galerkin */
+  if (K && !s->volume->dN_test && !s->opt.general_kernel) return assemble_points_grouped(s, &v, 0, u, R, K);
+  return assemble_points_general(s, &v, u, R, K);
 }
 
 /* Dead generalized tractions (forces on displacements, couples on rotations): R_kc −= ∫ t̄_c N_k dΓ. */
@@ -211,6 +369,14 @@ static int assemble_points(MicaSolid *s, double t, const double *u, double *R, M
   MICA_CALL(assemble_tractions(s, t, R));
   for (int c = 0; c < s->ndirichlet; c++) MICA_CALL(s->opt.bc_method->add(s, &s->dirichlet[c], t, u, R, K));
   return MICA_SUCCESS;
+}
+
+int mica_solid_linear(const MicaSolid *s) {
+  const MicaFieldModel *m = &s->opt.field;
+  const int quadratic_energy = m->ops == &mica_field_classical ? !m->classical->finite_strain
+                                                               : m->ops == &mica_field_cosserat ||
+                                                                     m->ops == &mica_field_strain_gradient;
+  return quadratic_energy && !s->opt.parallel;
 }
 
 int mica_solid_assemble(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K) {

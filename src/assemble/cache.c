@@ -53,6 +53,7 @@ int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x,
     }
     MICA_CALL_CLEANUP(append_point(c, sh, p, &cap));
   }
+  c->time_search = sh->time_search;
   *out = c;
   c = NULL;
 cleanup:

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mica/kernel.h"
 #include "mica/solid.h"
 #include "mica/timer.h"
 
@@ -60,8 +61,11 @@ static int build_boundary_caches(MicaSolid *s, const MicaSolid *donor) {
     } else {
       char label[96];
       snprintf(label, sizeof label, "boundary set '%s'", disc->sets[set].name);
+      const double start = mica_wtime();
       MICA_CALL(s->approx.ops->points(s->approx.ctx, disc->sets[set].n, disc->sets[set].x, disc->sets[set].cell,
                                       s->opt.field.ops->order, label, &s->boundary[set]));
+      s->time_shape += mica_wtime() - start;
+      s->time_search += s->boundary[set]->time_search;
       s->caches_built++;
     }
     MICA_CALL(boundary_spacing(s, set));
@@ -214,13 +218,31 @@ static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
     s->caches_shared++;
     return MICA_SUCCESS;
   }
+  const double start = mica_wtime();
   if (opt->scni)
     MICA_CALL(mica_scni_cache_create(disc, s->mls, &s->volume));
   else
     MICA_CALL(s->approx.ops->points(s->approx.ctx, disc->nquad, disc->qx, disc->qcell, order, "volume quadrature",
                                     &s->volume));
+  s->time_shape += mica_wtime() - start;
+  s->time_search += s->volume->time_search;
   s->caches_built++;
   if (opt->vci) MICA_CALL(apply_vci(s));
+  return MICA_SUCCESS;
+}
+
+/* Scratch of the group matrices (assemble.c: a group's union holds at most 1/8 more particles than the largest
+ * support), in the planar layout of mica/kernel.h over ncomp unknowns, and the classical kernel's scratch. */
+static int cell_scratch(MicaSolid *s) {
+  const int dim = s->dim;
+  s->cell_cap = s->volume->max_support + s->volume->max_support / 8 + 1;
+  if (s->cell_cap > s->nparticles) s->cell_cap = s->nparticles;
+  if (s->cell_cap < 1) s->cell_cap = 1;
+  const long u = s->cell_cap;
+  MICA_CALL(MICA_MALLOC(s->cell_matrix, mica_kernel_ke_size(s->ncomp, u) + mica_kernel_work_size(dim, u) + 81));
+  MICA_CALL(MICA_MALLOC(s->cell_nodes, u));
+  MICA_CALL(MICA_MALLOC(s->cell_slot, s->nparticles + 1));
+  for (long i = 0; i < s->nparticles; i++) s->cell_slot[i] = -1;
   return MICA_SUCCESS;
 }
 
@@ -256,11 +278,15 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
   MICA_CALL_CLEANUP(build_boundary_caches(s, donor));
   MICA_CALL_CLEANUP(number_multipliers(s));
   s->ndof = (s->nparticles + s->nmultiplier_nodes) * s->ncomp;
+  const double start = mica_wtime();
   MICA_CALL_CLEANUP(build_pattern(s));
-  /* scratch: the model's D (nq × nq), the element matrix (m × m) and the projections G (m × nq) */
+  s->time_pattern = mica_wtime() - start;
+  /* scratch: the model's D (nq × nq), the element matrix (m × m) and the projections G (m × nq); the
+   * classical kernel's padded element matrix and its scratch (mica/kernel.h) fit in the extra 8 m ncomp */
   const long m = largest_clique(s) * s->ncomp;
-  MICA_CALL_CLEANUP(MICA_MALLOC(s->work, (long)s->nq * s->nq + m * m + m * s->nq + 64));
+  MICA_CALL_CLEANUP(MICA_MALLOC(s->work, (long)s->nq * s->nq + m * m + m * s->nq + 8 * m * s->ncomp + 64));
   MICA_CALL_CLEANUP(MICA_MALLOC(s->work_nodes, largest_clique(s)));
+  MICA_CALL_CLEANUP(cell_scratch(s));
   *out = s;
   return MICA_SUCCESS;
 cleanup:
@@ -290,6 +316,9 @@ int mica_solid_destroy(MicaSolid **solid) {
   mica_sparse_destroy(&s->K);
   MICA_FREE(s->work);
   MICA_FREE(s->work_nodes);
+  MICA_FREE(s->cell_matrix);
+  MICA_FREE(s->cell_nodes);
+  MICA_FREE(s->cell_slot);
   MICA_FREE(*solid);
   return MICA_SUCCESS;
 }

@@ -7,7 +7,8 @@
  *   M b,i  = p,i  − M,i b                          M,i b = Σ_k Φ_k,i g_k q_k,    g_k = q_k·b
  *   M b,ij = p,ij − M,ij b − M,i b,j − M,j b,i     M,i b,j = Σ_k Φ_k,i c_kj q_k,  c_kj = q_k·b,j
  * evaluated at x = c, where p = P(0), p,i = P,i(0)/s_i, p,ij = P,ij(0)/(s_i s_j). M is equilibrated and
- * factored (Cholesky, LAPACK) once; every right-hand side is a sum of vectors q_k, never a matrix M,i.
+ * factored once (Cholesky and its condition estimate written out below: LAPACK's algorithms without its call
+ * overhead); every right-hand side is a sum of vectors q_k, never a matrix M,i.
  * Cost per point: O(n m²) for M, O(n m) per derivative, with n supporting particles and m basis terms; the
  * basis is evaluated only for values at the particles, its derivatives only at the center.
  */
@@ -17,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mica/timer.h"
 #include "mls_private.h"
 
 /* Per-point scratch, sized for m basis terms and `cap` supporting particles. */
@@ -29,17 +31,17 @@ typedef struct {
   double *M;                  /* [m*m]: equilibrated D M D, then its Cholesky factor */
   double *D;                  /* [m]: Jacobi scaling 1/sqrt(M_aa) */
   double *b, *bd, *bdd;       /* [m], [dim][m], [nh][m] */
-  double *lapack_work;        /* [3m] for dpocon */
-  lapack_int *lapack_iwork;   /* [m] */
+  double *cond_x;             /* [m] the condition estimate's vector */
+  int *cond_sign;             /* [m] and its sign vector */
 } ShapeWork;
 
 /* ---- workspace ------------------------------------------------------------------------------------ */
 
 static void work_free(ShapeWork *w) {
   double **arrays[] = {&w->Q, &w->phi, &w->dphi, &w->ddphi, &w->G, &w->C, &w->DD,
-                       &w->M, &w->D, &w->b, &w->bd, &w->bdd, &w->lapack_work};
+                       &w->M, &w->D, &w->b, &w->bd, &w->bdd, &w->cond_x};
   for (size_t i = 0; i < sizeof arrays / sizeof *arrays; i++) MICA_FREE(*arrays[i]);
-  MICA_FREE(w->lapack_iwork);
+  MICA_FREE(w->cond_sign);
 }
 
 /* Grows the per-particle arrays of the shape and its workspace to hold cap supporting particles. */
@@ -77,8 +79,8 @@ int mls_shape_create(const MlsApprox *mls, MlsShape **out) {
   MICA_CALL_CLEANUP(MICA_MALLOC(w->b, m));
   MICA_CALL_CLEANUP(MICA_MALLOC(w->bd, dim * m));
   MICA_CALL_CLEANUP(MICA_MALLOC(w->bdd, nh * m));
-  MICA_CALL_CLEANUP(MICA_MALLOC(w->lapack_work, 3 * m));
-  MICA_CALL_CLEANUP(MICA_MALLOC(w->lapack_iwork, m));
+  MICA_CALL_CLEANUP(MICA_MALLOC(w->cond_x, m));
+  MICA_CALL_CLEANUP(MICA_MALLOC(w->cond_sign, m));
   MICA_CALL_CLEANUP(shape_reserve(sh, m, 4 * m + 16));
   *out = sh;
   return MICA_SUCCESS;
@@ -265,30 +267,114 @@ static int report_singular(const MlsApprox *mls, const double *x, long n, double
              order > 1 ? "s" : "");
 }
 
-/* Factors D M D (Cholesky, upper) and estimates its reciprocal condition number. */
+/* ---- small dense Cholesky -------------------------------------------------------------------------------
+ * M has at most MLS_MAX_TERMS rows (usually 3 to 20): LAPACK's dpotrf, dpotrs and dpocon cost more in call
+ * overhead, argument checks and the BLAS's locking than in arithmetic at that size (half the shape-function
+ * time with a quadratic basis; docs/performance.md §shape functions). These are the same algorithms written
+ * for column-major upper factors, A = UᵀU, U[i + j m] (i ≤ j): results agree with LAPACK's to round-off. */
+
+/* Unblocked Cholesky (dpotf2's order). Returns 0, or j + 1 if the leading minor of order j + 1 is not positive. */
+static int cholesky_upper(int m, double *U) {
+  for (int j = 0; j < m; j++) {
+    double *uj = U + j * m;
+    for (int i = 0; i < j; i++) {
+      const double *ui = U + i * m;
+      double s = uj[i];
+      for (int k = 0; k < i; k++) s -= ui[k] * uj[k];
+      uj[i] = s / ui[i];
+    }
+    double d = uj[j];
+    for (int k = 0; k < j; k++) d -= uj[k] * uj[k];
+    if (!(d > 0)) return j + 1;
+    uj[j] = sqrt(d);
+  }
+  return 0;
+}
+
+/* x ← (UᵀU)⁻¹ x: Uᵀ y = x forward, then U x = y backward. */
+static void cholesky_solve(int m, const double *U, double *x) {
+  for (int i = 0; i < m; i++) {
+    const double *ui = U + i * m;
+    double s = x[i];
+    for (int k = 0; k < i; k++) s -= ui[k] * x[k];
+    x[i] = s / ui[i];
+  }
+  for (int i = m - 1; i >= 0; i--) {
+    x[i] /= U[i + i * m];
+    const double xi = x[i], *ui = U + i * m;
+    for (int k = 0; k < i; k++) x[k] -= ui[k] * xi;
+  }
+}
+
+static int index_of_max_abs(int m, const double *x) {
+  int best = 0;
+  for (int i = 1; i < m; i++)
+    if (fabs(x[i]) > fabs(x[best])) best = i;
+  return best;
+}
+
+static double sum_abs(int m, const double *x) {
+  double s = 0;
+  for (int i = 0; i < m; i++) s += fabs(x[i]);
+  return s;
+}
+
+/* ‖A⁻¹‖₁ estimated by Higham's method as LAPACK's dlacn2 runs it inside dpocon (A symmetric, so A⁻ᵀ = A⁻¹):
+ * x = e/m; then alternate sign vectors and unit vectors, at most 5 iterations; finally the alternating vector
+ * (1 + i/(m−1)) (−1)^i as a lower bound. */
+static double inverse_norm_estimate(int m, const double *U, double *x, int *sign) {
+  for (int i = 0; i < m; i++) x[i] = 1.0 / m;
+  cholesky_solve(m, U, x);
+  if (m == 1) return fabs(x[0]);
+  double est = sum_abs(m, x), estold;
+  for (int i = 0; i < m; i++) x[i] = x[i] >= 0 ? 1.0 : -1.0, sign[i] = (int)x[i];
+  cholesky_solve(m, U, x);
+  int j = index_of_max_abs(m, x), iteration = 2;
+  for (;;) {
+    for (int i = 0; i < m; i++) x[i] = i == j ? 1.0 : 0.0;
+    cholesky_solve(m, U, x);
+    estold = est;
+    est = sum_abs(m, x);
+    int same = 1;
+    for (int i = 0; i < m; i++) same &= (x[i] >= 0 ? 1 : -1) == sign[i];
+    if (same || est <= estold) break; /* a repeated sign vector, or no growth: converged */
+    for (int i = 0; i < m; i++) x[i] = x[i] >= 0 ? 1.0 : -1.0, sign[i] = (int)x[i];
+    cholesky_solve(m, U, x);
+    const int jlast = j;
+    j = index_of_max_abs(m, x);
+    if (!(x[jlast] != fabs(x[j]) && iteration < 5)) break;
+    iteration++;
+  }
+  double alt = 1.0;
+  for (int i = 0; i < m; i++) x[i] = alt * (1.0 + (double)i / (double)(m - 1)), alt = -alt;
+  cholesky_solve(m, U, x);
+  const double bound = 2.0 * sum_abs(m, x) / (3.0 * m);
+  return bound > est ? bound : est;
+}
+
+/* Factors D M D (Cholesky, upper) and estimates its reciprocal condition number (as dpocon: 1/(‖A‖₁ est‖A⁻¹‖₁)). */
 static int factor_moment(const MlsApprox *mls, const double *x, MlsShape *sh) {
   ShapeWork *w = sh->work;
   const int m = mls->m;
   const double norm = assemble_moment(w, sh->n, m);
   sh->rcond = 0;
   if (norm < 0) return report_singular(mls, x, sh->n, 0.0);
-  lapack_int info = LAPACKE_dpotrf_work(LAPACK_COL_MAJOR, 'U', m, w->M, m);
-  if (info == 0)
-    info = LAPACKE_dpocon_work(LAPACK_COL_MAJOR, 'U', m, w->M, m, norm, &sh->rcond, w->lapack_work,
-                               w->lapack_iwork);
-  if (info != 0 || !(sh->rcond >= mls->opt.rcond_min)) return report_singular(mls, x, sh->n, sh->rcond);
+  if (cholesky_upper(m, w->M) != 0) return report_singular(mls, x, sh->n, 0.0);
+  const double inverse_norm = inverse_norm_estimate(m, w->M, w->cond_x, w->cond_sign);
+  sh->rcond = inverse_norm > 0 && norm > 0 ? 1.0 / inverse_norm / norm : 0.0;
+  if (!(sh->rcond >= mls->opt.rcond_min)) return report_singular(mls, x, sh->n, sh->rcond);
   return MICA_SUCCESS;
 }
 
 /* Solves M X = B for nrhs columns of B (m each) with the equilibrated factor: X = D (D M D)⁻¹ D B. */
 static int solve_moment(const MlsApprox *mls, const ShapeWork *w, int nrhs, double *rhs) {
   const int m = mls->m;
-  for (int r = 0; r < nrhs; r++)
-    for (int a = 0; a < m; a++) rhs[r * m + a] *= w->D[a];
-  lapack_int info = LAPACKE_dpotrs_work(LAPACK_COL_MAJOR, 'U', m, nrhs, w->M, m, rhs, m);
-  MICA_CHECK(info == 0, MICA_ERR_LIBRARY, "LAPACK dpotrs failed (info %d)", (int)info);
-  for (int r = 0; r < nrhs; r++)
-    for (int a = 0; a < m; a++) rhs[r * m + a] *= w->D[a];
+  for (int r = 0; r < nrhs; r++) {
+    double *b = rhs + r * m;
+    for (int a = 0; a < m; a++) b[a] *= w->D[a];
+    cholesky_solve(m, w->M, b);
+    for (int a = 0; a < m; a++) b[a] *= w->D[a];
+  }
   return MICA_SUCCESS;
 }
 
@@ -406,7 +492,9 @@ int mls_eval(const MlsApprox *mls, const double *x, int nderiv, MlsShape *sh) {
   MICA_CHECK(sh->dim == mls->dim, MICA_ERR_ARGUMENT, "shape of dimension %d used with a %d-D MLS", sh->dim,
              mls->dim);
   long count = 0, cap = sh->cap;
+  const double start = mica_wtime();
   MICA_CALL(mls_search_query(mls->search, x, &sh->index, &count, &cap));
+  sh->time_search += mica_wtime() - start;
   /* the query grows the index array itself when a point has more support than any before it */
   if (cap > sh->cap) MICA_CALL(shape_reserve(sh, mls->m, cap));
   sh->n = count;

@@ -1,7 +1,15 @@
 /* Newton–Raphson with load steps, automatic step cut-back and optional backtracking line search
  * (design.md §6). One monitor line per iteration: step, load factor, iteration, |R|, |Δu|, and the
  * convergence rate log(|R_i|/|R_i−1|) / log(|R_i−1|/|R_i−2|), which tends to 2 when Newton is quadratic.
- * The tangent's pattern is fixed, so the linear solver's symbolic analysis is done once and reused. */
+ * The tangent's pattern is fixed, so the linear solver's symbolic analysis is done once and reused.
+ *
+ * No assembly pass repeats another (docs/performance.md §profiles):
+ *   - the first iteration of a step assembles the residual and the tangent in one pass (the tangent is
+ *     needed unless the step starts converged, which only |R| ≤ atol allows);
+ *   - a line search that accepts a step has assembled R(u + α Δu): the next iteration uses it;
+ *   - for a linear problem (mica_solid_linear: R(u) = K u − f exactly) the residual after a solve is
+ *     R + K Δu, one product with the assembled tangent instead of an assembly: the convergence check and
+ *     the log then show the true residual of the new u up to round-off, marked "(R + K du)". */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,7 +38,17 @@ static int assemble(Newton *nw, double t, const double *u, int with_tangent) {
   const double start = mica_wtime();
   int ierr = mica_solid_assemble(nw->s, t, u, nw->R, with_tangent ? nw->s->K : NULL);
   nw->stats->time_assemble += mica_wtime() - start;
+  nw->stats->assemblies++;
+  if (with_tangent) nw->stats->tangent_assemblies++;
   return ierr;
+}
+
+/* Linear problem: R(u + Δu) = R(u) + K Δu. solve_linear left −R(u) in R; the product goes through trial. */
+static void linear_residual_update(Newton *nw) {
+  const long n = nw->s->ndof;
+  mica_sparse_matvec(nw->s->K, nw->du, nw->trial);
+  for (long i = 0; i < n; i++) nw->R[i] = nw->trial[i] - nw->R[i];
+  nw->stats->residual_updates++;
 }
 
 /* A parallel run solves through the distributed solver, with ops on rank 0 or in the subdomains. */
@@ -71,14 +89,19 @@ static int solve_linear(Newton *nw) {
   return MICA_SUCCESS;
 }
 
-/* Backtracking on |R|: halve the step until the residual decreases (at most 6 halvings). */
-static int line_search(Newton *nw, double t, double *u, double rnorm, double *alpha_out) {
+/* Backtracking on |R|: halve the step until the residual decreases (at most 6 halvings). *have_residual = 1
+ * when a step was accepted: R then holds R(u + α Δu), which the next iteration need not assemble again. */
+static int line_search(Newton *nw, double t, double *u, double rnorm, double *alpha_out, int *have_residual) {
   const long n = nw->s->ndof;
   double alpha = 1.0;
+  *have_residual = 0;
   for (int k = 0; k < 7; k++, alpha *= 0.5) {
     for (long i = 0; i < n; i++) nw->trial[i] = u[i] + alpha * nw->du[i];
     int ierr = assemble(nw, t, nw->trial, 0);
-    if (ierr == MICA_SUCCESS && norm2(n, nw->R) < (1 - 1e-4 * alpha) * rnorm) break;
+    if (ierr == MICA_SUCCESS && norm2(n, nw->R) < (1 - 1e-4 * alpha) * rnorm) {
+      *have_residual = 1;
+      break;
+    }
     if (ierr && ierr != MICA_ERR_NUMERIC) return ierr;
     mica_error_clear();
   }
@@ -86,7 +109,7 @@ static int line_search(Newton *nw, double t, double *u, double rnorm, double *al
   return MICA_SUCCESS;
 }
 
-static void monitor(const Newton *nw, int step, double t, int it, double rnorm, double dunorm) {
+static void monitor(const Newton *nw, int step, double t, int it, double rnorm, double dunorm, int updated) {
   if (!nw->opt->verbose) return;
   const double *h = nw->stats->increment_history;
   const int nh = nw->stats->nincrements;
@@ -95,7 +118,8 @@ static void monitor(const Newton *nw, int step, double t, int it, double rnorm, 
     snprintf(rate, sizeof rate, "%.2f", log(h[nh - 1] / h[nh - 2]) / log(h[nh - 2] / h[nh - 3]));
   char increment[32] = "-"; /* no increment before the first solve */
   if (it > 0) snprintf(increment, sizeof increment, "%.3e", dunorm);
-  printf("  step %d t %.4g  it %d  |R| %.3e  |du| %s  rate %s\n", step, t, it, rnorm, increment, rate);
+  printf("  step %d t %.4g  it %d  |R| %.3e  |du| %s  rate %s%s\n", step, t, it, rnorm, increment, rate,
+         updated ? "  (R + K du)" : "");
   fflush(stdout);
 }
 
@@ -103,14 +127,16 @@ static void monitor(const Newton *nw, int step, double t, int it, double rnorm, 
 static int newton_step(Newton *nw, int step, double t, double *u) {
   const long n = nw->s->ndof;
   double r0 = 0, dunorm = 0;
+  int have_residual = 0, updated = 0; /* R already holds R(u): from the line search, or R + K Δu */
+  const int linear = mica_solid_linear(nw->s);
   nw->stats->nhistory = nw->stats->nincrements = 0;
   for (int it = 0;; it++) {
-    MICA_CALL(assemble(nw, t, u, 0));
+    if (!have_residual) MICA_CALL(assemble(nw, t, u, it == 0));
     const double rnorm = norm2(n, nw->R);
     if (!isfinite(rnorm)) MICA_ERROR(MICA_ERR_NUMERIC, "the residual is not finite at load factor %g", t);
     if (it == 0) r0 = rnorm;
     if (nw->stats->nhistory < 64) nw->stats->residual_history[nw->stats->nhistory++] = rnorm;
-    monitor(nw, step, t, it, rnorm, dunorm);
+    monitor(nw, step, t, it, rnorm, dunorm, updated);
     const double unorm = norm2(n, u);
     /* the increment test ends stiff linear problems whose residual stalls at round-off just above rtol |R₀| */
     const int converged = rnorm <= nw->opt->atol || (it > 0 && rnorm <= nw->opt->rtol * r0) ||
@@ -123,10 +149,15 @@ static int newton_step(Newton *nw, int step, double t, double *u) {
     if (it >= nw->opt->max_iterations)
       MICA_ERROR(MICA_ERR_NUMERIC, "Newton did not converge in %d iterations at load factor %g (|R| %.3e from %.3e)",
                  it, t, rnorm, r0);
-    MICA_CALL(assemble(nw, t, u, 1));
+    if (it > 0) MICA_CALL(assemble(nw, t, u, 1)); /* the first iteration assembled K with R */
     MICA_CALL(solve_linear(nw));
     double alpha = 1.0;
-    if (nw->opt->line_search) MICA_CALL(line_search(nw, t, u, rnorm, &alpha));
+    have_residual = updated = 0;
+    if (nw->opt->line_search) MICA_CALL(line_search(nw, t, u, rnorm, &alpha, &have_residual));
+    if (linear && !have_residual && alpha == 1.0) {
+      linear_residual_update(nw);
+      have_residual = updated = 1;
+    }
     for (long i = 0; i < n; i++) u[i] += alpha * nw->du[i];
     dunorm = alpha * norm2(n, nw->du);
     if (nw->stats->nincrements < 64) nw->stats->increment_history[nw->stats->nincrements++] = dunorm;

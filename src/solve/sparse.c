@@ -37,20 +37,37 @@ static int check_cliques(long nnodes, long ncliques, const long *clique_ptr, con
 
 /* ---- Step 1: the cliques of each node ----------------------------------------------------------------- */
 
-/* node_ptr[nnodes+1], node_cliques[Σ sizes]: the cliques containing node i, in ascending clique order. */
+/* Is clique c the same node list as clique c − 1? The quadrature points of a background cell often share
+ * their support: such repeats add no coupling, and skipping them saves their (clique size)² marker tests. */
+static int repeats_previous(const long *clique_ptr, const long *clique_nodes, long c) {
+  const long size = clique_ptr[c + 1] - clique_ptr[c];
+  return c > 0 && clique_ptr[c] - clique_ptr[c - 1] == size &&
+         !memcmp(clique_nodes + clique_ptr[c - 1], clique_nodes + clique_ptr[c], sizeof(long) * (size_t)size);
+}
+
+/* node_ptr[nnodes+1], node_cliques[Σ sizes]: the cliques containing node i, in ascending clique order
+ * (repeats of the previous clique left out). */
 static int transpose_cliques(long nnodes, long ncliques, const long *clique_ptr, const long *clique_nodes,
                              long **node_ptr_out, long **node_cliques_out) {
-  long total = ncliques > 0 ? clique_ptr[ncliques] - clique_ptr[0] : 0;
+  long total = 0;
   long *node_ptr = NULL, *node_cliques = NULL;
+  unsigned char *repeat = NULL;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(MICA_CALLOC(node_ptr, nnodes + 1));
-  MICA_CALL_CLEANUP(MICA_MALLOC(node_cliques, total));
+  MICA_CALL_CLEANUP(MICA_MALLOC(repeat, ncliques + 1));
+  for (long c = 0; c < ncliques; c++) {
+    repeat[c] = (unsigned char)repeats_previous(clique_ptr, clique_nodes, c);
+    if (!repeat[c]) total += clique_ptr[c + 1] - clique_ptr[c];
+  }
+  MICA_CALL_CLEANUP(MICA_MALLOC(node_cliques, total + 1));
   for (long c = 0; c < ncliques; c++)
-    for (long k = clique_ptr[c]; k < clique_ptr[c + 1]; k++) node_ptr[clique_nodes[k] + 1]++;
+    for (long k = clique_ptr[c]; k < clique_ptr[c + 1] && !repeat[c]; k++) node_ptr[clique_nodes[k] + 1]++;
   for (long i = 0; i < nnodes; i++) node_ptr[i + 1] += node_ptr[i];
   /* node_ptr[i] serves as node i's fill cursor, then is shifted back into place */
   for (long c = 0; c < ncliques; c++)
-    for (long k = clique_ptr[c]; k < clique_ptr[c + 1]; k++) node_cliques[node_ptr[clique_nodes[k]]++] = c;
+    for (long k = clique_ptr[c]; k < clique_ptr[c + 1] && !repeat[c]; k++)
+      node_cliques[node_ptr[clique_nodes[k]]++] = c;
+  free(repeat);
   for (long i = nnodes; i > 0; i--) node_ptr[i] = node_ptr[i - 1];
   node_ptr[0] = 0;
   *node_ptr_out = node_ptr;
@@ -59,6 +76,7 @@ static int transpose_cliques(long nnodes, long ncliques, const long *clique_ptr,
 cleanup:
   free(node_ptr);
   free(node_cliques);
+  free(repeat);
   return ierr;
 }
 
@@ -135,6 +153,7 @@ static int expand_to_dofs(long nnodes, int ndof, const long *ptr, const long *ad
   MICA_CALL(MICA_MALLOC(A->colptr, A->n + 1));
   MICA_CALL(MICA_MALLOC(A->rowind, A->nnz));
   MICA_CALL(MICA_CALLOC(A->val, A->nnz));
+  MICA_CALL(MICA_MALLOC(A->cursor, A->n + 1));
   long p = 0;
   for (long i = 0; i < nnodes; i++)
     for (int c = 0; c < ndof; c++) {
@@ -188,6 +207,7 @@ int mica_sparse_destroy(MicaSparse **A) {
   free((*A)->colptr);
   free((*A)->rowind);
   free((*A)->val);
+  free((*A)->cursor);
   MICA_FREE(*A);
   return MICA_SUCCESS;
 }
@@ -237,6 +257,62 @@ int mica_sparse_add_clique(MicaSparse *A, long n, const long *nodes, const doubl
     }
   }
   return MICA_SUCCESS;
+}
+
+/* Position of node row0's block in column col0 (start..end), from p on: the merge step of the scatters. */
+static inline long find_block(const MicaSparse *A, long p, long end, long row0) {
+  while (p < end && A->rowind[p] < row0) p += A->ndof; /* rows come in blocks of ndof per neighbor */
+  return p;
+}
+
+/* Is the block of pair (a, b) zero? The union of several cliques may pair nodes that no clique couples. */
+static int block_is_zero(const double *K, long ldr, long np, int ndof, long a, long b) {
+  for (int j = 0; j < ndof; j++)
+    for (int i = 0; i < ndof; i++)
+      if (K[(b * ndof + j) * ldr + i * np + a] != 0.0) return 0;
+  return 1;
+}
+
+int mica_sparse_add_clique_upper(MicaSparse *A, long n, const long *nodes, const double *K, long np) {
+  MICA_CHECK(A && (n == 0 || (nodes && K)) && np >= n, MICA_ERR_ARGUMENT,
+             "mica_sparse_add_clique_upper: NULL argument or row length %ld < %ld", np, n);
+  MICA_CALL(check_clique_nodes(A, n, nodes));
+  const int ndof = A->ndof;
+  const long ldr = ndof * np; /* one row: ndof runs of np */
+  for (long b = 0; b < n; b++) {
+    const long col0 = nodes[b] * ndof, start = A->colptr[col0], end = A->colptr[col0 + 1];
+    long p = start;
+    for (long a = 0; a <= b; a++) {
+      const long next = find_block(A, p, end, nodes[a] * ndof);
+      if (next >= end || A->rowind[next] != nodes[a] * ndof) {
+        MICA_CHECK(block_is_zero(K, ldr, np, ndof, a, b), MICA_ERR_ARGUMENT,
+                   "mica_sparse_add_clique_upper: nodes %ld and %ld are not coupled in the pattern", nodes[a],
+                   nodes[b]);
+        continue;
+      }
+      p = next;
+      for (int j = 0; j < ndof; j++) { /* row (b j) of the lower blocks is column (b j) of the upper */
+        double *column = A->val + A->colptr[col0 + j] + (p - start);
+        const double *k = K + (b * ndof + j) * ldr + a;
+        for (int i = 0; i < ndof; i++) column[i] += k[i * np];
+      }
+    }
+  }
+  return MICA_SUCCESS;
+}
+
+/* Column j's entries above the diagonal, (i, j) with i < j, go to (j, i) in column i; as j grows, the rows j of
+ * each column i are met in ascending order, so a cursor per column finds them in one pass. */
+void mica_sparse_mirror_upper(MicaSparse *A) {
+  for (long i = 0; i < A->n; i++) A->cursor[i] = A->colptr[i];
+  for (long j = 0; j < A->n; j++)
+    for (long p = A->colptr[j]; p < A->colptr[j + 1] && A->rowind[p] < j; p++) {
+      const long i = A->rowind[p];
+      long q = A->cursor[i];
+      while (A->rowind[q] < j) q++;
+      A->val[q] = A->val[p];
+      A->cursor[i] = q + 1;
+    }
 }
 
 void mica_sparse_matvec(const MicaSparse *A, const double *x, double *y) {

@@ -423,6 +423,24 @@ static int build_geometry(const MicaDeck *deck, RunProblem *rp) {
   return MICA_SUCCESS;
 }
 
+int run_error_discretization(const RunProblem *rp, MicaDiscretization **disc) {
+  long order;
+  *disc = NULL;
+  MICA_CALL(mica_deck_int(rp->deck, "quadrature.error_order", &order));
+  if (order <= 0) return MICA_SUCCESS;
+  MicaShapeSpec shape;
+  MicaLayoutSpec layout;
+  MicaCellSpec cells;
+  char mesh[1024];
+  MICA_CALL(read_shape(rp->deck, &shape, mesh, sizeof mesh));
+  MICA_CALL(read_layout(rp->deck, shape.dim, shape.kind == MICA_SHAPE_GMSH, &layout, &cells));
+  cells.order = (int)order;
+  MICA_CALL(mica_discretization_create(&shape, &layout, &cells, disc));
+  const int ierr = rp->axisymmetric ? mica_discretization_revolve(*disc) : MICA_SUCCESS;
+  if (ierr) mica_discretization_destroy(disc);
+  return ierr;
+}
+
 /* ---- reuse between runs ---------------------------------------------------------------------------------- */
 
 /* What the discretization and the MLS approximation depend on: the deck file (Gmsh paths are relative to
@@ -530,6 +548,7 @@ void run_problem_free(RunProblem *rp) {
     mica_discretization_destroy(&rp->disc);
   }
   mica_shape_cache_destroy(&rp->at_gauss);
+  mica_discretization_destroy(&rp->error_disc);
   for (int a = 0; a < MICA_MAX_COMP; a++) {
     mica_function_destroy(&rp->exact[a]);
     for (int J = 0; J < 3; J++) mica_function_destroy(&rp->exact_grad[a][J]);
@@ -591,6 +610,10 @@ static int add_counts(const RunProblem *rp, const RunTotals *c, MicaJson *summar
   MICA_CALL(mica_json_number(summary, "time_cache_and_pattern", rp->time_cache_pattern));
   MICA_CALL(mica_json_bool(summary, "vci", s->opt.vci));
   MICA_CALL(mica_json_number(summary, "time_vci", s->time_vci)); /* part of time_cache_and_pattern */
+  /* the split of time_cache_and_pattern: shape functions (without their neighbor search), search, pattern */
+  MICA_CALL(mica_json_number(summary, "time_search", s->time_search));
+  MICA_CALL(mica_json_number(summary, "time_shape_functions", s->time_shape - s->time_search));
+  MICA_CALL(mica_json_number(summary, "time_pattern", s->time_pattern));
   MICA_CALL(mica_json_bool(summary, "reused_discretization", rp->reused_geometry));
   MICA_CALL(mica_json_int(summary, "shape_caches_built", s->caches_built));
   MICA_CALL(mica_json_int(summary, "shape_caches_shared", s->caches_shared));
@@ -654,9 +677,24 @@ static int add_newton_stats(const MicaNewtonStats *st, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "symbolic_analyses", st->linear.analyses));
   MICA_CALL(mica_json_int(summary, "factorizations", st->linear.factorizations));
   MICA_CALL(mica_json_number(summary, "time_assemble", st->time_assemble));
+  MICA_CALL(mica_json_int(summary, "assemblies", st->assemblies)); /* passes; of which with the tangent: */
+  MICA_CALL(mica_json_int(summary, "tangent_assemblies", st->tangent_assemblies));
+  MICA_CALL(mica_json_int(summary, "residual_updates", st->residual_updates)); /* linear: R + K du */
   MICA_CALL(mica_json_number(summary, "time_analyze", st->linear.time_analyze));
   MICA_CALL(mica_json_number(summary, "time_factor", st->time_factor));
   MICA_CALL(mica_json_number(summary, "time_solve", st->time_solve));
+  return MICA_SUCCESS;
+}
+
+/* Memory per dof (docs/performance.md §memory): the shape-function caches (N, ∇N, ∇∇N, particle index, point
+ * offsets), the tangent (values, row indices, column offsets) and its factor's values (8 bytes × nnz_factor;
+ * CHOLMOD's supernodal indices and UMFPACK's pattern come on top). */
+static int add_memory_per_dof(const RunProblem *rp, const RunTotals *c, const MicaNewtonStats *st, MicaJson *summary) {
+  const double dofs = (double)rp->solid->ndof;
+  MICA_CALL(mica_json_number(summary, "memory_cache_bytes_per_dof", (double)c->cache_bytes / dofs));
+  const double matrix_bytes = (double)(c->nnz * 16 + (rp->solid->ndof + 1) * 8);
+  MICA_CALL(mica_json_number(summary, "memory_matrix_bytes_per_dof", matrix_bytes / dofs));
+  MICA_CALL(mica_json_number(summary, "memory_factor_bytes_per_dof", 8.0 * (double)st->linear.nnz_factor / dofs));
   return MICA_SUCCESS;
 }
 
@@ -683,11 +721,15 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(mica_newton_solve(rp.solid, &nopt, u, run_output_step, &out, &stats));
   MICA_CALL_CLEANUP(mica_json_number(summary, "time_newton", mica_wtime() - start));
   MICA_CALL_CLEANUP(add_newton_stats(&stats, summary));
+  MICA_CALL_CLEANUP(add_memory_per_dof(&rp, &totals, &stats, summary));
   MICA_CALL_CLEANUP(run_parallel_solver_stats(&rp, summary));
   MICA_CALL_CLEANUP(run_parallel_memory(&rp, summary));
+  const double output_start = mica_wtime();
   MICA_CALL_CLEANUP(run_output_finish(&out));
   MICA_CALL_CLEANUP(run_error_norms(&rp, u, summary));
   MICA_CALL_CLEANUP(run_probes(&rp, u, summary));
+  /* fields per step (inside time_newton), the PVD, error norms and probes */
+  MICA_CALL_CLEANUP(mica_json_number(summary, "time_output", out.time_output + mica_wtime() - output_start));
   printf("solved in %d load step%s, %d Newton iterations (%s)\n", stats.steps_done, stats.steps_done > 1 ? "s" : "",
          stats.iterations_total, stats.linear_name);
 cleanup:

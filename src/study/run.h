@@ -32,7 +32,10 @@ typedef struct RunProblem {
   MicaDistribution *dist;       /* MPI: the partition and this rank's points (NULL: serial) */
   const char *integration;      /* quadrature.mode: "gauss", "nodal" or "scni" */
   MicaShapeCache *at_gauss;     /* nodal and scni: MLS shape functions at the background Gauss points, where the
-                                   error norms are measured (NULL in gauss mode: the volume cache is there) */
+                                   error norms are measured (NULL in gauss mode: the volume cache is there);
+                                   with quadrature.error_order, at error_disc's points */
+  MicaDiscretization *error_disc; /* quadrature.error_order > 0: the error norms' own Gauss points (built on
+                                   first use, run_error_discretization), else NULL */
   double time_discretize, time_mls, time_cache_pattern; /* time_mls: the MLS or finite-element setup */
   RunReuse *reuse;              /* NULL: a single run */
   int owns_geometry;            /* 1: disc and mls are this run's to free (else reuse keeps them) */
@@ -67,6 +70,9 @@ int run_check_serial_only(const MicaDeck *deck, const RunProblem *rp);
 /* Builds discretization, MLS, model, conditions and the solid from the deck; with reuse, takes what the
  * previous run left there when it fits, and leaves this run's parts there in run_problem_free. */
 int run_problem_build(const MicaDeck *deck, RunProblem *rp);
+/* quadrature.error_order > 0: the deck's body, particles and cells with that many Gauss points per direction
+ * (revolved if axisymmetric), whose volume points the error norms use; NULL when the key is 0. */
+int run_error_discretization(const RunProblem *rp, MicaDiscretization **disc);
 int run_problem_build_reusing(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse);
 void run_problem_free(RunProblem *rp);
 
@@ -94,6 +100,7 @@ typedef struct RunOutput {
   int nsteps;
   double times[1024];
   char files[1024][32];
+  double time_output; /* seconds writing fields per step, error norms and probes (profiles) */
 } RunOutput;
 
 int run_output_step(void *ctx, int step, double t, const double *u);

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "mica/files.h"
+#include "mica/timer.h"
 #include "mica/vtk.h"
 #include "run.h"
 
@@ -137,6 +138,7 @@ static int fields_compute(RunProblem *rp, const double *u, ParticleFields *f) {
 int run_output_step(void *ctx, int step, double t, const double *u) {
   RunOutput *out = ctx;
   if (!out->vtu || out->nsteps >= 1024 || mica_parallel_rank() != 0) return MICA_SUCCESS; /* MPI: rank 0 writes */
+  const double start = mica_wtime();
   ParticleFields f = {0};
   char *path = NULL;
   int ierr = MICA_SUCCESS;
@@ -157,6 +159,7 @@ int run_output_step(void *ctx, int step, double t, const double *u) {
 cleanup:
   free(path);
   fields_free(&f);
+  out->time_output += mica_wtime() - start;
   return ierr;
 }
 
@@ -176,8 +179,19 @@ int run_output_finish(RunOutput *out) {
 /* Where the error norms are measured: the volume quadrature, or under nodal integration the background
  * Gauss points with the MLS shape functions themselves — the nodal points alone cannot see a spurious mode
  * whose gradients vanish there, and SCNI's smoothed gradients are not the gradients of the approximation. */
-static int error_points(RunProblem *rp, const MicaShapeCache **c, const double **x, const double **w) {
+static int error_points(RunProblem *rp, const MicaShapeCache **c, const double **x, const double **w,
+                        int *whole) {
   const MicaDiscretization *disc = rp->solid->disc; /* under MPI, this rank's points (nodal modes are serial) */
+  *whole = 0;
+  if (!rp->error_disc) MICA_CALL(run_error_discretization(rp, &rp->error_disc));
+  if (rp->error_disc) { /* quadrature.error_order: every point on every rank (u is whole on each) */
+    const MicaDiscretization *e = rp->error_disc;
+    if (!rp->at_gauss)
+      MICA_CALL(rp->approx.ops->points(rp->approx.ctx, e->nquad, e->qx, NULL, rp->solid->opt.field.ops->order,
+                                       "error-norm Gauss", &rp->at_gauss));
+    *c = rp->at_gauss, *x = e->qx, *w = e->qw, *whole = 1;
+    return MICA_SUCCESS;
+  }
   *c = rp->solid->volume, *x = disc->qx, *w = disc->qw;
   if (!disc->nodal) return MICA_SUCCESS;
   if (!rp->at_gauss)
@@ -187,16 +201,17 @@ static int error_points(RunProblem *rp, const MicaShapeCache **c, const double *
   return MICA_SUCCESS;
 }
 
-/* Relative errors over the volume quadrature points (error_points), of all unknowns: L2 of the values, H1
- * seminorm of the gradients, and the energy norm e·D₀·e with D₀ the model's D at q = 0 (for classical models:
- * ∇e:C:∇e). */
+/* Relative errors over the volume quadrature points (error_points; with quadrature.error_order, points of their
+ * own), of all unknowns: L2 of the values, H1 seminorm of the gradients, and the energy norm e·D₀·e with D₀ the
+ * model's D at q = 0 (for classical models: ∇e:C:∇e). */
 int run_error_values(RunProblem *rp, const double *u, double *rel_l2, double *rel_h1, double *rel_energy) {
   MICA_CHECK(rp->has_exact, MICA_ERR_ARGUMENT, "run_error_values: the problem has no exact solution");
   const MicaSolid *s = rp->solid;
   const int dim = s->dim, mdim = s->model_dim, ncomp = s->ncomp, nq = s->nq, nvg = ncomp * (1 + mdim);
-  const MicaShapeCache *c;
-  const double *qx, *qw;
-  MICA_CALL(error_points(rp, &c, &qx, &qw));
+  const MicaShapeCache *c = NULL;
+  const double *qx = NULL, *qw = NULL;
+  int whole = 0;
+  MICA_CALL(error_points(rp, &c, &qx, &qw, &whole));
   double *D0 = NULL, q0[128] = {0}, W0, s0[128];
   MICA_CALL(MICA_MALLOC(D0, nq * nq));
   int ierr = s->opt.field.ops->eval(&s->opt.field, mdim, q0, &W0, s0, D0);
@@ -213,7 +228,7 @@ int run_error_values(RunProblem *rp, const double *u, double *rel_l2, double *re
       for (int j = 0; j < nvg; j++) en[0] += w * e[i] * D0[i * nq + j] * e[j], en[1] += w * qe[i] * D0[i * nq + j] * qe[j];
   }
   free(D0);
-  if (rp->dist) { /* MPI: sums over every rank's points */
+  if (rp->dist && !whole) { /* MPI: sums over every rank's points */
     double sums[6] = {l2[0], l2[1], h1[0], h1[1], en[0], en[1]};
     MICA_CALL(mica_parallel_sum(ierr, sums, 6));
     l2[0] = sums[0], l2[1] = sums[1], h1[0] = sums[2], h1[1] = sums[3], en[0] = sums[4], en[1] = sums[5];

@@ -56,6 +56,9 @@ const MicaDeckKey mica_run_schema[] = {
     {"quadrature.order", MICA_KEY_INT, "4", 1, 20, NULL, 0, 0, "Gauss points per direction in each background cell"},
     {"quadrature.boundary_order", MICA_KEY_INT, "0", 0, 20, NULL, 0, 0,
      "Gauss points per direction on boundary edges/faces (0: quadrature.order)"},
+    {"quadrature.error_order", MICA_KEY_INT, "0", 0, 20, NULL, 0, 0,
+     "Gauss points per direction in each background cell for the error norms only (0: the solve's points), so "
+     "that the error measure does not change with quadrature.order"},
     {"quadrature.vci", MICA_KEY_BOOL, "false", NOLIMIT, NULL, 0, 0,
      "variationally consistent integration: corrected test gradients pass the patch test of the basis order "
      "(first-order models; unsymmetric tangent)"},
