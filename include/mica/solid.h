@@ -214,6 +214,7 @@ typedef struct MicaNewtonOptions {
   const MicaLinearSolverOps *linear; /* NULL: auto (CHOLMOD if the problem is SPD, else UMFPACK; CHOLMOD
                                         falling back to UMFPACK if the matrix turns out indefinite) */
   int verbose;         /* one monitor line per iteration */
+  MicaKrylovOptions krylov; /* the iterative linear solvers' settings (solver.linear = "cg") */
 } MicaNewtonOptions;
 
 typedef struct MicaNewtonStats {

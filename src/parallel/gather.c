@@ -57,6 +57,7 @@ static int gather_factor(MicaLinearSolver *solver, const MicaSparse *L) {
   ps->dist->stats.time_gather += mica_wtime() - start;
   int ierr = MICA_SUCCESS;
   if (root && !ps->inner) ierr = mica_linear_solver_create(ps->inner_ops, &ps->inner);
+  if (root && !ierr) ierr = mica_linear_solver_set_krylov(ps->inner, &solver->krylov); /* cg on rank 0 */
   if (root && !ierr) {
     const double before = ps->inner->stats.time_analyze;
     ierr = mica_linear_solver_factor(ps->inner, ps->rd->A);
@@ -73,7 +74,12 @@ static int gather_solve(MicaLinearSolver *solver, const double *b, double *x) {
   ParallelSolver *ps = solver->data;
   const long n = ps->pattern_n;
   int ierr = MICA_SUCCESS;
-  if (mica_parallel_rank() == 0) ierr = mica_linear_solver_solve(ps->inner, b, x);
+  if (mica_parallel_rank() == 0) {
+    ierr = mica_linear_solver_solve(ps->inner, b, x);
+    solver->stats.krylov_iterations = ps->inner->stats.krylov_iterations;
+    solver->stats.krylov_iterations_max = ps->inner->stats.krylov_iterations_max;
+    solver->stats.krylov_residual = ps->inner->stats.krylov_residual;
+  }
   return mica_parallel_broadcast(ierr, x, n, 0);
 }
 
@@ -85,7 +91,9 @@ int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOp
   MICA_CALL(mica_linear_solver_create(ops, solver));
   ParallelSolver *ps = (*solver)->data;
   ps->dist = dist;
-  ps->inner_ops = inner;
+  /* Schwarz is the Krylov method: its subdomains are factored (cg asked for: CHOLMOD there) */
+  ps->inner_ops = dist->opt.solver == MICA_PARALLEL_SCHWARZ && mica_linear_solver_iterative(inner) ? &mica_linear_cholmod
+                                                                                                   : inner;
   return MICA_SUCCESS;
 }
 

@@ -35,8 +35,9 @@ static int assemble(Newton *nw, double t, const double *u, int with_tangent) {
 
 /* A parallel run solves through the distributed solver, with ops on rank 0 or in the subdomains. */
 static int create_linear(Newton *nw, const MicaLinearSolverOps *ops) {
-  if (nw->s->opt.parallel) return mica_parallel_linear_create(nw->s->opt.parallel, ops, &nw->linear);
-  return mica_linear_solver_create(ops, &nw->linear);
+  if (nw->s->opt.parallel) MICA_CALL(mica_parallel_linear_create(nw->s->opt.parallel, ops, &nw->linear));
+  else MICA_CALL(mica_linear_solver_create(ops, &nw->linear));
+  return mica_linear_solver_set_krylov(nw->linear, &nw->opt->krylov);
 }
 
 static int choose_linear_solver(Newton *nw) {

@@ -618,11 +618,12 @@ static int read_newton(const MicaDeck *deck, const MicaSolid *s, MicaNewtonOptio
   opt->linear = strcmp(linear, "auto") ? mica_linear_solver_find(linear) : NULL;
   char where[256];
   mica_deck_where(deck, "solver.linear", where, sizeof where);
-  MICA_CHECK(!(opt->linear == &mica_linear_cholmod && !mica_solid_symmetric_definite(s)), MICA_ERR_INPUT,
-             "%s: CHOLMOD needs a symmetric positive definite tangent, which bc.method = \"%s\"%s does not give; "
-             "use \"umfpack\" or \"auto\"", where, s->opt.bc_method->name,
-             s->opt.vci ? " with quadrature.vci (unsymmetric: Petrov–Galerkin)" : "");
-  return MICA_SUCCESS;
+  const int spd_only = opt->linear == &mica_linear_cholmod || opt->linear == &mica_linear_cg;
+  MICA_CHECK(!(spd_only && !mica_solid_symmetric_definite(s)), MICA_ERR_INPUT,
+             "%s: %s needs a symmetric positive definite tangent, which bc.method = \"%s\"%s does not give; "
+             "use \"umfpack\" or \"auto\"", where, opt->linear == &mica_linear_cg ? "cg" : "CHOLMOD",
+             s->opt.bc_method->name, s->opt.vci ? " with quadrature.vci (unsymmetric: Petrov–Galerkin)" : "");
+  return run_read_krylov(deck, opt);
 }
 
 static int add_newton_stats(const MicaNewtonStats *st, MicaJson *summary) {
@@ -671,11 +672,13 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(mica_newton_solve(rp.solid, &nopt, u, run_output_step, &out, &stats));
   MICA_CALL_CLEANUP(mica_json_number(summary, "time_newton", mica_wtime() - start));
   MICA_CALL_CLEANUP(add_newton_stats(&stats, summary));
+  MICA_CALL_CLEANUP(run_krylov_summary(&rp, &stats, summary));
   MICA_CALL_CLEANUP(run_parallel_solver_stats(&rp, summary));
   MICA_CALL_CLEANUP(run_parallel_memory(&rp, summary));
   MICA_CALL_CLEANUP(run_output_finish(&out));
   MICA_CALL_CLEANUP(run_error_norms(&rp, u, summary));
   MICA_CALL_CLEANUP(run_probes(&rp, u, summary));
+  MICA_CALL_CLEANUP(run_peak_memory(summary));
   printf("solved in %d load step%s, %d Newton iterations (%s)\n", stats.steps_done, stats.steps_done > 1 ? "s" : "",
          stats.iterations_total, stats.linear_name);
 cleanup:

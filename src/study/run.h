@@ -86,6 +86,12 @@ int run_parallel_counts(const RunProblem *rp, MicaJson *summary);
 int run_parallel_memory(const RunProblem *rp, MicaJson *summary);
 int run_parallel_solver_stats(const RunProblem *rp, MicaJson *summary);
 
+/* The iterative linear solver (run_linear.c): solver.linear_rtol, .linear_max_iterations, .preconditioner
+ * into opt->krylov; cg's iterations in the summary; the process's peak memory ("peak_memory", bytes). */
+int run_read_krylov(const MicaDeck *deck, MicaNewtonOptions *opt);
+int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson *summary);
+int run_peak_memory(MicaJson *summary);
+
 /* Output: per-step VTU files and the PVD collection, error norms, probes, summary members. */
 typedef struct RunOutput {
   RunProblem *rp;
