@@ -224,6 +224,7 @@ typedef struct MicaNewtonStats {
   double increment_history[64]; /* |Δu| per iteration of the last step (quadratic convergence evidence) */
   int nhistory, nincrements;
   double time_assemble, time_factor, time_solve;
+  double cpu_assemble; /* thread CPU time of the assemblies (mica_cputime) */
   const char *linear_name;
   MicaLinearSolverStats linear;
 } MicaNewtonStats;

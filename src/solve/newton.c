@@ -27,9 +27,10 @@ static double norm2(long n, const double *v) {
 }
 
 static int assemble(Newton *nw, double t, const double *u, int with_tangent) {
-  const double start = mica_wtime();
+  const double start = mica_wtime(), cpu = mica_cputime();
   int ierr = mica_solid_assemble(nw->s, t, u, nw->R, with_tangent ? nw->s->K : NULL);
   nw->stats->time_assemble += mica_wtime() - start;
+  nw->stats->cpu_assemble += mica_cputime() - cpu;
   return ierr;
 }
 

@@ -353,10 +353,11 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
     opt.parallel = rp->dist;
     disc = rp->dist->local;
   }
-  const double start = mica_wtime();
+  const double start = mica_wtime(), cpu = mica_cputime();
   ierr = mica_study_mls_input(mica_solid_create_sharing(disc, &rp->approx, &opt, ndirichlet, dirichlet, ntraction,
                                                         traction, donor, &rp->solid));
   rp->time_cache_pattern = mica_wtime() - start;
+  rp->cpu_cache_pattern = mica_cputime() - cpu;
   return ierr; /* the solid owns the conditions now, whether or not it was built */
 cleanup:
   for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&opt.body[a]);
@@ -673,6 +674,7 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(mica_json_number(summary, "time_newton", mica_wtime() - start));
   MICA_CALL_CLEANUP(add_newton_stats(&stats, summary));
   MICA_CALL_CLEANUP(run_krylov_summary(&rp, &stats, summary));
+  MICA_CALL_CLEANUP(run_parallel_ranks(&rp, &stats, summary));
   MICA_CALL_CLEANUP(run_parallel_solver_stats(&rp, summary));
   MICA_CALL_CLEANUP(run_parallel_memory(&rp, summary));
   MICA_CALL_CLEANUP(run_output_finish(&out));
