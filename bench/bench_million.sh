@@ -12,7 +12,7 @@ MICA=${MICA_BIN:-bin/mica}
 N=${MILLION_N:-70} PC=${MILLION_PC:-jacobi} NP=${MILLION_NP:-1}
 out=${OUT_DIR:-build/bench-out}/million_${N}_${PC}_np$NP
 mkdir -p "$out"
-need_gb=$(awk -v n="$N" 'BEGIN { printf "%.1f", n * n * n * 6.3e3 / 1e9 * 1.1 }') # measured 6.3 KB per particle
+need_gb=$(awk -v n="$N" 'BEGIN { printf "%.1f", n * n * n * 19e3 / 1e9 * 1.1 }') # measured 18.7 KB per particle at 33^3
 avail_gb=$(awk '/MemAvailable/ { printf "%.1f", $2 / 1e6 }' /proc/meminfo)
 echo "million: ${N}^3 particles ($((3 * N * N * N)) dofs), needs about $need_gb GB; available $avail_gb GB;" \
   "load average $(cut -d' ' -f1-3 /proc/loadavg)"
