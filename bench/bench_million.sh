@@ -3,11 +3,16 @@
 # 1 029 000 dofs, conjugate gradients — serially, with its time per phase, Krylov iterations, peak memory
 # (getrusage) and error against the exact solution. NOT part of `make test` or `make bench`: about 10–20
 # minutes and ≈ 6.5 GB of memory at the default size. Figures only: never passes or fails on time.
+#   bash bench/bench_million.sh run     (without "run", as `make bench` calls it, it only says how to run it)
 #   MILLION_N=70       particles per side (33: 1.1·10⁵ dofs, about a minute)
 #   MILLION_PC=jacobi  solver.preconditioner (jacobi | sgs)
 #   MILLION_NP=1       MPI ranks (> 1: mpirun, solver.parallel = schwarz)
 set -u
 cd "$(dirname "$0")/.."
+if [ "${1:-}" != run ]; then
+  echo "bench_million: not part of make bench (10-20 minutes, 6.5 GB); run: bash bench/bench_million.sh run"
+  exit 0
+fi
 MICA=${MICA_BIN:-bin/mica}
 N=${MILLION_N:-70} PC=${MILLION_PC:-jacobi} NP=${MILLION_NP:-1}
 out=${OUT_DIR:-build/bench-out}/million_${N}_${PC}_np$NP
