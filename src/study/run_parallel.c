@@ -94,8 +94,8 @@ static int add_rank_array(MicaJson *summary, const char *key, const double *rows
 }
 
 static void print_ranks(const double *rows, int nranks) {
-  printf("per rank: points (+boundary), own matrix entries, wall / CPU seconds of cache+pattern and of the assemblies, "
-         "CPU µs per point and assembly, wall seconds waiting in the residual sum\n");
+  printf("per rank: points (+boundary), own matrix entries, wall / CPU seconds of cache+pattern and of the assemblies "
+         "(CPU without the wait), wall seconds waiting in the residual sum\n");
   for (int r = 0; r < nranks; r++) {
     const double *v = rows + r * RANK_FIELDS;
     printf("  rank %d: %8.0f (+%6.0f) points  nnz %10.0f  cache+pattern %7.3f / %7.3f s  assemble %8.3f / %8.3f s  "
