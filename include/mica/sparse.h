@@ -48,6 +48,7 @@ typedef struct MicaLinearSolverStats {
   /* iterative solvers (cg): iterations over all solves, the most in one solve, |b − A x| / |b| of the last */
   long krylov_iterations, krylov_iterations_max;
   double krylov_residual;
+  double krylov_cpu; /* thread CPU seconds of the iterations (mica_cputime), summed over solves */
 } MicaLinearSolverStats;
 
 /* Settings of the iterative solvers (cg; zero members take the defaults). The preconditioners work on the

@@ -79,6 +79,7 @@ static int gather_solve(MicaLinearSolver *solver, const double *b, double *x) {
     solver->stats.krylov_iterations = ps->inner->stats.krylov_iterations;
     solver->stats.krylov_iterations_max = ps->inner->stats.krylov_iterations_max;
     solver->stats.krylov_residual = ps->inner->stats.krylov_residual;
+    solver->stats.krylov_cpu = ps->inner->stats.krylov_cpu;
   }
   return mica_parallel_broadcast(ierr, x, n, 0);
 }

@@ -246,7 +246,7 @@ static int cg_solve(MicaLinearSolver *solver, const double *b, double *x) {
   if (!(opt.rtol > 0)) opt.rtol = 1e-10;
   if (opt.max_iterations <= 0) opt.max_iterations = 10000;
   const long n = cg->A->n;
-  const double bnorm = sqrt(dot(n, b, b)), start = mica_wtime();
+  const double bnorm = sqrt(dot(n, b, b)), start = mica_wtime(), cpu = mica_cputime();
   int iterations = 0;
   MICA_CALL(pcg(cg, &opt, b, bnorm, x, &iterations));
   matvec(cg->A, x, cg->q); /* the true residual, once */
@@ -257,9 +257,11 @@ static int cg_solve(MicaLinearSolver *solver, const double *b, double *x) {
   st->krylov_iterations += iterations;
   if (iterations > st->krylov_iterations_max) st->krylov_iterations_max = iterations;
   st->krylov_residual = relative;
+  st->krylov_cpu += mica_cputime() - cpu;
   if (opt.verbose)
-    printf("    cg (%s): %d iterations, |b - Ax| / |b| %.3e (rtol %.1e), %.3g s\n", preconditioner_name(opt.preconditioner),
-           iterations, relative, opt.rtol, mica_wtime() - start);
+    printf("    cg (%s): %d iterations, |b - Ax| / |b| %.3e (rtol %.1e), %.3g s (CPU %.3g s)\n",
+           preconditioner_name(opt.preconditioner), iterations, relative, opt.rtol, mica_wtime() - start,
+           mica_cputime() - cpu);
   return MICA_SUCCESS;
 }
 

@@ -26,6 +26,7 @@ int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson
   MICA_CALL(mica_json_int(summary, "krylov_iterations", ls->krylov_iterations));
   MICA_CALL(mica_json_int(summary, "krylov_iterations_max", ls->krylov_iterations_max));
   MICA_CALL(mica_json_number(summary, "krylov_last_residual", ls->krylov_residual));
+  MICA_CALL(mica_json_number(summary, "cpu_krylov", ls->krylov_cpu));
   printf("cg: %ld solves, %ld iterations (at most %ld), last |b - Ax| / |b| %.3e\n", ls->solves, ls->krylov_iterations,
          ls->krylov_iterations_max, ls->krylov_residual);
   return MICA_SUCCESS;
