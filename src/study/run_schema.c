@@ -134,7 +134,8 @@ const MicaDeckKey mica_run_schema[] = {
     {"loads.ctheta", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric cosserat: body couple, θ"},
     {"solver.linear", MICA_KEY_CHOICE, "\"auto\"", NOLIMIT, "auto|cholmod|umfpack|cg", 0, 0,
      "auto: CHOLMOD for symmetric positive definite tangents, UMFPACK otherwise; cg: preconditioned conjugate "
-     "gradients (SPD tangents, no factorization: for problems whose factor does not fit)"},
+     "gradients (SPD tangents, no factorization: for problems whose factor does not fit; under solver.parallel = "
+     "schwarz, CG is the outer iteration and CHOLMOD factors the subdomains)"},
     {"solver.preconditioner", MICA_KEY_CHOICE, "\"jacobi\"", NOLIMIT, "jacobi|sgs", 0, 0,
      "cg: block Jacobi on each particle's unknowns, or symmetric block Gauss–Seidel (fewer iterations, 3 matrix "
      "passes each)"},
