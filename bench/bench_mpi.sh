@@ -5,7 +5,7 @@
 #     (time_assemble, which under MPI includes the wait for the residual sum). Two speed-ups: wall clock (what
 #     a user sees; needs two idle cores) and CPU (serial CPU time of the work / the largest rank's, thread CPU
 #     time without the wait: whether the work itself divides, whatever else runs on the machine). Per-rank
-#     points, own matrix entries, CPU times and waits are printed from the log. About a minute on idle cores.
+#     points, own matrix entries, CPU times and waits are printed from the log. About 80 s.
 #  2. Schwarz (CG, CHOLMOD subdomains) on a 3-D linear elastic cube of CUBE_N³ particles (33: 107 811 dofs)
 #     with the lean settings of input/cube3d_million.cfg: Krylov iterations against subdomains (ranks 2, 3, 4,
 #     oversubscribed beyond 2) and overlap (0, 1, 2 layers), subdomain sizes, factor entries, peak memory per
