@@ -42,6 +42,7 @@ printf '%-24s %s\n' dofs "$(v dofs)" nnz "$(v nnz)" "matrix MB" "$(awk -v b="$(v
 for k in time_discretize time_mls_setup time_cache_and_pattern time_assemble time_factor time_solve time_newton; do
   printf '%-24s %8.1f s\n' "$k" "$(v $k)"
 done
+for k in cpu_cache_and_pattern cpu_assemble cpu_krylov; do printf '%-24s %8.1f s\n' "$k" "$(v $k)"; done
 printf '%-24s %8s\n' krylov_iterations "$(v krylov_iterations)" krylov_last_residual "$(v krylov_last_residual)"
 printf '%-24s %8.0f MB\n' peak_memory "$(awk -v b="$(v peak_memory)" 'BEGIN { print b / 1e6 }')"
 [ "$NP" -gt 1 ] && printf '%-24s %8.0f MB\n' peak_memory_rank_max "$(awk -v b="$(v peak_memory_rank_max)" 'BEGIN { print b / 1e6 }')"
