@@ -1,10 +1,16 @@
 #!/usr/bin/env bash
 # Parallel runs (src/parallel): figures only, never pass/fail on time.
-#  1. Distributed work with 1 and 2 ranks on Cook's membrane (Neo-Hooke, 2 load steps): shape functions and
-#     pattern (time_cache_and_pattern) and the Newton assemblies (time_assemble, which under MPI includes the
-#     residual reduction), their speed-up, the gather time, and peak memory per rank.
-#  2. Schwarz (CG, CHOLMOD subdomains) on a 3-D linear cube: Krylov iterations against the number of
-#     subdomains (ranks) and the overlap (layers of particles).
+#  1. Distributed work with 1 and 2 ranks on Cook's membrane (Neo-Hooke, 2 load steps, gather), at COOK_SIZES
+#     particles per side: shape functions and pattern (time_cache_and_pattern) and the Newton assemblies
+#     (time_assemble, which under MPI includes the wait for the residual sum). Two speed-ups: wall clock (what
+#     a user sees; needs two idle cores) and CPU (serial CPU time of the work / the largest rank's, thread CPU
+#     time without the wait: whether the work itself divides, whatever else runs on the machine). Per-rank
+#     points, own matrix entries, CPU times and waits are printed from the log. About 80 s.
+#  2. Schwarz (CG, CHOLMOD subdomains) on a 3-D linear elastic cube of CUBE_N³ particles (33: 107 811 dofs)
+#     with the lean settings of input/cube3d_million.cfg: Krylov iterations against subdomains (ranks 2, 3, 4,
+#     oversubscribed beyond 2) and overlap (0, 1, 2 layers), subdomain sizes, factor entries, peak memory per
+#     rank. Slow (the subdomain factorizations: minutes per run at 33³); CUBE_N=0 skips it.
+# One command for part 1 only:  MPI_BENCH=speedup bash bench/bench_mpi.sh
 # The ranks share the machine's cores with whatever else runs: the load average is printed with the figures.
 set -u
 cd "$(dirname "$0")/.."
@@ -12,44 +18,72 @@ MICA=${MICA_BIN:-bin/mica}
 out=${OUT_DIR:-build/bench-out}/mpi
 mkdir -p "$out"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm_rsh_agent=false
+cores=$(nproc)
+export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 # one thread per rank: the ranks are the parallelism
 MPIRUN=(mpirun --oversubscribe)
 [ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
 v() { sed -n "s/^ *\"$1\": *\"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$2" | head -n 1; }
+add() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.3f", a + b }'; }
+mb() { [ -n "$1" ] && awk -v p="$1" 'BEGIN { printf "%.0f", p / 1e6 }' || echo -; }
 if ! "${MPIRUN[@]}" -np 2 "$MICA" --version > /dev/null 2>&1; then
   echo "bench_mpi: mpirun cannot start processes here; no parallel figures"
   exit 0
 fi
-echo "cores: $(nproc), load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "cores: $cores, load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
 
-echo "-- Cook's membrane, Neo-Hooke, ${COOK_N:=31}x$COOK_N particles, 2 load steps (gather)"
-printf '%5s %8s %9s %10s %10s %9s %9s %11s %13s\n' ranks dofs cache+pat assemble dist.work gather newton peak_MB/rank tip_uy
-for np in 1 2; do
-  d="$out/cook_$np"
-  "${MPIRUN[@]}" -np $np "$MICA" run input/cook_neohooke.cfg -o "$d" --set "particles.count=[$COOK_N,$COOK_N]" \
-    --set solver.steps=2 --set output.monitor=false --set output.vtu=false > "$d.log" 2>&1 || { echo "np $np failed"; continue; }
-  s="$d/summary.json"
-  work=$(awk -v a="$(v time_cache_and_pattern "$s")" -v b="$(v time_assemble "$s")" 'BEGIN { printf "%.3f", a + b }')
-  eval "work_$np=$work"
-  peak=$(v peak_memory_rank_max "$s"); peak=$([ -n "$peak" ] && awk -v p="$peak" 'BEGIN { printf "%.1f", p / 1e6 }' || echo -)
-  gather=$(v time_gather "$s"); [ -n "$gather" ] || gather=0
-  printf '%5s %8s %9.3f %10.3f %10.3f %9.3f %9.3f %11s %13.10f\n' $np "$(v dofs "$s")" "$(v time_cache_and_pattern "$s")" \
-    "$(v time_assemble "$s")" "$work" "$gather" "$(v time_newton "$s")" "$peak" "$(v tip_uy "$s")"
-done
-awk -v a="${work_1:-0}" -v b="${work_2:-0}" 'BEGIN { if (b > 0) printf "speed-up of the distributed work (cache+pattern + assemble), 1 -> 2 ranks: %.2f\n", a / b }'
-echo "(peak_MB/rank: getrusage's peak resident memory, largest rank; reported under MPI only)"
+speedup() {
+  local n=$1
+  echo "-- Cook's membrane, Neo-Hooke, ${n}x$n particles, 2 load steps (gather)"
+  printf '%5s %8s %7s %10s %10s %10s %9s %9s %9s %9s\n' ranks dofs points cache+pat assemble dist.work cpu.work \
+    newton peak_MB tip_uy
+  local np
+  for np in 1 2; do
+    local d="$out/cook_${n}_$np"
+    "${MPIRUN[@]}" -np $np "$MICA" run input/cook_neohooke.cfg -o "$d" --set "particles.count=[$n,$n]" \
+      --set solver.steps=2 --set output.monitor=false --set output.vtu=false > "$d.log" 2>&1 \
+      || { echo "np $np failed: $(tail -n 2 "$d.log")"; return; }
+    local s="$d/summary.json" work cpu
+    work=$(add "$(v time_cache_and_pattern "$s")" "$(v time_assemble "$s")")
+    if [ $np = 1 ]; then
+      cpu=$(add "$(v cpu_cache_and_pattern "$s")" "$(v cpu_assemble "$s")")
+    else # the largest rank's CPU time of the work, without its wait in the residual sum
+      cpu=$(paste <(sed -n '/"rank_cpu_cache_and_pattern"/,/]/p' "$s" | grep -o '[0-9.e+-]*[0-9]') \
+                  <(sed -n '/"rank_cpu_assemble"/,/]/p' "$s" | grep -o '[0-9.e+-]*[0-9]') |
+            awk '{ t = $1 + $2; if (t > m) m = t } END { printf "%.3f", m }')
+    fi
+    eval "work_$np=$work cpu_$np=$cpu"
+    printf '%5s %8s %7s %10.3f %10.3f %10.3f %9.3f %9.3f %9s %9.6f\n' $np "$(v dofs "$s")" "$(v quadrature_points "$s")" \
+      "$(v time_cache_and_pattern "$s")" "$(v time_assemble "$s")" "$work" "$cpu" "$(v time_newton "$s")" \
+      "$(mb "$(v peak_memory "$s")")" "$(v tip_uy "$s")"
+    [ $np = 2 ] && grep -E '^  rank [0-9]+:' "$d.log"
+  done
+  awk -v a="$work_1" -v b="$work_2" -v c="$cpu_1" -v d="$cpu_2" -v load="$(cut -d' ' -f1-3 /proc/loadavg)" \
+    'BEGIN { if (b > 0 && d > 0)
+      printf "speed-up of the distributed work, 1 -> 2 ranks: wall %.2f, CPU %.2f   (load average %s)\n", a / b, c / d, load }'
+}
+for n in ${COOK_SIZES-41 61}; do speedup "$n"; done
+echo "(dist.work: wall seconds of cache+pattern + assemble; cpu.work: their thread CPU seconds, the largest rank's"
+echo " without its wait in the residual sum; peak_MB: getrusage of rank 0; rank lines: CPU of the assembly net of the wait)"
+[ "${MPI_BENCH:-all}" = speedup ] && exit 0
 
-echo "-- Schwarz-CG on a 3-D cube, linear elasticity, ${CUBE_N:=14}^3 particles, linear basis"
-printf '%5s %7s %8s %10s %10s %12s %9s\n' ranks overlap dofs sub_dofs iterations residual newton
-for np in 2 3 4; do
-  for overlap in 0 1 2; do
-    d="$out/cube_${np}_$overlap"
-    "${MPIRUN[@]}" -np $np "$MICA" run input/cube3d.cfg -o "$d" --set "particles.count=[$CUBE_N,$CUBE_N,$CUBE_N]" \
-      --set quadrature.order=2 --set solver.parallel=schwarz --set solver.overlap=$overlap --set output.monitor=false \
-      --set output.vtu=false > "$d.log" 2>&1 || { echo "np $np overlap $overlap failed: $(tail -n 2 "$d.log")"; continue; }
+N=${CUBE_N:-33}
+[ "$N" -gt 0 ] || exit 0
+echo "-- Schwarz-CG on a 3-D cube, linear elasticity, ${N}^3 particles ($((3 * N * N * N)) dofs), linear basis, ball"
+echo "   supports of dilation 1.5, 2x2x2 Gauss points per cell; solver.linear_rtol 1e-10"
+printf '%5s %7s %8s %13s %10s %12s %11s %9s %9s %9s %11s\n' ranks overlap dofs sub_dofs iterations residual \
+  nnz_factor factor solve newton peak_MB/rank
+for np in ${CUBE_RANKS:-2 3 4}; do
+  for overlap in ${CUBE_OVERLAPS:-0 1 2}; do
+    d="$out/cube_${N}_${np}_$overlap"
+    "${MPIRUN[@]}" -np $np "$MICA" run input/cube3d_million.cfg -o "$d" --set parameters.n=$N \
+      --set solver.parallel='"schwarz"' --set solver.overlap=$overlap --set output.monitor=false \
+      > "$d.log" 2>&1 || { echo "np $np overlap $overlap failed: $(tail -n 2 "$d.log")"; continue; }
     s="$d/summary.json"
-    printf '%5s %7s %8s %10s %10s %12.3e %9.3f\n' $np $overlap "$(v dofs "$s")" \
+    printf '%5s %7s %8s %13s %10s %12.3e %11s %9.2f %9.2f %9.2f %11s\n' $np $overlap "$(v dofs "$s")" \
       "$(v subdomain_dofs_min "$s")-$(v subdomain_dofs_max "$s")" "$(v krylov_iterations "$s")" \
-      "$(v krylov_last_residual "$s")" "$(v time_newton "$s")"
+      "$(v krylov_last_residual "$s")" "$(v nnz_factor "$s")" "$(v time_factor "$s")" "$(v time_solve "$s")" \
+      "$(v time_newton "$s")" "$(mb "$(v peak_memory_rank_max "$s")")"
   done
 done
+echo "(nnz_factor: rank 0's subdomain factor; residual: |r| of the last CG iteration, tolerance 1e-10 |b|)"
 echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -156,5 +156,8 @@ long mica_parallel_peak_memory(void);
 /* Collective: the distributed residual R (this rank's contributions) summed over ranks, after agreeing
  * on ierr (the failure injection point "assemble"). */
 int mica_parallel_residual(int ierr, double *R, long n);
+/* Wall-clock and thread CPU seconds this rank spent in mica_parallel_residual so far (waiting for the other
+ * ranks to finish their assembly, then the sum), and the number of calls. */
+void mica_parallel_residual_time(double *wall, double *cpu, long *calls);
 
 #endif

@@ -237,6 +237,7 @@ typedef struct MicaNewtonOptions {
   const MicaLinearSolverOps *linear; /* NULL: auto (CHOLMOD if the problem is SPD, else UMFPACK; CHOLMOD
                                         falling back to UMFPACK if the matrix turns out indefinite) */
   int verbose;         /* one monitor line per iteration */
+  MicaKrylovOptions krylov; /* the iterative linear solvers' settings (solver.linear = "cg") */
 } MicaNewtonOptions;
 
 typedef struct MicaNewtonStats {
@@ -248,6 +249,7 @@ typedef struct MicaNewtonStats {
   double time_assemble, time_factor, time_solve;
   int assemblies, tangent_assemblies; /* assembly passes (all; of which with the tangent) */
   int residual_updates; /* residuals of a linear problem taken as R + K du instead of an assembly */
+  double cpu_assemble; /* thread CPU time of the assemblies (mica_cputime) */
   const char *linear_name;
   MicaLinearSolverStats linear;
 } MicaNewtonStats;

@@ -55,12 +55,27 @@ typedef struct MicaLinearSolverStats {
   double time_factor;
   double time_solve;
   long analyses, factorizations, solves;
+  /* iterative solvers (cg): iterations over all solves, the most in one solve, |b − A x| / |b| of the last */
+  long krylov_iterations, krylov_iterations_max;
+  double krylov_residual;
+  double krylov_cpu; /* thread CPU seconds of the iterations (mica_cputime), summed over solves */
 } MicaLinearSolverStats;
+
+/* Settings of the iterative solvers (cg; zero members take the defaults). The preconditioners work on the
+ * ndof × ndof diagonal blocks of the nodes: block Jacobi (D⁻¹), or symmetric block Gauss–Seidel
+ * ((D + L) D⁻¹ (D + U), one forward and one backward sweep through the matrix). */
+typedef enum { MICA_PRECONDITIONER_JACOBI = 0, MICA_PRECONDITIONER_SGS = 1 } MicaPreconditioner;
+typedef struct MicaKrylovOptions {
+  double rtol;        /* stop at |b − A x| ≤ rtol |b| (default 1e-10) */
+  int max_iterations; /* per solve (default 10000) */
+  MicaPreconditioner preconditioner;
+  int verbose;        /* one line per solve */
+} MicaKrylovOptions;
 
 typedef struct MicaLinearSolver MicaLinearSolver;
 
 typedef struct MicaLinearSolverOps {
-  const char *name; /* "cholmod" (supernodal Cholesky, symmetric positive definite), "umfpack" (LU) */
+  const char *name; /* "cholmod" (supernodal Cholesky, symmetric positive definite), "umfpack" (LU), "cg" */
   int (*create)(MicaLinearSolver *solver);
   /* Numeric factorization of A; the symbolic analysis of the first call is reused while the pattern
    * (the same MicaSparse object) is unchanged. CHOLMOD returns MICA_ERR_NUMERIC, with a message saying so,
@@ -74,14 +89,21 @@ struct MicaLinearSolver {
   const MicaLinearSolverOps *ops;
   void *data;
   MicaLinearSolverStats stats;
+  MicaKrylovOptions krylov; /* read by the iterative solvers only */
 };
 
-extern const MicaLinearSolverOps mica_linear_cholmod, mica_linear_umfpack;
+/* "cg": preconditioned conjugate gradients (linear_cg.c) for symmetric positive definite matrices, no
+ * factorization: O(n) memory besides the matrix; MICA_ERR_NUMERIC when pᵀAp ≤ 0 or not converged. */
+extern const MicaLinearSolverOps mica_linear_cholmod, mica_linear_umfpack, mica_linear_cg;
 const MicaLinearSolverOps *mica_linear_solver_find(const char *name);
 
 int mica_linear_solver_create(const MicaLinearSolverOps *ops, MicaLinearSolver **solver);
 int mica_linear_solver_factor(MicaLinearSolver *solver, const MicaSparse *A);
 int mica_linear_solver_solve(MicaLinearSolver *solver, const double *b, double *x);
 int mica_linear_solver_destroy(MicaLinearSolver **solver);
+/* The iterative solvers' settings (copied; direct solvers ignore them). */
+int mica_linear_solver_set_krylov(MicaLinearSolver *solver, const MicaKrylovOptions *opt);
+/* 1 for solvers that iterate to a tolerance instead of factoring (cg). */
+int mica_linear_solver_iterative(const MicaLinearSolverOps *ops);
 
 #endif

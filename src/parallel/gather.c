@@ -57,6 +57,7 @@ static int gather_factor(MicaLinearSolver *solver, const MicaSparse *L) {
   ps->dist->stats.time_gather += mica_wtime() - start;
   int ierr = MICA_SUCCESS;
   if (root && !ps->inner) ierr = mica_linear_solver_create(ps->inner_ops, &ps->inner);
+  if (root && !ierr) ierr = mica_linear_solver_set_krylov(ps->inner, &solver->krylov); /* cg on rank 0 */
   if (root && !ierr) {
     const double before = ps->inner->stats.time_analyze;
     ierr = mica_linear_solver_factor(ps->inner, ps->rd->A);
@@ -73,7 +74,13 @@ static int gather_solve(MicaLinearSolver *solver, const double *b, double *x) {
   ParallelSolver *ps = solver->data;
   const long n = ps->pattern_n;
   int ierr = MICA_SUCCESS;
-  if (mica_parallel_rank() == 0) ierr = mica_linear_solver_solve(ps->inner, b, x);
+  if (mica_parallel_rank() == 0) {
+    ierr = mica_linear_solver_solve(ps->inner, b, x);
+    solver->stats.krylov_iterations = ps->inner->stats.krylov_iterations;
+    solver->stats.krylov_iterations_max = ps->inner->stats.krylov_iterations_max;
+    solver->stats.krylov_residual = ps->inner->stats.krylov_residual;
+    solver->stats.krylov_cpu = ps->inner->stats.krylov_cpu;
+  }
   return mica_parallel_broadcast(ierr, x, n, 0);
 }
 
@@ -85,7 +92,9 @@ int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOp
   MICA_CALL(mica_linear_solver_create(ops, solver));
   ParallelSolver *ps = (*solver)->data;
   ps->dist = dist;
-  ps->inner_ops = inner;
+  /* Schwarz is the Krylov method: its subdomains are factored (cg asked for: CHOLMOD there) */
+  ps->inner_ops = dist->opt.solver == MICA_PARALLEL_SCHWARZ && mica_linear_solver_iterative(inner) ? &mica_linear_cholmod
+                                                                                                   : inner;
   return MICA_SUCCESS;
 }
 
@@ -93,14 +102,62 @@ int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOp
 void parallel_solver_destroy(MicaLinearSolver *solver) { parallel_destroy(solver); }
 int parallel_solver_create(MicaLinearSolver *solver) { return parallel_create(solver); }
 
-int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz) {
-  ParallelSolver ps;
-  memset(&ps, 0, sizeof ps);
-  int ierr = gather_setup(&ps, L);
-  long count = !ierr && ps.rd && ps.rd->A ? ps.rd->A->nnz : 0;
-  redistribution_destroy(&ps.rd);
-  MICA_CALL(mica_parallel_broadcast(ierr, NULL, 0, 0));
-  MPI_Bcast(&count, 1, MPI_LONG, 0, MPI_COMM_WORLD);
-  *nnz = count;
+/* nnz of Σ_r L_r without gathering the pattern anywhere: the upper-triangle entries (i ≤ j) go to the rank
+ * that counts column j (node of j modulo the ranks: balanced), which sorts them and counts the distinct ones;
+ * the tangent's pattern is symmetric, so nnz = 2 · upper − diagonal. One all-to-all of 8 bytes per entry. */
+static int compare_long(const void *a, const void *b) {
+  const long x = *(const long *)a, y = *(const long *)b;
+  return (x > y) - (x < y);
+}
+
+static int count_distinct(long *keys, long count, long n, long *upper, long *diagonal) {
+  qsort(keys, (size_t)count, sizeof *keys, compare_long);
+  *upper = *diagonal = 0;
+  for (long k = 0; k < count; k++) {
+    if (k > 0 && keys[k] == keys[k - 1]) continue;
+    (*upper)++;
+    *diagonal += keys[k] / n == keys[k] % n;
+  }
   return MICA_SUCCESS;
+}
+
+int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz) {
+  const int P = mica_parallel_size();
+  const long n = L->n;
+  int *counts = NULL, *displs = NULL, *rcounts = NULL, *rdispls = NULL;
+  long *send = NULL, *recv = NULL, *cursor = NULL, nrecv = 0, sendn = 0, mine[2] = {0, 0};
+  int ierr = MICA_CALLOC(counts, 2L * P + 2);
+  if (!ierr) ierr = MICA_CALLOC(rcounts, 2L * P + 2);
+  if (!ierr) ierr = MICA_CALLOC(cursor, P + 1);
+  displs = counts + P + 1, rdispls = rcounts + P + 1;
+  for (long j = 0; j < n && !ierr; j++) {
+    const int to = (int)((j / L->ndof) % P);
+    for (long q = L->colptr[j]; q < L->colptr[j + 1] && L->rowind[q] <= j; q++) counts[to]++, sendn++;
+  }
+  if (!ierr && sendn >= (1L << 31)) /* MPI counts and displacements are int */
+    ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_ARGUMENT, "%ld pattern entries exceed MPI's counts",
+                          sendn);
+  if (!ierr) ierr = MICA_MALLOC(send, sendn + 1);
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MPI_Alltoall(counts, 1, MPI_INT, rcounts, 1, MPI_INT, MPI_COMM_WORLD);
+  for (int r = 0; r < P; r++) {
+    displs[r + 1] = displs[r] + counts[r], rdispls[r + 1] = rdispls[r] + rcounts[r];
+    cursor[r] = displs[r];
+  }
+  nrecv = rdispls[P];
+  for (long j = 0; j < n; j++) {
+    const int to = (int)((j / L->ndof) % P);
+    for (long q = L->colptr[j]; q < L->colptr[j + 1] && L->rowind[q] <= j; q++) send[cursor[to]++] = j * n + L->rowind[q];
+  }
+  ierr = MICA_MALLOC(recv, nrecv + 1);
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MPI_Alltoallv(send, counts, displs, MPI_LONG, recv, rcounts, rdispls, MPI_LONG, MPI_COMM_WORLD);
+  free(send);
+  send = NULL;
+  count_distinct(recv, nrecv, n, &mine[0], &mine[1]);
+  MPI_Allreduce(MPI_IN_PLACE, mine, 2, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+  *nnz = 2 * mine[0] - mine[1];
+cleanup:
+  free(counts), free(rcounts), free(cursor), free(send), free(recv);
+  return ierr;
 }

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "mica/parallel.h"
+#include "mica/timer.h"
 
 static int started, rank_, size_ = 1, alone;
 static unsigned long agreed_generation; /* mica_error_generation() of the agreed error; 0: none */
@@ -114,9 +115,21 @@ int mica_parallel_broadcast(int ierr, double *v, long n, int root) {
   return MICA_SUCCESS;
 }
 
+static double residual_wall, residual_cpu;
+static long residual_calls;
+
 int mica_parallel_residual(int ierr, double *R, long n) {
+  const double wall = mica_wtime(), cpu = mica_cputime();
   if (!ierr) ierr = mica_parallel_inject("assemble");
-  return mica_parallel_sum(ierr, R, n);
+  ierr = mica_parallel_sum(ierr, R, n);
+  residual_wall += mica_wtime() - wall;
+  residual_cpu += mica_cputime() - cpu;
+  residual_calls++;
+  return ierr;
+}
+
+void mica_parallel_residual_time(double *wall, double *cpu, long *calls) {
+  *wall = residual_wall, *cpu = residual_cpu, *calls = residual_calls;
 }
 
 long mica_parallel_max_long(long v) {

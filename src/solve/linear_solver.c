@@ -12,7 +12,8 @@
 #include "mica/sparse.h"
 #include "mica/timer.h"
 
-static const MicaLinearSolverOps *const solvers_all[] = {&mica_linear_cholmod, &mica_linear_umfpack, NULL};
+static const MicaLinearSolverOps *const solvers_all[] = {&mica_linear_cholmod, &mica_linear_umfpack, &mica_linear_cg,
+                                                                   NULL};
 
 const MicaLinearSolverOps *mica_linear_solver_find(const char *name) {
   if (!name) return NULL;
@@ -65,6 +66,14 @@ int mica_linear_solver_destroy(MicaLinearSolver **solver) {
   MICA_FREE(*solver);
   return MICA_SUCCESS;
 }
+
+int mica_linear_solver_set_krylov(MicaLinearSolver *solver, const MicaKrylovOptions *opt) {
+  MICA_CHECK(solver && opt, MICA_ERR_ARGUMENT, "mica_linear_solver_set_krylov: NULL argument");
+  solver->krylov = *opt;
+  return MICA_SUCCESS;
+}
+
+int mica_linear_solver_iterative(const MicaLinearSolverOps *ops) { return ops == &mica_linear_cg; }
 
 /* ---- Pattern keys (linear_private.h) ------------------------------------------------------------------ */
 

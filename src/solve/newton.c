@@ -35,11 +35,12 @@ static double norm2(long n, const double *v) {
 }
 
 static int assemble(Newton *nw, double t, const double *u, int with_tangent) {
-  const double start = mica_wtime();
+  const double start = mica_wtime(), cpu = mica_cputime();
   int ierr = mica_solid_assemble(nw->s, t, u, nw->R, with_tangent ? nw->s->K : NULL);
   nw->stats->time_assemble += mica_wtime() - start;
   nw->stats->assemblies++;
   if (with_tangent) nw->stats->tangent_assemblies++;
+  nw->stats->cpu_assemble += mica_cputime() - cpu;
   return ierr;
 }
 
@@ -53,8 +54,9 @@ static void linear_residual_update(Newton *nw) {
 
 /* A parallel run solves through the distributed solver, with ops on rank 0 or in the subdomains. */
 static int create_linear(Newton *nw, const MicaLinearSolverOps *ops) {
-  if (nw->s->opt.parallel) return mica_parallel_linear_create(nw->s->opt.parallel, ops, &nw->linear);
-  return mica_linear_solver_create(ops, &nw->linear);
+  if (nw->s->opt.parallel) MICA_CALL(mica_parallel_linear_create(nw->s->opt.parallel, ops, &nw->linear));
+  else MICA_CALL(mica_linear_solver_create(ops, &nw->linear));
+  return mica_linear_solver_set_krylov(nw->linear, &nw->opt->krylov);
 }
 
 static int choose_linear_solver(Newton *nw) {

@@ -365,10 +365,11 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
     opt.parallel = rp->dist;
     disc = rp->dist->local;
   }
-  const double start = mica_wtime();
+  const double start = mica_wtime(), cpu = mica_cputime();
   ierr = mica_study_mls_input(mica_solid_create_sharing(disc, &rp->approx, &opt, ndirichlet, dirichlet, ntraction,
                                                         traction, donor, &rp->solid));
   rp->time_cache_pattern = mica_wtime() - start;
+  rp->cpu_cache_pattern = mica_cputime() - cpu;
   return ierr; /* the solid owns the conditions now, whether or not it was built */
 cleanup:
   for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&opt.body[a]);
@@ -653,11 +654,12 @@ static int read_newton(const MicaDeck *deck, const MicaSolid *s, MicaNewtonOptio
   opt->linear = strcmp(linear, "auto") ? mica_linear_solver_find(linear) : NULL;
   char where[256];
   mica_deck_where(deck, "solver.linear", where, sizeof where);
-  MICA_CHECK(!(opt->linear == &mica_linear_cholmod && !mica_solid_symmetric_definite(s)), MICA_ERR_INPUT,
-             "%s: CHOLMOD needs a symmetric positive definite tangent, which bc.method = \"%s\"%s does not give; "
-             "use \"umfpack\" or \"auto\"", where, s->opt.bc_method->name,
-             s->opt.vci ? " with quadrature.vci (unsymmetric: Petrov–Galerkin)" : "");
-  return MICA_SUCCESS;
+  const int spd_only = opt->linear == &mica_linear_cholmod || opt->linear == &mica_linear_cg;
+  MICA_CHECK(!(spd_only && !mica_solid_symmetric_definite(s)), MICA_ERR_INPUT,
+             "%s: %s needs a symmetric positive definite tangent, which bc.method = \"%s\"%s does not give; "
+             "use \"umfpack\" or \"auto\"", where, opt->linear == &mica_linear_cg ? "cg" : "CHOLMOD",
+             s->opt.bc_method->name, s->opt.vci ? " with quadrature.vci (unsymmetric: Petrov–Galerkin)" : "");
+  return run_read_krylov(deck, opt);
 }
 
 static int add_newton_stats(const MicaNewtonStats *st, MicaJson *summary) {
@@ -722,6 +724,8 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(mica_json_number(summary, "time_newton", mica_wtime() - start));
   MICA_CALL_CLEANUP(add_newton_stats(&stats, summary));
   MICA_CALL_CLEANUP(add_memory_per_dof(&rp, &totals, &stats, summary));
+  MICA_CALL_CLEANUP(run_krylov_summary(&rp, &stats, summary));
+  MICA_CALL_CLEANUP(run_parallel_ranks(&rp, &stats, summary));
   MICA_CALL_CLEANUP(run_parallel_solver_stats(&rp, summary));
   MICA_CALL_CLEANUP(run_parallel_memory(&rp, summary));
   const double output_start = mica_wtime();
@@ -730,6 +734,7 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(run_probes(&rp, u, summary));
   /* fields per step (inside time_newton), the PVD, error norms and probes */
   MICA_CALL_CLEANUP(mica_json_number(summary, "time_output", out.time_output + mica_wtime() - output_start));
+  MICA_CALL_CLEANUP(run_peak_memory(summary));
   printf("solved in %d load step%s, %d Newton iterations (%s)\n", stats.steps_done, stats.steps_done > 1 ? "s" : "",
          stats.iterations_total, stats.linear_name);
 cleanup:

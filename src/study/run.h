@@ -37,6 +37,7 @@ typedef struct RunProblem {
   MicaDiscretization *error_disc; /* quadrature.error_order > 0: the error norms' own Gauss points (built on
                                    first use, run_error_discretization), else NULL */
   double time_discretize, time_mls, time_cache_pattern; /* time_mls: the MLS or finite-element setup */
+  double cpu_cache_pattern;     /* thread CPU time of the cache and pattern (mica_cputime) */
   RunReuse *reuse;              /* NULL: a single run */
   int owns_geometry;            /* 1: disc and mls are this run's to free (else reuse keeps them) */
   int reused_geometry;          /* 1: disc and mls came from the previous run */
@@ -91,6 +92,16 @@ int run_parallel_totals(const RunProblem *rp, RunTotals *totals);
 int run_parallel_counts(const RunProblem *rp, MicaJson *summary);
 int run_parallel_memory(const RunProblem *rp, MicaJson *summary);
 int run_parallel_solver_stats(const RunProblem *rp, MicaJson *summary);
+/* Collective: each rank's points, matrix entries and the wall and CPU time of its distributed work (cache and
+ * pattern, assemblies, and the assemblies' wait for the residual sum), printed per rank and in the summary
+ * ("cpu_assemble", "cpu_cache_and_pattern" of this process also in a serial run). */
+int run_parallel_ranks(const RunProblem *rp, const MicaNewtonStats *stats, MicaJson *summary);
+
+/* The iterative linear solver (run_linear.c): solver.linear_rtol, .linear_max_iterations, .preconditioner
+ * into opt->krylov; cg's iterations in the summary; the process's peak memory ("peak_memory", bytes). */
+int run_read_krylov(const MicaDeck *deck, MicaNewtonOptions *opt);
+int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson *summary);
+int run_peak_memory(MicaJson *summary);
 
 /* Output: per-step VTU files and the PVD collection, error norms, probes, summary members. */
 typedef struct RunOutput {

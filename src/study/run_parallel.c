@@ -1,6 +1,8 @@
 /* `mica run` and `mica check` under MPI (src/parallel): the deck's parallel settings, and the partition's
  * and the distributed solver's numbers in the summary and the log. Nothing here runs in a serial run. */
+#include <mpi.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "run.h"
@@ -79,4 +81,58 @@ int run_parallel_solver_stats(const RunProblem *rp, MicaJson *summary) {
          st->krylov_solves, st->krylov_iterations, st->krylov_max_iterations, st->subdomain_dofs_min,
          st->subdomain_dofs_max);
   return MICA_SUCCESS;
+}
+
+/* Per rank: what it owns and what its share of the distributed work cost it. */
+enum { RANK_POINTS, RANK_BOUNDARY, RANK_NNZ, RANK_WALL_CACHE, RANK_CPU_CACHE, RANK_WALL_ASSEMBLE, RANK_CPU_ASSEMBLE,
+       RANK_WAIT_WALL, RANK_WAIT_CPU, RANK_FIELDS };
+
+static int add_rank_array(MicaJson *summary, const char *key, const double *rows, int nranks, int field) {
+  MICA_CALL(mica_json_open_array(summary, key));
+  for (int r = 0; r < nranks; r++) MICA_CALL(mica_json_number(summary, NULL, rows[r * RANK_FIELDS + field]));
+  return mica_json_close(summary);
+}
+
+static void print_ranks(const double *rows, int nranks) {
+  printf("per rank: points (+boundary), own matrix entries, wall / CPU seconds of cache+pattern and of the assemblies "
+         "(CPU without the wait), wall seconds waiting in the residual sum\n");
+  for (int r = 0; r < nranks; r++) {
+    const double *v = rows + r * RANK_FIELDS;
+    printf("  rank %d: %8.0f (+%6.0f) points  nnz %10.0f  cache+pattern %7.3f / %7.3f s  assemble %8.3f / %8.3f s  "
+           "wait %7.3f s\n",
+           r, v[RANK_POINTS], v[RANK_BOUNDARY], v[RANK_NNZ], v[RANK_WALL_CACHE], v[RANK_CPU_CACHE], v[RANK_WALL_ASSEMBLE],
+           v[RANK_CPU_ASSEMBLE] - v[RANK_WAIT_CPU], v[RANK_WAIT_WALL]);
+  }
+  fflush(stdout);
+}
+
+int run_parallel_ranks(const RunProblem *rp, const MicaNewtonStats *stats, MicaJson *summary) {
+  MICA_CALL(mica_json_number(summary, "cpu_cache_and_pattern", rp->cpu_cache_pattern));
+  MICA_CALL(mica_json_number(summary, "cpu_assemble", stats->cpu_assemble));
+  const MicaDistribution *d = rp->dist;
+  if (!d) return MICA_SUCCESS;
+  const int nranks = mica_parallel_size(), root = mica_parallel_rank() == 0;
+  double mine[RANK_FIELDS], *rows = NULL;
+  long calls = 0;
+  mine[RANK_POINTS] = (double)d->local->nquad;
+  mine[RANK_BOUNDARY] = 0;
+  for (int s = 0; s < d->local->nsets; s++) mine[RANK_BOUNDARY] += (double)d->local->sets[s].n;
+  mine[RANK_NNZ] = (double)rp->solid->K->nnz;
+  mine[RANK_WALL_CACHE] = rp->time_cache_pattern, mine[RANK_CPU_CACHE] = rp->cpu_cache_pattern;
+  mine[RANK_WALL_ASSEMBLE] = stats->time_assemble, mine[RANK_CPU_ASSEMBLE] = stats->cpu_assemble;
+  mica_parallel_residual_time(&mine[RANK_WAIT_WALL], &mine[RANK_WAIT_CPU], &calls);
+  int ierr = root ? MICA_CALLOC(rows, (long)nranks * RANK_FIELDS) : MICA_SUCCESS;
+  MICA_CALL(mica_parallel_agree(ierr));
+  MPI_Gather(mine, RANK_FIELDS, MPI_DOUBLE, rows, RANK_FIELDS, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  if (!root) return MICA_SUCCESS;
+  print_ranks(rows, nranks);
+  /* the assembly's own CPU time: without the time spent (spinning) in the residual sum */
+  for (int r = 0; r < nranks; r++) rows[r * RANK_FIELDS + RANK_CPU_ASSEMBLE] -= rows[r * RANK_FIELDS + RANK_WAIT_CPU];
+  ierr = add_rank_array(summary, "rank_points", rows, nranks, RANK_POINTS);
+  if (!ierr) ierr = add_rank_array(summary, "rank_nnz", rows, nranks, RANK_NNZ);
+  if (!ierr) ierr = add_rank_array(summary, "rank_cpu_cache_and_pattern", rows, nranks, RANK_CPU_CACHE);
+  if (!ierr) ierr = add_rank_array(summary, "rank_cpu_assemble", rows, nranks, RANK_CPU_ASSEMBLE);
+  if (!ierr) ierr = add_rank_array(summary, "rank_assemble_wait", rows, nranks, RANK_WAIT_WALL);
+  free(rows);
+  return ierr;
 }

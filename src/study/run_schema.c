@@ -136,14 +136,19 @@ const MicaDeckKey mica_run_schema[] = {
     {"loads.btheta", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric: body force, θ"},
     {"loads.cr", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric cosserat: body couple, r"},
     {"loads.ctheta", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric cosserat: body couple, θ"},
-    {"solver.linear", MICA_KEY_CHOICE, "\"auto\"", NOLIMIT, "auto|cholmod|umfpack", 0, 0,
-     "auto: CHOLMOD for symmetric positive definite tangents, UMFPACK otherwise"},
+    {"solver.linear", MICA_KEY_CHOICE, "\"auto\"", NOLIMIT, "auto|cholmod|umfpack|cg", 0, 0,
+     "auto: CHOLMOD for symmetric positive definite tangents, UMFPACK otherwise; cg: preconditioned conjugate "
+     "gradients (SPD tangents, no factorization: for problems whose factor does not fit; under solver.parallel = "
+     "schwarz, CG is the outer iteration and CHOLMOD factors the subdomains)"},
+    {"solver.preconditioner", MICA_KEY_CHOICE, "\"jacobi\"", NOLIMIT, "jacobi|sgs", 0, 0,
+     "cg: block Jacobi on each particle's unknowns, or symmetric block Gauss–Seidel (fewer iterations, 3 matrix "
+     "passes each)"},
     {"solver.parallel", MICA_KEY_CHOICE, "\"gather\"", NOLIMIT, "gather|schwarz", 0, 0,
      "MPI runs: gather the tangent to rank 0 for CHOLMOD/UMFPACK, or additive Schwarz CG/GMRES"},
     {"solver.overlap", MICA_KEY_INT, "2", 0, 100, NULL, 0, 0,
      "schwarz: layers of neighboring particles added to each rank's subdomain"},
-    {"solver.linear_rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "schwarz: Krylov stops at |r| ≤ linear_rtol |b|"},
-    {"solver.linear_max_iterations", MICA_KEY_INT, "2000", 1, 1000000, NULL, 0, 0, "schwarz: Krylov iterations per solve"},
+    {"solver.linear_rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "cg, schwarz: Krylov stops at |r| ≤ linear_rtol |b|"},
+    {"solver.linear_max_iterations", MICA_KEY_INT, "2000", 1, 1000000, NULL, 0, 0, "cg, schwarz: Krylov iterations per solve"},
     {"solver.steps", MICA_KEY_INT, "1", 1, 100000, NULL, 0, 0, "load steps; the load factor t goes from 1/steps to 1"},
     {"solver.max_iterations", MICA_KEY_INT, "25", 1, 1000, NULL, 0, 0, "Newton iterations per step"},
     {"solver.rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "converged when |R| ≤ rtol |R₀| of the step"},

@@ -81,6 +81,19 @@ for np in 2 3; do
   at_least "$(json_value krylov_iterations "$work/glide_schwarz_$np/summary.json")" 2 "-np $np: GMRES iterations"
 done
 
+# solver.linear = cg under MPI: gather runs CG on rank 0 (the serial answer to the Krylov tolerance, iterations
+# in the summary); schwarz is itself CG and factors its subdomains (CHOLMOD) when cg is asked for
+run_deck "$work/cube_cg" input/cube3d.cfg --set "particles.count=[7,7,7]" --set quadrature.order=2 --set solver.linear='"cg"'
+prun 2 "$work/cube_cg_2" input/cube3d.cfg --set "particles.count=[7,7,7]" --set quadrature.order=2 --set solver.linear='"cg"'
+compare "$work/cube_cg" "$work/cube_cg_2" 1e-8 corner_ux error_l2
+[ "$(json_value krylov_iterations "$work/cube_cg_2/summary.json")" = "$(json_value krylov_iterations "$work/cube_cg/summary.json")" ] \
+  || fail "-np 2 gather + cg: iterations differ from the serial cg run"
+prun 2 "$work/cube_cg_schwarz" input/cube3d.cfg --set "particles.count=[7,7,7]" --set quadrature.order=2 \
+  --set solver.linear='"cg"' --set solver.parallel='"schwarz"' --set solver.overlap=1
+compare "$work/cube_cg" "$work/cube_cg_schwarz" 1e-7 corner_ux
+[ -n "$(json_value rank_cpu_assemble "$work/cube_cg_2/summary.json")" ] || fail "-np 2: no per-rank CPU times"
+ok "-np 2: cg with gather and schwarz as serial; per-rank figures in the summary"
+
 # -np 1 under mpirun takes the serial path (no partition); only the BLAS under CHOLMOD may run with another
 # thread count when mpirun binds the process to a core, which changes the last bits
 prun 1 "$work/timo_1" input/timoshenko.cfg

@@ -1,0 +1,41 @@
+/* `mica run`: the iterative linear solver's settings (solver.linear = "cg") and its figures, and the peak
+ * memory of the process, in the summary. */
+#include <stdio.h>
+#include <string.h>
+
+#include "run.h"
+
+int run_read_krylov(const MicaDeck *deck, MicaNewtonOptions *opt) {
+  const char *preconditioner;
+  long iterations;
+  MICA_CALL(mica_deck_float(deck, "solver.linear_rtol", &opt->krylov.rtol));
+  MICA_CALL(mica_deck_int(deck, "solver.linear_max_iterations", &iterations));
+  MICA_CALL(mica_deck_string(deck, "solver.preconditioner", &preconditioner));
+  opt->krylov.max_iterations = (int)iterations;
+  opt->krylov.preconditioner = strcmp(preconditioner, "sgs") ? MICA_PRECONDITIONER_JACOBI : MICA_PRECONDITIONER_SGS;
+  opt->krylov.verbose = opt->verbose;
+  return MICA_SUCCESS;
+}
+
+/* cg's iterations (a Schwarz run reports its own in run_parallel_solver_stats). */
+int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson *summary) {
+  if (!st->linear_name || strcmp(st->linear_name, "cg") != 0) return MICA_SUCCESS;
+  if (rp->dist && rp->dist->opt.solver == MICA_PARALLEL_SCHWARZ) return MICA_SUCCESS;
+  const MicaLinearSolverStats *ls = &st->linear;
+  MICA_CALL(mica_json_int(summary, "krylov_solves", ls->solves));
+  MICA_CALL(mica_json_int(summary, "krylov_iterations", ls->krylov_iterations));
+  MICA_CALL(mica_json_int(summary, "krylov_iterations_max", ls->krylov_iterations_max));
+  MICA_CALL(mica_json_number(summary, "krylov_last_residual", ls->krylov_residual));
+  MICA_CALL(mica_json_number(summary, "cpu_krylov", ls->krylov_cpu));
+  printf("cg: %ld solves, %ld iterations (at most %ld), last |b - Ax| / |b| %.3e\n", ls->solves, ls->krylov_iterations,
+         ls->krylov_iterations_max, ls->krylov_residual);
+  return MICA_SUCCESS;
+}
+
+/* getrusage's peak resident memory of this process (rank 0 under MPI; run_parallel_memory has the ranks'). */
+int run_peak_memory(MicaJson *summary) {
+  const long peak = mica_parallel_peak_memory();
+  MICA_CALL(mica_json_int(summary, "peak_memory", peak));
+  printf("peak memory %.1f MB\n", (double)peak / 1e6);
+  return MICA_SUCCESS;
+}
