@@ -125,20 +125,25 @@ static void random_state(const MicaSolid *s, double amplitude, uint64_t *seed, d
   for (long i = 0; i < s->ndof; i++) u[i] = amplitude * rnd(seed);
 }
 
-static void test_small_strain_tangent(void **state) {
-  (void)state;
+/* The tangent at a random state of the given amplitude against central differences of step h, and its symmetry. */
+static void check_tangent(int finite, double amplitude, double h, uint64_t seed, double defect_tol, double asym_tol,
+                          const char *label) {
   Fixture f;
-  build(&f, 0);
-  uint64_t seed = 11;
+  build(&f, finite);
   double *u = malloc(sizeof(double) * (size_t)f.solid->ndof);
   assert_non_null(u);
-  random_state(f.solid, 0.05, &seed, u);
-  const double defect = tangent_defect(f.solid, u, 1e-3, &seed), asym = tangent_asymmetry(f.solid, u);
-  print_message("small-strain Cosserat: tangent vs central differences %.2e, asymmetry %.2e\n", defect, asym);
-  assert_true(defect < 1e-8);
-  assert_true(asym < 1e-12);
+  random_state(f.solid, amplitude, &seed, u);
+  const double defect = tangent_defect(f.solid, u, h, &seed), asym = tangent_asymmetry(f.solid, u);
+  print_message("%s: tangent vs central differences %.2e, asymmetry %.2e\n", label, defect, asym);
+  assert_true(defect < defect_tol);
+  assert_true(asym < asym_tol);
   free(u);
   release(&f);
+}
+
+static void test_small_strain_tangent(void **state) {
+  (void)state;
+  check_tangent(0, 0.05, 1e-3, 11, 1e-8, 1e-12, "small-strain Cosserat");
 }
 
 /* R(u) − R(0) = K u: the residual is affine with the tangent as its slope (the small-strain model). */
@@ -169,18 +174,7 @@ static void test_small_strain_affine(void **state) {
  * the ∂D/∂q term. */
 static void test_finite_tangent(void **state) {
   (void)state;
-  Fixture f;
-  build(&f, 1);
-  uint64_t seed = 23;
-  double *u = malloc(sizeof(double) * (size_t)f.solid->ndof);
-  assert_non_null(u);
-  random_state(f.solid, 0.5, &seed, u);
-  const double defect = tangent_defect(f.solid, u, 1e-5, &seed), asym = tangent_asymmetry(f.solid, u);
-  print_message("finite-rotation Cosserat: tangent vs central differences %.2e, asymmetry %.2e\n", defect, asym);
-  assert_true(defect < 1e-5);
-  assert_true(asym < 1e-9);
-  free(u);
-  release(&f);
+  check_tangent(1, 0.5, 1e-5, 23, 1e-5, 1e-9, "finite-rotation Cosserat");
 }
 
 int main(void) {
