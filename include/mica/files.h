@@ -16,6 +16,8 @@ typedef struct MicaOutFile {
 /* mkdir -p */
 int mica_make_dir(const char *dir);
 int mica_out_open(const char *path, MicaOutFile *out);
+/* mica_out_open of dir/name (the file keeps its own copy of the path). */
+int mica_out_open_in(const char *dir, const char *name, MicaOutFile *out);
 /* Flushes, checks for write errors, renames into place. */
 int mica_out_commit(MicaOutFile *out);
 /* Removes the temporary file; safe to call after commit or on a file never opened. */

@@ -89,6 +89,14 @@ cleanup:
   return ierr;
 }
 
+int mica_out_open_in(const char *dir, const char *name, MicaOutFile *out) {
+  char *path = NULL;
+  MICA_CALL(mica_path_join(dir, name, &path));
+  const int ierr = mica_out_open(path, out);
+  free(path);
+  return ierr;
+}
+
 /* Frees the names once the file is committed or abandoned, so a second commit or abort is harmless. */
 static void forget(MicaOutFile *out) {
   MICA_FREE(out->path);

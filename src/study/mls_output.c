@@ -25,11 +25,9 @@ static void write_rows(FILE *fp, const MlsVariantResult *r, const char *set, con
 }
 
 int mls_study_write_csv(const MlsVariantResult *results, int nvariants, const char *outdir) {
-  char *path = NULL;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(mica_path_join(outdir, "mls.csv", &path));
-  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "mls.csv", &out));
   /* err_* are relative to the largest |exact| value of the same variant and sample set */
   fprintf(out.fp, "variant,set,sample,s,x,y,z,support,f,f_h,err_f,df,df_h,err_df,ddf,ddf_h,err_ddf\n");
   for (int v = 0; v < nvariants; v++) {
@@ -40,17 +38,14 @@ int mls_study_write_csv(const MlsVariantResult *results, int nvariants, const ch
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
-  free(path);
   return ierr;
 }
 
 /* gnuplot data: one block per variant (separated by two blank lines, so `index v` selects it). */
 static int write_chart_data(const MlsVariantResult *results, int nvariants, const char *outdir) {
-  char *path = NULL;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(mica_path_join(outdir, "mls_line.dat", &path));
-  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "mls_line.dat", &out));
   for (int v = 0; v < nvariants; v++) {
     const MlsVariantResult *r = &results[v];
     const MlsErrors *e = &r->line_err;
@@ -65,7 +60,6 @@ static int write_chart_data(const MlsVariantResult *results, int nvariants, cons
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
-  free(path);
   return ierr;
 }
 
@@ -81,14 +75,13 @@ static void write_panel(FILE *fp, int nvariants, int column, const char *ylabel,
 }
 
 static int write_chart_script(const MlsVariantResult *r, int nvariants, const char *title, const char *outdir) {
-  char *path = NULL, safe_title[256];
+  char safe_title[256];
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   const char axis = (char)('x' + r[0].axis);
   mica_gnuplot_label(title && title[0] ? title : "MLS approximation error along the sample line", safe_title,
                sizeof safe_title);
-  MICA_CALL_CLEANUP(mica_path_join(outdir, "mls_chart.gp", &path));
-  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "mls_chart.gp", &out));
   FILE *fp = out.fp;
   for (int pass = 0; pass < 2; pass++) {
     if (pass == 0) fprintf(fp, "set terminal pngcairo size 900,1100 noenhanced\nset output 'mls_error.png'\n");
@@ -106,7 +99,6 @@ static int write_chart_script(const MlsVariantResult *r, int nvariants, const ch
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
-  free(path);
   return ierr;
 }
 

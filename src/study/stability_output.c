@@ -13,16 +13,13 @@
 static const char *const KIND_NAMES[] = {"rigid", "spurious", "nonzero", "low_energy"};
 
 static int write_text(const char *outdir, const char *name, int (*body)(FILE *fp, const void *ctx), const void *ctx) {
-  char *path = NULL;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(mica_path_join(outdir, name, &path));
-  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, name, &out));
   MICA_CALL_CLEANUP(body(out.fp, ctx));
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
-  free(path);
   return ierr;
 }
 

@@ -62,11 +62,9 @@ static void put_row(FILE *fp, const StudySpec *spec, long p, const StudyRow *row
 }
 
 int study_write_csv(const StudySpec *spec, const StudyRow *rows, const char *outdir) {
-  char *path = NULL;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(mica_path_join(outdir, "study.csv", &path));
-  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "study.csv", &out));
   fprintf(out.fp, "index");
   for (int c = 0; c < spec->nchoices; c++) fprintf(out.fp, ",%s", spec->choices[c].path);
   fprintf(out.fp, ",status,dofs,particles,quadrature_points,nnz,nnz_factor,cache_bytes,matrix_bytes,memory_bytes");
@@ -78,7 +76,6 @@ int study_write_csv(const StudySpec *spec, const StudyRow *rows, const char *out
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
-  free(path);
   return ierr;
 }
 
@@ -125,11 +122,9 @@ static void curve_label(const StudySpec *spec, const StudyRow *rows, long first,
 
 /* study_points.dat: one block per curve, "time error dofs" in the order of the last choice's values. */
 static int write_points(const StudySpec *spec, const StudyRow *rows, const char *outdir, Curves *cv) {
-  char *path = NULL;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(mica_path_join(outdir, "study_points.dat", &path));
-  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "study_points.dat", &out));
   fprintf(out.fp, "# time (s), %s error, dofs; one block per combination of all choices but %s\n", spec->error_name,
           spec->choices[spec->nchoices - 1].path);
   for (long k = 0; k < cv->n; k++) {
@@ -143,18 +138,15 @@ static int write_points(const StudySpec *spec, const StudyRow *rows, const char 
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
-  free(path);
   return ierr;
 }
 
 /* study_front.dat: the front by increasing time, "time error dofs \"label\"". Returns the number of points. */
 static int write_front(const StudySpec *spec, const StudyRow *rows, const char *outdir, long *nfront) {
-  char *path = NULL;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   *nfront = 0;
-  MICA_CALL_CLEANUP(mica_path_join(outdir, "study_front.dat", &path));
-  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "study_front.dat", &out));
   fprintf(out.fp, "# the Pareto front by increasing time: time (s), %s error, dofs, choice\n", spec->error_name);
   double last = -INFINITY;
   for (;;) { /* selection by increasing time */
@@ -176,22 +168,18 @@ static int write_front(const StudySpec *spec, const StudyRow *rows, const char *
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
-  free(path);
   return ierr;
 }
 
 static int write_fastest(const StudyRow *rows, long fastest, const char *outdir) {
-  char *path = NULL;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(mica_path_join(outdir, "study_fastest.dat", &path));
-  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "study_fastest.dat", &out));
   fprintf(out.fp, "# the fastest combination that reaches the target: time (s), error, dofs\n");
   if (fastest >= 0) fprintf(out.fp, "%.10g %.10g %ld\n", rows[fastest].time, rows[fastest].error, rows[fastest].dofs);
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
-  free(path);
   return ierr;
 }
 
@@ -242,15 +230,14 @@ static void write_chart(const StudySpec *spec, const StudyRow *rows, const Curve
 
 static int write_script(const StudySpec *spec, const StudyRow *rows, const Curves *cv, long nfront, long fastest,
                         const char *outdir) {
-  char *path = NULL, title[512], error_title[128];
+  char title[512], error_title[128];
   const char *deck_title;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_deck_string(spec->deck, "problem.title", &deck_title));
   mica_gnuplot_label(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);
   study_error_title(spec, error_title, sizeof error_title);
-  MICA_CALL_CLEANUP(mica_path_join(outdir, "study_chart.gp", &path));
-  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "study_chart.gp", &out));
   fprintf(out.fp, "# mica study: %s against time and against dofs (data: study_points.dat, study_front.dat, "
           "study_fastest.dat)\n", error_title);
   for (int chart = 0; chart < 2; chart++)
@@ -270,7 +257,6 @@ static int write_script(const StudySpec *spec, const StudyRow *rows, const Curve
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
-  free(path);
   return ierr;
 }
 

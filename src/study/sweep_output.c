@@ -46,11 +46,9 @@ static void put_row(FILE *fp, const SweepSpec *spec, long p, const SweepPoint *p
 }
 
 int sweep_write_csv(const SweepSpec *spec, const SweepPoint *points, const char *outdir) {
-  char *path = NULL;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(mica_path_join(outdir, "sweep.csv", &path));
-  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "sweep.csv", &out));
   fprintf(out.fp, "index");
   for (int a = 0; a < spec->naxes; a++) fprintf(out.fp, ",%s", spec->axes[a].path);
   for (int i = 0; i < spec->nprobes; i++) fprintf(out.fp, ",%s", spec->probes[i]);
@@ -59,7 +57,6 @@ int sweep_write_csv(const SweepSpec *spec, const SweepPoint *points, const char 
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
-  free(path);
   return ierr;
 }
 
@@ -265,23 +262,19 @@ typedef struct {
 } Chart;
 
 static int write_points_file(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, Chart *ch) {
-  char *path = NULL;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(MICA_CALLOC(ch->npoints, ch->curves.n));
-  MICA_CALL_CLEANUP(mica_path_join(outdir, "sweep_points.dat", &path));
-  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "sweep_points.dat", &out));
   fprintf(out.fp, "# x = %s, y = %s; one block per curve\n", spec->axes[spec->x].path, spec->probes[spec->probe]);
   for (int c = 0; c < ch->curves.n; c++) ch->npoints[c] = write_curve(out.fp, spec, pts, ch->curves.first[c]);
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
-  free(path);
   return ierr;
 }
 
 static int write_analytic_file(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, Chart *ch) {
-  char *path = NULL;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   if (!spec->nanalytic) return MICA_SUCCESS;
@@ -289,8 +282,7 @@ static int write_analytic_file(const SweepSpec *spec, const SweepPoint *pts, con
   MICA_CALL_CLEANUP(MICA_MALLOC(ch->analytic, (size_t)ch->curves.n * (size_t)spec->nanalytic * FINE));
   for (int c = 0; c < ch->curves.n; c++)
     MICA_CALL_CLEANUP(analytic_eval(spec, pts, ch->curves.first[c], ch->x, &ch->analytic[c * spec->nanalytic * FINE]));
-  MICA_CALL_CLEANUP(mica_path_join(outdir, "sweep_analytic.dat", &path));
-  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "sweep_analytic.dat", &out));
   fprintf(out.fp, "# one block per chart curve and analytic curve (curve-major)\n");
   for (int c = 0; c < ch->curves.n; c++)
     for (int k = 0; k < spec->nanalytic; k++)
@@ -298,17 +290,14 @@ static int write_analytic_file(const SweepSpec *spec, const SweepPoint *pts, con
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
-  free(path);
   return ierr;
 }
 
 static int write_experiments_file(const SweepSpec *spec, const char *outdir) {
-  char *path = NULL;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   if (!spec->nexperiments) return MICA_SUCCESS;
-  MICA_CALL_CLEANUP(mica_path_join(outdir, "sweep_experiments.dat", &path));
-  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "sweep_experiments.dat", &out));
   for (int e = 0; e < spec->nexperiments; e++) {
     fprintf(out.fp, "# %s\n", spec->experiments[e].name);
     for (int i = 0; i < spec->experiments[e].n; i++)
@@ -318,7 +307,6 @@ static int write_experiments_file(const SweepSpec *spec, const char *outdir) {
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
-  free(path);
   return ierr;
 }
 
@@ -364,14 +352,13 @@ static void plot_items(const SweepSpec *spec, const SweepPoint *pts, Chart *ch) 
 }
 
 static int write_script(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, Chart *ch) {
-  char *path = NULL, title[512];
+  char title[512];
   const char *deck_title;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_deck_string(spec->deck, "problem.title", &deck_title));
   mica_gnuplot_label(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);
-  MICA_CALL_CLEANUP(mica_path_join(outdir, "sweep_chart.gp", &path));
-  MICA_CALL_CLEANUP(mica_out_open(path, &out));
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "sweep_chart.gp", &out));
   ch->script = out.fp;
   for (int pass = 0; pass < 2; pass++) {
     fprintf(out.fp, pass ? "set terminal svg size 900,650 noenhanced\nset output 'sweep.svg'\n"
@@ -391,7 +378,6 @@ static int write_script(const SweepSpec *spec, const SweepPoint *pts, const char
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
-  free(path);
   return ierr;
 }
 
