@@ -51,7 +51,7 @@ static void point_init(Point *pt, int dim, long n) {
   pt->A = calloc((size_t)(dd * dd), sizeof(double));
   pt->D = calloc((size_t)(nq * nq), sizeof(double));
   pt->Ke = malloc(sizeof(double) * (size_t)mica_kernel_ke_size(dim, n));
-  pt->work = malloc(sizeof(double) * (size_t)mica_kernel_work_size(dim, n));
+  pt->work = malloc(sizeof(double) * (size_t)mica_kernel_work_size(dim, dim, n));
   pt->Kg = malloc(sizeof(double) * (size_t)(m * m));
   pt->G = malloc(sizeof(double) * (size_t)(m * nq));
   pt->B = malloc(sizeof(double) * (size_t)(m * dd));
@@ -143,7 +143,7 @@ static void kernel_row(int dim, long n) {
   const long m = n * dim;
   const double t_half = time_per_call(&pt, RUN_HALF), t_full = time_per_call(&pt, RUN_FULL);
   const double t_gen = time_per_call(&pt, RUN_GENERAL), t_gemm = time_per_call(&pt, RUN_DGEMM);
-  const double f_half = mica_kernel_flops(dim, n, 1), f_full = mica_kernel_flops(dim, n, 0);
+  const double f_half = mica_kernel_flops(dim, dim, n, 1), f_full = mica_kernel_flops(dim, dim, n, 0);
   const double f_gemm = 2.0 * (double)m * (double)m * dim * dim;
   const double r_half = f_half / t_half * 1e-9, r_gemm = f_gemm / t_gemm * 1e-9;
   printf("%d-D n %3ld  half %7.2f us %6.2f GF/s  full %7.2f us %6.2f GF/s  general %8.2f us  "

@@ -179,6 +179,7 @@ typedef struct MicaSolid {
    * their supports (at most cell_cap particles), scattered once per cell */
   long cell_cap;
   double *cell_matrix;            /* planar lower blocks over the union, and the kernel's scratch */
+  int chunk_points;               /* points the kernel stages before it updates the group matrix */
   long *cell_nodes;               /* [cell_cap] the union, ascending */
   long *cell_slot;                /* [nparticles] position of a particle in the union, −1 outside it */
 } MicaSolid;
@@ -211,6 +212,11 @@ int mica_solid_linear(const MicaSolid *s);
 /* Residual R(u; t) = internal − external forces + boundary-method terms, and (if K != NULL) the tangent
  * into K (zeroed first). */
 int mica_solid_assemble(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K);
+
+/* Shape-function entries per unknown in the model's q (mica/model.h): the value if the energy uses it, the dim
+ * first derivatives, and the Hessian's dim(dim+1)/2 entries for a second-order model — the field kernel's nd
+ * (mica/kernel.h); dim for a classical model. */
+int mica_solid_shape_entries(const MicaSolid *s);
 
 /* The general (slot-based) element stiffness at point p of cache c: Ke[(k c)(l d)] = w Σ_ij B_i(k,c) D_ij B_j(l,d),
  * row-major m × m (m = support × ncomp), rows test functions; G is m × nq scratch. The classical kernel

@@ -206,21 +206,58 @@ static int assemble_points_general(MicaSolid *s, const VolumeTerms *v, const dou
   return MICA_SUCCESS;
 }
 
-/* ---- the classical path: symmetric half, points of a background cell together ---- */
+/* ---- the kernel path: symmetric half, points of a background cell together ---- */
 
-/* The classical kernel (mica/kernel.h) serves plane and 3-D classical models whose test functions are the trial
- * functions: K is then symmetric and only its upper blocks are computed and scattered. VCI (Petrov–Galerkin),
- * axisymmetric hoop terms and generalized continua take the slot-based element_stiffness. */
-static int classical_kernel_applies(const MicaSolid *s, const MicaShapeCache *c) {
-  return s->opt.field.ops == &mica_field_classical && !s->opt.axisymmetric && !c->dN_test && s->ncomp == s->dim &&
-         (s->dim == 2 || s->dim == 3) && !s->opt.general_kernel;
+/* The kernel (mica/kernel.h) serves plane and 3-D models whose test functions are the trial functions: K is then
+ * symmetric and only its upper blocks are computed and scattered. VCI (Petrov–Galerkin) takes the general
+ * per-point path; axisymmetric hoop terms (entries that differ per component) the slot-based element_stiffness. */
+static int kernel_applies(const MicaSolid *s, const MicaShapeCache *c) {
+  return !s->opt.axisymmetric && !c->dN_test && !s->opt.general_kernel;
 }
 
-/* The gradient block of D, A_aJbL = D[(ncomp + aJ)(ncomp + bL)], as a dense dim² × dim² matrix. */
-static void gradient_tangent(const MicaSolid *s, const double *D, double *A) {
-  const int dd = s->dim * s->dim, first = s->ncomp;
-  for (int r = 0; r < dd; r++)
-    for (int col = 0; col < dd; col++) A[r * dd + col] = D[(first + r) * s->nq + first + col];
+_Static_assert(MICA_MAX_COMP * 10 <= MICA_KERNEL_MAX_WIDTH, "the kernel's A holds (unknowns × entries)²");
+
+static int shape_entries(const Layout *L) { return L->values + L->dim + (L->order >= 2 ? L->nh : 0); }
+
+int mica_solid_shape_entries(const MicaSolid *s) {
+  const Layout L = layout_of(s);
+  return shape_entries(&L);
+}
+
+/* slot[c·nd + i]: the slot in q of shape-function entry i of unknown c (value, gradient, Hessian; b_entries'
+ * order). */
+static void entry_slots(const Layout *L, int *slot) {
+  const int nd = shape_entries(L);
+  for (int comp = 0; comp < L->ncomp; comp++) {
+    int *out = slot + comp * nd, i = 0;
+    if (L->values) out[i++] = comp;
+    for (int J = 0; J < L->dim; J++) out[i++] = grad_slot(L, comp, J);
+    if (L->order >= 2)
+      for (int h = 0; h < L->nh; h++) out[i++] = L->ncomp * (1 + L->dim) + comp * L->nh + h;
+  }
+}
+
+/* The kernel's A_(a i)(b j) = D[slot(a, i), slot(b, j)], (nc·nd) × (nc·nd) row-major. */
+static void kernel_tangent(int width, const int *slot, const double *D, int nq, double *A) {
+  for (int r = 0; r < width; r++)
+    for (int col = 0; col < width; col++) A[r * width + col] = D[slot[r] * nq + slot[col]];
+}
+
+/* β of point p's particles, beta[K·nd + i] (b_entries' order): the cache's gradients themselves when they are all
+ * of it (classical models), else gathered into scratch. */
+static const double *point_entries(const Layout *L, const MicaShapeCache *c, long p, double *scratch) {
+  const long first = c->ptr[p], n = c->ptr[p + 1] - first;
+  if (!L->values && L->order < 2) return c->dN + first * L->dim;
+  const int nd = shape_entries(L);
+  for (long K = 0; K < n; K++) {
+    double *out = scratch + K * nd;
+    int i = 0;
+    if (L->values) out[i++] = c->N[first + K];
+    for (int J = 0; J < L->dim; J++) out[i++] = c->dN[(first + K) * L->dim + J];
+    if (L->order >= 2)
+      for (int h = 0; h < L->nh; h++) out[i++] = c->ddN[(first + K) * L->nh + h];
+  }
+  return scratch;
 }
 
 /* Consecutive points first, first + 1, ... whose supports together hold at most 1/8 more particles than the
@@ -253,24 +290,6 @@ static long cell_group(MicaSolid *s, long first, long *u_out) {
   return p;
 }
 
-static int assemble_cell(MicaSolid *s, const VolumeTerms *v, long first, long last, long u, const double *uvec,
-                         double *R, MicaSparse *K) {
-  const MicaShapeCache *c = s->volume;
-  const int dim = s->dim;
-  double *Kc = s->cell_matrix, *kwork = Kc + mica_kernel_ke_size(dim, u), *A = kwork + mica_kernel_work_size(dim, u);
-  long *loc = s->work_nodes;
-  memset(Kc, 0, sizeof(double) * (size_t)mica_kernel_ke_size(dim, u));
-  for (long p = first; p < last; p++) {
-    MICA_CALL(point_residual(s, v, p, uvec, R, 1));
-    const long n = c->ptr[p + 1] - c->ptr[p];
-    for (long k = 0; k < n; k++) loc[k] = s->cell_slot[c->index[c->ptr[p] + k]];
-    gradient_tangent(s, s->work, A);
-    mica_kernel_classical_mapped(dim, n, c->dN + c->ptr[p] * dim, loc, u, A, s->disc->qw[p],
-                                 MICA_KERNEL_HALF | MICA_KERNEL_ADD, kwork, Kc);
-  }
-  return mica_sparse_add_clique_upper(K, u, s->cell_nodes, Kc, mica_kernel_padded(u));
-}
-
 /* The symmetric half needs a symmetric D: every model's D is the Hessian of its energy W(q), symmetric up to
  * round-off; a D that is not would make the mirrored matrix wrong, so it is an error, not a silent answer. */
 static int check_symmetric(const double *D, int nq, long p) {
@@ -286,6 +305,32 @@ static int check_symmetric(const double *D, int nq, long p) {
   return MICA_SUCCESS;
 }
 
+/* A group of points through the kernel into one planar matrix, scattered once. */
+static int assemble_cell(MicaSolid *s, const VolumeTerms *v, long first, long last, long u, const double *uvec,
+                         double *R, MicaSparse *K) {
+  const MicaShapeCache *c = s->volume;
+  const int nc = s->ncomp, nd = shape_entries(v->L), width = nc * nd;
+  double *Kc = s->cell_matrix, *staging = Kc + mica_kernel_ke_size(nc, u);
+  double *A = staging + mica_kernel_chunk_size(nc, nd, u, s->chunk_points), *beta = A + width * width;
+  int slot[MICA_MAX_COMP * 10];
+  long *loc = s->work_nodes;
+  MicaKernelChunk chunk;
+  mica_kernel_chunk_init(&chunk, nc, nd, u, s->chunk_points, staging);
+  entry_slots(v->L, slot);
+  memset(Kc, 0, sizeof(double) * (size_t)mica_kernel_ke_size(nc, u));
+  for (long p = first; p < last; p++) {
+    MICA_CALL(point_residual(s, v, p, uvec, R, 1));
+    MICA_CALL(check_symmetric(s->work, s->nq, p));
+    const long n = c->ptr[p + 1] - c->ptr[p];
+    for (long k = 0; k < n; k++) loc[k] = s->cell_slot[c->index[c->ptr[p] + k]];
+    kernel_tangent(width, slot, s->work, s->nq, A);
+    if (chunk.count == chunk.capacity) mica_kernel_chunk_flush(&chunk, MICA_KERNEL_HALF | MICA_KERNEL_ADD, Kc);
+    mica_kernel_chunk_add(&chunk, n, point_entries(v->L, c, p, beta), loc, A, s->disc->qw[p]);
+  }
+  mica_kernel_chunk_flush(&chunk, MICA_KERNEL_HALF | MICA_KERNEL_ADD, Kc);
+  return mica_sparse_add_clique_upper(K, u, s->cell_nodes, Kc, mica_kernel_padded(u));
+}
+
 /* Lower blocks (K ≤ I) of a row-major Ke over the point's n particles into the group's planar matrix at loc. */
 static void add_lower_blocks(int nc, long n, const long *loc, long npu, const double *Ke, double *Kc) {
   const long m = n * nc;
@@ -298,8 +343,8 @@ static void add_lower_blocks(int nc, long n, const long *loc, long npu, const do
     }
 }
 
-/* A group of points through the general element stiffness, lower half, into one matrix scattered once: the
- * generalized continua (Cosserat, micromorph, strain gradient) and axisymmetric solids, test = trial functions. */
+/* A group of points through the general element stiffness, lower half, into one matrix scattered once:
+ * axisymmetric solids (test = trial functions), whose hoop entries differ per component. */
 static int assemble_cell_general(MicaSolid *s, const VolumeTerms *v, long first, long last, long u, const double *uvec,
                                  double *R, MicaSparse *K) {
   const MicaShapeCache *c = s->volume;
@@ -320,12 +365,12 @@ static int assemble_cell_general(MicaSolid *s, const VolumeTerms *v, long first,
   return mica_sparse_add_clique_upper(K, u, s->cell_nodes, Kc, npu);
 }
 
-static int assemble_points_grouped(MicaSolid *s, const VolumeTerms *v, int classical, const double *u, double *R,
+static int assemble_points_grouped(MicaSolid *s, const VolumeTerms *v, int kernel, const double *u, double *R,
                                    MicaSparse *K) {
   const MicaShapeCache *c = s->volume;
   for (long first = 0, last, nu; first < c->npoints; first = last) {
     last = cell_group(s, first, &nu);
-    const int ierr = classical ? assemble_cell(s, v, first, last, nu, u, R, K)
+    const int ierr = kernel ? assemble_cell(s, v, first, last, nu, u, R, K)
                                : assemble_cell_general(s, v, first, last, nu, u, R, K);
     for (long i = 0; i < nu; i++) s->cell_slot[s->cell_nodes[i]] = -1;
     MICA_CALL(ierr);
@@ -339,7 +384,7 @@ static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, M
   const Layout L = layout_of(s);
   VolumeTerms v = {&L, t, load_scale(s, t), 0};
   for (int a = 0; a < s->ncomp; a++) v.has_body |= s->opt.body[a] != NULL;
-  if (K && classical_kernel_applies(s, s->volume)) return assemble_points_grouped(s, &v, 1, u, R, K);
+  if (K && kernel_applies(s, s->volume)) return assemble_points_grouped(s, &v, 1, u, R, K);
   /* symmetric (test = trial functions) and one scatter per group, unless VCI's Petrov–Galerkin */
   if (K && !s->volume->dN_test && !s->opt.general_kernel) return assemble_points_grouped(s, &v, 0, u, R, K);
   return assemble_points_general(s, &v, u, R, K);

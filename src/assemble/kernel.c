@@ -1,8 +1,8 @@
-/* The stiffness kernel of a classical model at one quadrature point (mica/kernel.h).
+/* The stiffness kernel of a classical or field model at one quadrature point (mica/kernel.h).
  *
- * Why this shape: K_(I a)(K b) = Σ_L G_I[a][b][L] N_K,L has 2·dim flops per entry, so the kernel is bound by
- * writing Ke, not by arithmetic. Each (I, a, b) is one loop over K that loads dim contiguous gradient rows
- * and stores one contiguous row: with the gradients stored per axis and padded to a multiple of 8 particles
+ * Why this shape: K_(I a)(K b) = Σ_j G_I[a][b][j] β_K[j] has 2·nd flops per entry, so the kernel is bound by
+ * writing Ke, not by arithmetic. Each (I, a, b) is one loop over K that loads nd contiguous rows of shape-function entries
+ * and stores one contiguous row: with the entries stored per slot and padded to a multiple of 8 particles
  * the loop has whole vectors only (trip counts of 8, which -O2's cheap vectorizer accepts without peeling).
  * The functions are compiled for AVX-512, AVX2 + FMA and the baseline x86-64, chosen when the program
  * loads (GCC target_clones), since the default build targets the baseline ISA only. */
@@ -13,71 +13,118 @@
 /* Multiply-adds may be fused (FMA): the result differs from separate rounding by round-off only. */
 #pragma GCC optimize("fp-contract=fast")
 
-/* Gradients per axis in the rows' column order, zero elsewhere up to np: X[L*np + col(K)] = N_K,L with
- * col(K) = loc[K] (or K without a map). */
-static void gradients_per_axis(int dim, long n, const long *loc, long np, const double *dN, double *X) {
-  memset(X, 0, sizeof(double) * (size_t)(dim * np));
-  for (int L = 0; L < dim; L++) {
-    double *x = X + L * np;
-    for (long K = 0; K < n; K++) x[loc ? loc[K] : K] = dN[K * dim + L];
+/* Stages point t of the chunk: rows t·nd .. t·nd + nd − 1 of X hold its entries per slot in the union's columns,
+ * X[(t·nd + i)·np + loc[K]] = β_K[i], zero elsewhere up to np. */
+static void stage_entries(MicaKernelChunk *ch, long n, const long *loc, const double *beta) {
+  const int nd = ch->nd;
+  double *X = ch->X + (long)ch->count * nd * ch->np;
+  memset(X, 0, sizeof(double) * (size_t)(nd * ch->np));
+  for (int i = 0; i < nd; i++) {
+    double *x = X + i * ch->np;
+    for (long K = 0; K < n; K++) x[loc ? loc[K] : K] = beta[K * nd + i];
   }
 }
 
-/* G_I[a][b][L] = w Σ_J N_I,J A_aJbL, stored G[((I·dim + a)·dim + b)·dim + L]. */
-static void project_tangent(int dim, long n, const double *dN, const double *A, double w, double *G) {
-  const int dd = dim * dim;
-  for (long I = 0; I < n; I++) {
-    const double *g = dN + I * dim;
-    double *out = G + I * dim * dd;
-    for (int a = 0; a < dim; a++)
-      for (int bL = 0; bL < dd; bL++) {
-        double sum = 0;
-        for (int J = 0; J < dim; J++) sum += g[J] * A[(a * dim + J) * dd + bL];
-        out[a * dd + bL] = w * sum;
-      }
+/* Stages point t's projection G_I[a][b][j] = w Σ_i β_I[i] A_(a i)(b j) in the columns t·nd + j of the rows
+ * ((col(I)·nc + a)·nc + b) of G, each row ch->stride long; those columns of union members outside the support
+ * are zeroed. A's zeros (a model's energy rarely couples every entry: Cosserat's displacement values none) are
+ * skipped: its nonzeros, times w, are listed once per point. */
+static void stage_projection(MicaKernelChunk *ch, long n, const long *loc, const double *beta, const double *A,
+                             double w) {
+  const int nc = ch->nc, nd = ch->nd, width = nc * nd; /* A is width × width */
+  const long stride = ch->stride, block = (long)nc * nc * stride; /* a particle's rows of G */
+  double *G = ch->G + (long)ch->count * nd;
+  int nonzero[MICA_KERNEL_MAX_WIDTH * MICA_KERNEL_MAX_WIDTH][3], count = 0; /* i, offset of (a, b, j), value */
+  double value[MICA_KERNEL_MAX_WIDTH * MICA_KERNEL_MAX_WIDTH];
+  for (int a = 0; a < nc; a++)
+    for (int i = 0; i < nd; i++)
+      for (int b = 0; b < nc; b++)
+        for (int j = 0; j < nd; j++) {
+          const double entry = A[(a * nd + i) * width + b * nd + j];
+          if (entry == 0.0) continue;
+          nonzero[count][0] = i, nonzero[count][1] = (int)((a * nc + b) * stride + j);
+          value[count++] = w * entry;
+        }
+  long K = 0; /* loc ascending: walk the union and the support together */
+  for (long r = 0; r < ch->u; r++) {
+    double *out = G + r * block;
+    for (int ab = 0; ab < nc * nc; ab++)
+      for (int j = 0; j < nd; j++) out[ab * stride + j] = 0.0;
+    if (K >= n || (loc ? loc[K] : K) != r) continue;
+    const double *g = beta + K * nd;
+    for (int e = 0; e < count; e++) out[nonzero[e][1]] += g[nonzero[e][0]] * value[e];
+    K++;
   }
 }
 
-/* Rows of the kernel: for every (I, a, b), row r = col(I): out[k] (+)= Σ_L g_L X_L[k] for k up to r's block of
- * 8 (half) or all np columns. DIM is a constant in each instance, so the sum over L is unrolled. */
-static inline __attribute__((always_inline)) void rows(const int DIM, long n, const long *loc, long np, int flags,
+/* Eight doubles as one value (GCC vector extension): one AVX-512 register, two AVX2 or four SSE2 registers, as
+ * the instance's target decides; loads and stores through memcpy, which compiles to unaligned vector moves. */
+typedef double V8 __attribute__((vector_size(64)));
+#define ZERO8 ((V8){0, 0, 0, 0, 0, 0, 0, 0})
+#define LOAD8(v, p) memcpy(&(v), (p), sizeof(V8))
+#define STORE8(p, v) memcpy((p), &(v), sizeof(V8))
+
+/* Rows of the kernel over the union: for every (I, a, b), out[k] (+)= Σ_t G_(I a b)[t] X_t[k] for k up to I's
+ * block of 8 (half) or all np columns, t over the staged points' entries. T is a constant in the specialized
+ * instances (one point of a classical or Cosserat model), so the sum over t is unrolled; the eight lanes stay in
+ * registers, so each entry of Ke is loaded and stored once per chunk, not once per point. */
+static inline __attribute__((always_inline)) void rows(const int T, int nc, long u, long np, long stride, int flags,
                                                        const double *restrict X, const double *restrict G,
                                                        double *restrict Ke) {
-  const double *restrict x0 = X, *restrict x1 = X + np, *restrict x2 = X + (DIM == 3 ? 2 * np : np);
   const int add = flags & MICA_KERNEL_ADD;
-  for (long I = 0; I < n; I++) {
-    const long r = loc ? loc[I] : I, k1 = flags & MICA_KERNEL_HALF ? (r + 8) / 8 * 8 : np;
-    for (int a = 0; a < DIM; a++)
-      for (int b = 0; b < DIM; b++) {
-        const double *g = G + ((I * DIM + a) * DIM + b) * DIM;
-        const double g0 = g[0], g1 = g[1], g2 = DIM == 3 ? g[2] : 0.0;
-        double *restrict out = Ke + (r * DIM + a) * DIM * np + b * np;
-        if (add)
-          for (long k = 0; k < k1; k += 8)
-            for (int v = 0; v < 8; v++)
-              out[k + v] += g0 * x0[k + v] + g1 * x1[k + v] + (DIM == 3 ? g2 * x2[k + v] : 0.0);
-        else
-          for (long k = 0; k < k1; k += 8)
-            for (int v = 0; v < 8; v++)
-              out[k + v] = g0 * x0[k + v] + g1 * x1[k + v] + (DIM == 3 ? g2 * x2[k + v] : 0.0);
+  for (long I = 0; I < u; I++) {
+    const long k1 = flags & MICA_KERNEL_HALF ? (I + 8) / 8 * 8 : np;
+    for (int a = 0; a < nc; a++)
+      for (int b = 0; b < nc; b++) {
+        const double *restrict g = G + ((I * nc + a) * nc + b) * stride;
+        double *restrict out = Ke + (I * nc + a) * nc * np + b * np;
+        long k = 0;
+        for (; k + 32 <= k1; k += 32) { /* four independent sums: an FMA's latency is hidden behind the others */
+          V8 acc0 = ZERO8, acc1 = ZERO8, acc2 = ZERO8, acc3 = ZERO8;
+          if (add) LOAD8(acc0, out + k), LOAD8(acc1, out + k + 8), LOAD8(acc2, out + k + 16), LOAD8(acc3, out + k + 24);
+          for (int t = 0; t < T; t++) {
+            const double *restrict x = X + t * np + k;
+            const V8 gt = ZERO8 + g[t];
+            V8 x0, x1, x2, x3;
+            LOAD8(x0, x), LOAD8(x1, x + 8), LOAD8(x2, x + 16), LOAD8(x3, x + 24);
+            acc0 += gt * x0, acc1 += gt * x1, acc2 += gt * x2, acc3 += gt * x3;
+          }
+          STORE8(out + k, acc0), STORE8(out + k + 8, acc1), STORE8(out + k + 16, acc2), STORE8(out + k + 24, acc3);
+        }
+        for (; k < k1; k += 8) {
+          V8 acc = ZERO8;
+          if (add) LOAD8(acc, out + k);
+          for (int t = 0; t < T; t++) {
+            V8 x;
+            LOAD8(x, X + t * np + k);
+            acc += (ZERO8 + g[t]) * x;
+          }
+          STORE8(out + k, acc);
+        }
       }
   }
 }
 
 /* The rows compiled for one instruction set each; the default build targets x86-64 without AVX, so the vector
  * versions are chosen at run time from the CPU's features (GCC's own target_clones dispatch goes by the CPU
- * model, which a virtual machine may not report: it then picks the baseline). */
-typedef void RowsFn(long n, const long *loc, long np, int flags, const double *X, const double *G, double *Ke);
+ * model, which a virtual machine may not report: it then picks the baseline). Each set has instances for
+ * T = 2, 3, 4, 5 (one point: classical 2-D and 3-D, Cosserat, strain gradient in 2-D) and one for any T. */
+typedef void RowsFn(int T, int nc, long u, long np, long stride, int flags, const double *X, const double *G,
+                    double *Ke);
 
-#define ROWS_VARIANT(name, attributes)                                                                            \
-  attributes static void name##_2d(long n, const long *loc, long np, int flags, const double *X, const double *G, \
-                                   double *Ke) {                                                                  \
-    rows(2, n, loc, np, flags, X, G, Ke);                                                                         \
-  }                                                                                                               \
-  attributes static void name##_3d(long n, const long *loc, long np, int flags, const double *X, const double *G, \
-                                   double *Ke) {                                                                  \
-    rows(3, n, loc, np, flags, X, G, Ke);                                                                         \
+#define ROWS_INSTANCE(name, attributes, TT)                                                                       \
+  attributes static void name(int T, int nc, long u, long np, long stride, int flags, const double *X,            \
+                              const double *G, double *Ke) {                                                      \
+    (void)T;                                                                                                      \
+    rows(TT, nc, u, np, stride, flags, X, G, Ke);                                                                 \
   }
+#define ROWS_VARIANT(name, attributes)                                                                            \
+  ROWS_INSTANCE(name##_2, attributes, 2)                                                                          \
+  ROWS_INSTANCE(name##_3, attributes, 3)                                                                          \
+  ROWS_INSTANCE(name##_4, attributes, 4)                                                                          \
+  ROWS_INSTANCE(name##_5, attributes, 5)                                                                          \
+  ROWS_INSTANCE(name##_any, attributes, T)                                                                       \
+  static RowsFn *const name[6] = {name##_any, name##_any, name##_2, name##_3, name##_4, name##_5};
 
 ROWS_VARIANT(rows_base, )
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
@@ -98,13 +145,14 @@ static const char *rows_isa(void) {
 
 static const char *chosen_isa; /* NULL until the first call: then rows_isa(), or what mica_kernel_use_isa set */
 
-static RowsFn *rows_for(int dim) {
+static RowsFn *rows_for(int T) {
   if (!chosen_isa) chosen_isa = rows_isa();
+  const int instance = T <= 5 ? T : 0;
 #ifdef KERNEL_DISPATCH
-  if (!strcmp(chosen_isa, "avx512")) return dim == 3 ? rows_avx512_3d : rows_avx512_2d;
-  if (!strcmp(chosen_isa, "avx2")) return dim == 3 ? rows_avx2_3d : rows_avx2_2d;
+  if (!strcmp(chosen_isa, "avx512")) return rows_avx512[instance];
+  if (!strcmp(chosen_isa, "avx2")) return rows_avx2[instance];
 #endif
-  return dim == 3 ? rows_base_3d : rows_base_2d;
+  return rows_base[instance];
 }
 
 const char *mica_kernel_isa(void) {
@@ -125,21 +173,46 @@ int mica_kernel_use_isa(const char *isa) {
   return 1;
 }
 
+void mica_kernel_chunk_init(MicaKernelChunk *ch, int nc, int nd, long u, int capacity, double *scratch) {
+  const long np = mica_kernel_padded(u);
+  const long stride = (long)capacity * nd;
+  *ch = (MicaKernelChunk){nc, nd, capacity, 0, u, np, stride, scratch, scratch + u * nc * nc * stride};
+}
+
+void mica_kernel_chunk_add(MicaKernelChunk *ch, long n, const double *beta, const long *loc, const double *A,
+                           double w) {
+  stage_entries(ch, n, loc, beta);
+  stage_projection(ch, n, loc, beta, A, w);
+  ch->count++;
+}
+
+void mica_kernel_chunk_flush(MicaKernelChunk *ch, int flags, double *Ke) {
+  if (!ch->count) return;
+  const int T = ch->count * ch->nd;
+  rows_for(T)(T, ch->nc, ch->u, ch->np, ch->stride, flags, ch->X, ch->G, Ke);
+  ch->count = 0;
+}
+
+void mica_kernel_field_mapped(int nc, int nd, long n, const double *beta, const long *loc, long u, const double *A,
+                              double w, int flags, double *work, double *Ke) {
+  MicaKernelChunk ch;
+  mica_kernel_chunk_init(&ch, nc, nd, u, 1, work);
+  mica_kernel_chunk_add(&ch, n, beta, loc, A, w);
+  mica_kernel_chunk_flush(&ch, flags, Ke);
+}
+
 void mica_kernel_classical_mapped(int dim, long n, const double *dN, const long *loc, long u, const double *A,
                                   double w, int flags, double *work, double *Ke) {
-  const long np = mica_kernel_padded(u);
-  double *X = work, *G = work + dim * np;
-  gradients_per_axis(dim, n, loc, np, dN, X);
-  project_tangent(dim, n, dN, A, w, G);
-  rows_for(dim)(n, loc, np, flags, X, G, Ke);
+  mica_kernel_field_mapped(dim, dim, n, dN, loc, u, A, w, flags, work, Ke);
 }
 
 void mica_kernel_classical(int dim, long n, const double *dN, const double *A, double w, int flags, double *work,
                            double *Ke) {
-  mica_kernel_classical_mapped(dim, n, dN, NULL, n, A, w, flags, work, Ke);
+  mica_kernel_field_mapped(dim, dim, n, dN, NULL, n, A, w, flags, work, Ke);
 }
 
-double mica_kernel_flops(int dim, long n, int flags) {
-  const double d = dim, blocks = flags & MICA_KERNEL_HALF ? 0.5 * (double)n * (double)(n + 1) : (double)n * (double)n;
-  return 2.0 * (double)n * d * d * d * d + blocks * d * d * 2.0 * d;
+double mica_kernel_flops(int nc, int nd, long n, int flags) {
+  const double c = nc, d = nd;
+  const double blocks = flags & MICA_KERNEL_HALF ? 0.5 * (double)n * (double)(n + 1) : (double)n * (double)n;
+  return 2.0 * (double)n * c * c * d * d + blocks * c * c * 2.0 * d;
 }

@@ -1,11 +1,14 @@
-/* The classical stiffness kernel (src/assemble/kernel.c, mica/kernel.h) and its scatter (src/solve/sparse.c).
+/* The stiffness kernel (src/assemble/kernel.c, mica/kernel.h) and its scatter (src/solve/sparse.c).
  *
  * 1. On random gradients and a random tangent with the major symmetry (A = M Mᵀ + d I), 2-D and 3-D, supports
  *    of 1 to 45 particles (multiples of the padding 8 and not): the kernel's blocks equal the general slot-based
  *    Bᵀ D B (mica_solid_element_stiffness) to 1e-12 relative to max |Ke| — the half (K ≤ I, what the assembly
  *    uses), the full matrix, accumulation (MICA_KERNEL_ADD: twice the same point gives twice the matrix), and
  *    the mapped form into a larger union of particles (rows and columns land at loc[I], zero elsewhere).
- * 2. Scatter: a random symmetric clique matrix added through mica_sparse_add_clique_upper (upper blocks from
+ * 2. The field kernel (generalized continua: 2-D and 3-D Cosserat with values and gradients, 2-D strain gradient
+ *    with gradients and Hessians), on a random symmetric D with zeros: one point equals the general Bᵀ D B to
+ *    1e-12, and a chunk of three points (two flushes) over a union equals the sum of their general matrices.
+ * 3. Scatter: a random symmetric clique matrix added through mica_sparse_add_clique_upper (upper blocks from
  *    the lower rows) and mica_sparse_mirror_upper equals mica_sparse_add_clique of the full matrix to 1e-14,
  *    and the mirrored matrix is exactly symmetric; a union of two cliques whose cross pairs are outside the
  *    pattern is accepted when those blocks are zero and refused (MICA_ERR_ARGUMENT) when one is not. */
@@ -22,6 +25,8 @@
 #include "mica/kernel.h"
 #include "mica/random.h"
 #include "mica/solid.h"
+#include "mica/cosserat.h"
+#include "mica/model.h"
 
 static double symmetric_uniform(MicaRandom *rng) { return 2.0 * mica_random_uniform(rng) - 1.0; }
 
@@ -48,7 +53,7 @@ static void case_init(Case *c, int dim, long n, long u, uint64_t seed) {
   c->general = malloc(sizeof(double) * (size_t)(m * m));
   c->G = malloc(sizeof(double) * (size_t)(m * c->nq));
   c->Ke = calloc((size_t)mica_kernel_ke_size(dim, u), sizeof(double));
-  c->work = malloc(sizeof(double) * (size_t)mica_kernel_work_size(dim, u));
+  c->work = malloc(sizeof(double) * (size_t)mica_kernel_work_size(dim, dim, u));
   assert_true(c->dN && c->A && c->D && c->general && c->G && c->Ke && c->work);
   for (long i = 0; i < n * dim; i++) c->dN[i] = symmetric_uniform(&rng);
   double M[81];
@@ -151,6 +156,126 @@ static void test_kernel_mapped(void **state) {
   }
 }
 
+/* ---- the field kernel: generalized continua ---- */
+
+/* A field model's point: n particles with values, gradients and Hessians, a random symmetric D over q with a
+ * quarter of its entries zero (the kernel skips A's zeros), and the general element matrix. */
+typedef struct {
+  int nc, nd, nq, dim;
+  long n;
+  double N[48], dN[48 * 3], ddN[48 * 6], beta[48 * 10], D[128 * 128], A[60 * 60], general[144 * 144], G[144 * 128];
+  long ptr[2], index[48];
+  MicaShapeCache cache;
+  MicaSolid solid;
+} FieldCase;
+
+/* The slots of model.h's q layout: value c; gradient ncomp + c·dim + J; Hessian ncomp(1 + dim) + c·nh + h —
+ * written here from the layout's definition, not taken from the assembly. */
+static int field_slot(const FieldCase *f, int comp, int i) {
+  const int values = f->solid.opt.field.ops->uses_values, nh = f->dim * (f->dim + 1) / 2;
+  if (values && i == 0) return comp;
+  i -= values;
+  if (i < f->dim) return f->nc + comp * f->dim + i;
+  return f->nc * (1 + f->dim) + comp * nh + (i - f->dim);
+}
+
+static void field_case_init(FieldCase *f, const MicaFieldModelOps *ops, int dim, long n, uint64_t seed) {
+  MicaRandom rng = mica_random_seed(seed);
+  memset(f, 0, sizeof *f);
+  const int nh = dim * (dim + 1) / 2;
+  f->dim = dim, f->n = n, f->nc = ops->ncomp(dim);
+  f->nd = ops->uses_values + dim + (ops->order >= 2 ? nh : 0);
+  f->nq = f->nc * (1 + dim + (ops->order >= 2 ? nh : 0));
+  for (long k = 0; k < n; k++) {
+    f->index[k] = k, f->N[k] = symmetric_uniform(&rng);
+    for (int J = 0; J < dim; J++) f->dN[k * dim + J] = symmetric_uniform(&rng);
+    for (int h = 0; h < nh; h++) f->ddN[k * nh + h] = symmetric_uniform(&rng);
+  }
+  for (int i = 0; i < f->nq; i++)
+    for (int j = 0; j <= i; j++)
+      f->D[i * f->nq + j] = f->D[j * f->nq + i] = mica_random_uniform(&rng) < 0.25 ? 0.0 : symmetric_uniform(&rng);
+  f->ptr[0] = 0, f->ptr[1] = n;
+  f->cache = (MicaShapeCache){.dim = dim, .order = ops->order, .npoints = 1, .ptr = f->ptr, .index = f->index,
+                              .N = f->N, .dN = f->dN, .ddN = f->ddN};
+  f->solid.dim = f->solid.model_dim = dim;
+  f->solid.ncomp = f->nc, f->solid.nq = f->nq;
+  f->solid.opt.field.ops = ops;
+  for (long k = 0; k < n; k++) /* β in the kernel's order: value, gradient, Hessian */
+    for (int i = 0; i < f->nd; i++) {
+      const int slot = field_slot(f, 0, i);
+      f->beta[k * f->nd + i] = slot == 0 ? f->N[k] : slot < f->nc + dim ? f->dN[k * dim + slot - f->nc]
+                                                                         : f->ddN[k * nh + slot - f->nc * (1 + dim)];
+    }
+  const int width = f->nc * f->nd;
+  for (int a = 0; a < f->nc; a++)
+    for (int i = 0; i < f->nd; i++)
+      for (int b = 0; b < f->nc; b++)
+        for (int j = 0; j < f->nd; j++)
+          f->A[(a * f->nd + i) * width + b * f->nd + j] = f->D[field_slot(f, a, i) * f->nq + field_slot(f, b, j)];
+  mica_solid_element_stiffness(&f->solid, &f->cache, 0, f->D, 0.37, f->G, f->general);
+}
+
+/* max |factor · general − Ke| / max |general| over the blocks K ≤ I, particle I of the case at loc[I]. */
+static double field_difference(const FieldCase *f, const long *loc, long np, double factor, const double *Ke) {
+  const int nc = f->nc;
+  const long m = f->n * nc;
+  double diff = 0, scale = 0;
+  for (long row = 0; row < f->n; row++)
+    for (int a = 0; a < nc; a++)
+      for (long col = 0; col <= row; col++)
+        for (int b = 0; b < nc; b++) {
+          const double g = f->general[(row * nc + a) * m + col * nc + b];
+          const double h = Ke[(loc[row] * nc + a) * nc * np + b * np + loc[col]];
+          diff = fmax(diff, fabs(factor * g - h));
+          scale = fmax(scale, fabs(g));
+        }
+  return diff / scale;
+}
+
+/* 2-D and 3-D Cosserat (values and gradients), 2-D strain gradient (gradients and Hessians): the field kernel
+ * equals the general Bᵀ D B to 1e-12 for one point, and a chunk of three points (capacity 2: one flush in
+ * between) over a union equals the sum of their general matrices. */
+static void test_field_kernel_equals_general(void **state) {
+  (void)state;
+  const struct { const MicaFieldModelOps *ops; int dim; } models[] = {
+      {&mica_field_cosserat, 2}, {&mica_field_cosserat, 3}, {&mica_field_strain_gradient, 2}};
+  for (int v = 0; v < 3; v++) {
+    if (!mica_kernel_use_isa(isas[v])) continue;
+    for (size_t mi = 0; mi < sizeof models / sizeof *models; mi++) {
+      const long n = 21, u = 2 * n + 3, np = mica_kernel_padded(u);
+      static FieldCase f[3];
+      long loc[3][48];
+      for (int p = 0; p < 3; p++) {
+        field_case_init(&f[p], models[mi].ops, models[mi].dim, n, 40 + (uint64_t)(10 * mi + p));
+        for (long k = 0; k < n; k++) loc[p][k] = 2 * k + p % 2; /* even or odd members of the union */
+      }
+      const int nc = f[0].nc, nd = f[0].nd;
+      double *Ke = calloc((size_t)mica_kernel_ke_size(nc, u), sizeof(double));
+      double *work = malloc(sizeof(double) * (size_t)mica_kernel_chunk_size(nc, nd, u, 2));
+      assert_true(Ke && work);
+      mica_kernel_field_mapped(nc, nd, n, f[0].beta, loc[0], u, f[0].A, 0.37, MICA_KERNEL_HALF, work, Ke);
+      const double one = field_difference(&f[0], loc[0], np, 1.0, Ke);
+      /* the chunk: points 0 and 2 on the even members, 1 on the odd ones */
+      memset(Ke, 0, sizeof(double) * (size_t)mica_kernel_ke_size(nc, u));
+      MicaKernelChunk ch;
+      mica_kernel_chunk_init(&ch, nc, nd, u, 2, work);
+      for (int p = 0; p < 3; p++) {
+        if (ch.count == ch.capacity) mica_kernel_chunk_flush(&ch, MICA_KERNEL_HALF | MICA_KERNEL_ADD, Ke);
+        mica_kernel_chunk_add(&ch, n, f[p].beta, loc[p], f[p].A, 0.37);
+      }
+      mica_kernel_chunk_flush(&ch, MICA_KERNEL_HALF | MICA_KERNEL_ADD, Ke);
+      for (long e = 0; e < (long)n * nc * n * nc; e++) f[0].general[e] += f[2].general[e]; /* same members */
+      const double even = field_difference(&f[0], loc[0], np, 1.0, Ke), odd = field_difference(&f[1], loc[1], np, 1.0, Ke);
+      print_message("%s %d-D (nc %d, nd %d): one point %.1e; chunk of 3, even members %.1e, odd %.1e (ISA %s)\n",
+                    models[mi].ops->name, models[mi].dim, nc, nd, one, even, odd, mica_kernel_isa());
+      assert_true(one <= 1e-12);
+      assert_true(even <= 1e-12);
+      assert_true(odd <= 1e-12);
+      free(Ke), free(work);
+    }
+  }
+}
+
 /* ---- the scatter ---- */
 
 /* Nodes 0..nnodes-1 with ndof = dim, two cliques {0..5} and {4..9}: nodes 0 and 9 are not coupled. */
@@ -210,6 +335,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_kernel_equals_general),
       cmocka_unit_test(test_kernel_mapped),
+      cmocka_unit_test(test_field_kernel_equals_general),
       cmocka_unit_test(test_scatter_upper_mirror),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
