@@ -1,13 +1,15 @@
 /* The stiffness kernel against DGEMM (issue 7, item 3; docs/performance.md §kernel).
  *
  * Part 1, one quadrature point with n supporting particles, random gradients and a random symmetric tangent:
- *   half     mica_kernel_classical with the blocks K ≤ I (what the assembly runs),
+ *   half     mica_kernel_classical with the blocks K ≤ I, one point,
  *   full     the same kernel over all blocks,
- *   general  mica_solid_element_stiffness, the slot-based Bᵀ D B of every other model,
+ *   chunk    the blocks K ≤ I of 8 points staged together and added into Ke once (mica_kernel_chunk_*: what the
+ *            assembly runs for the points of a background cell), time per point,
+ *   general  mica_solid_element_stiffness, the slot-based Bᵀ D B (axisymmetric solids, VCI),
  *   dgemm    cblas_dgemm of the same BLAS, (m × k)·(k × m) with m = n·dim, k = dim²: the dense product
  *            Bᵀ (D B) that gives the same matrix.
  * Flops are the kernel's useful ones (mica_kernel_flops: 2 n dim⁴ + 2 dim³ × blocks, a multiply-add counting 2);
- * DGEMM's are 2 m² k. "ratio" is the kernel's rate over DGEMM's; "time" the kernel's time over DGEMM's.
+ * DGEMM's are 2 m² k. "ratio" is the one-point kernel's rate over DGEMM's, "chunk ratio" the chunked kernel's.
  * Part 2, whole tangent assemblies of a 2-D and a 3-D problem (no boundary conditions), classical kernel
  * against the general one in the same process: microseconds per quadrature point, and memory per dof.
  * CPU time (CLOCK_PROCESS_CPUTIME_ID), best of 3, one BLAS thread. Never fails on time. */
@@ -20,6 +22,8 @@
 
 #include "mica/kernel.h"
 #include "mica/solid.h"
+
+#define CHUNK_POINTS 8 /* points per chunk in the "chunk" column, as the assembly stages them */
 
 static double cpu_now(void) {
   struct timespec ts;
@@ -35,7 +39,7 @@ static double uniform(unsigned *state) {
 typedef struct {
   int dim;
   long n;
-  double *dN, *A, *D, *X, *Ke, *Kg, *G, *work, *B, *DB, *C;
+  double *dN, *A, *D, *X, *Ke, *Kg, *G, *work, *chunk_work, *B, *DB, *C;
   MicaShapeCache cache;
   MicaSolid solid;
 } Point;
@@ -52,6 +56,7 @@ static void point_init(Point *pt, int dim, long n) {
   pt->D = calloc((size_t)(nq * nq), sizeof(double));
   pt->Ke = malloc(sizeof(double) * (size_t)mica_kernel_ke_size(dim, n));
   pt->work = malloc(sizeof(double) * (size_t)mica_kernel_work_size(dim, dim, n));
+  pt->chunk_work = malloc(sizeof(double) * (size_t)mica_kernel_chunk_size(dim, dim, n, CHUNK_POINTS));
   pt->Kg = malloc(sizeof(double) * (size_t)(m * m));
   pt->G = malloc(sizeof(double) * (size_t)(m * nq));
   pt->B = malloc(sizeof(double) * (size_t)(m * dd));
@@ -80,11 +85,11 @@ static void point_init(Point *pt, int dim, long n) {
 }
 
 static void point_free(Point *pt) {
-  double *arrays[] = {pt->dN, pt->A, pt->D, pt->Ke, pt->work, pt->Kg, pt->G, pt->B, pt->DB, pt->C};
+  double *arrays[] = {pt->dN, pt->A, pt->D, pt->Ke, pt->work, pt->chunk_work, pt->Kg, pt->G, pt->B, pt->DB, pt->C};
   for (size_t i = 0; i < sizeof arrays / sizeof *arrays; i++) free(arrays[i]);
 }
 
-typedef enum { RUN_HALF, RUN_FULL, RUN_GENERAL, RUN_DGEMM } RunKind;
+typedef enum { RUN_HALF, RUN_FULL, RUN_CHUNK, RUN_GENERAL, RUN_DGEMM } RunKind;
 
 static void run_once(Point *pt, RunKind kind) {
   const int dim = pt->dim, dd = dim * dim;
@@ -92,6 +97,13 @@ static void run_once(Point *pt, RunKind kind) {
   switch (kind) {
   case RUN_HALF: mica_kernel_classical(dim, pt->n, pt->dN, pt->A, 0.7, 1, pt->work, pt->Ke); break;
   case RUN_FULL: mica_kernel_classical(dim, pt->n, pt->dN, pt->A, 0.7, 0, pt->work, pt->Ke); break;
+  case RUN_CHUNK: { /* CHUNK_POINTS points staged, one update of Ke: what the assembly runs per cell */
+    MicaKernelChunk ch;
+    mica_kernel_chunk_init(&ch, dim, dim, pt->n, CHUNK_POINTS, pt->chunk_work);
+    for (int p = 0; p < CHUNK_POINTS; p++) mica_kernel_chunk_add(&ch, pt->n, pt->dN, NULL, pt->A, 0.7);
+    mica_kernel_chunk_flush(&ch, MICA_KERNEL_HALF | MICA_KERNEL_ADD, pt->Ke);
+    break;
+  }
   case RUN_GENERAL: mica_solid_element_stiffness(&pt->solid, &pt->cache, 0, pt->D, 0.7, pt->G, pt->Kg); break;
   case RUN_DGEMM:
     cblas_dgemm(CblasRowMajor, CblasTrans, CblasNoTrans, (int)m, (int)m, dd, 1.0, pt->B, (int)m, pt->DB, (int)m, 0.0,
@@ -142,14 +154,16 @@ static void kernel_row(int dim, long n) {
   point_init(&pt, dim, n);
   const long m = n * dim;
   const double t_half = time_per_call(&pt, RUN_HALF), t_full = time_per_call(&pt, RUN_FULL);
+  const double t_chunk = time_per_call(&pt, RUN_CHUNK) / CHUNK_POINTS;
   const double t_gen = time_per_call(&pt, RUN_GENERAL), t_gemm = time_per_call(&pt, RUN_DGEMM);
   const double f_half = mica_kernel_flops(dim, dim, n, 1), f_full = mica_kernel_flops(dim, dim, n, 0);
   const double f_gemm = 2.0 * (double)m * (double)m * dim * dim;
   const double r_half = f_half / t_half * 1e-9, r_gemm = f_gemm / t_gemm * 1e-9;
-  printf("%d-D n %3ld  half %7.2f us %6.2f GF/s  full %7.2f us %6.2f GF/s  general %8.2f us  "
-         "dgemm %3ldx%dx%-3ld %7.2f us %6.2f GF/s  ratio %5.2f  time %5.2f  diff %.1e\n",
-         dim, n, t_half * 1e6, r_half, t_full * 1e6, f_full / t_full * 1e-9, t_gen * 1e6, m, dim * dim, m,
-         t_gemm * 1e6, r_gemm, r_half / r_gemm, t_half / t_gemm, half_vs_general(&pt));
+  const double r_chunk = f_half / t_chunk * 1e-9;
+  printf("%d-D n %3ld  half %7.2f us %6.2f GF/s  full %7.2f us %6.2f GF/s  chunk %7.2f us %6.2f GF/s  "
+         "general %8.2f us  dgemm %3ldx%dx%-3ld %7.2f us %6.2f GF/s  ratio %5.2f  chunk ratio %5.2f  diff %.1e\n",
+         dim, n, t_half * 1e6, r_half, t_full * 1e6, f_full / t_full * 1e-9, t_chunk * 1e6, r_chunk, t_gen * 1e6,
+         m, dim * dim, m, t_gemm * 1e6, r_gemm, r_half / r_gemm, r_chunk / r_gemm, half_vs_general(&pt));
   point_free(&pt);
 }
 
