@@ -84,7 +84,8 @@ static inline __attribute__((always_inline)) void rows(const int T, int nc, long
           if (add) LOAD8(acc0, out + k), LOAD8(acc1, out + k + 8), LOAD8(acc2, out + k + 16), LOAD8(acc3, out + k + 24);
           for (int t = 0; t < T; t++) {
             const double *restrict x = X + t * np + k;
-            const V8 gt = ZERO8 + g[t];
+            const double gs = g[t];
+            const V8 gt = {gs, gs, gs, gs, gs, gs, gs, gs};
             V8 x0, x1, x2, x3;
             LOAD8(x0, x), LOAD8(x1, x + 8), LOAD8(x2, x + 16), LOAD8(x3, x + 24);
             acc0 += gt * x0, acc1 += gt * x1, acc2 += gt * x2, acc3 += gt * x3;
@@ -97,7 +98,8 @@ static inline __attribute__((always_inline)) void rows(const int T, int nc, long
           for (int t = 0; t < T; t++) {
             V8 x;
             LOAD8(x, X + t * np + k);
-            acc += (ZERO8 + g[t]) * x;
+            const double gs = g[t];
+            acc += (V8){gs, gs, gs, gs, gs, gs, gs, gs} * x;
           }
           STORE8(out + k, acc);
         }
