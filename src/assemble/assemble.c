@@ -318,17 +318,20 @@ static int assemble_cell(MicaSolid *s, const VolumeTerms *v, long first, long la
   MicaKernelChunk chunk;
   mica_kernel_chunk_init(&chunk, nc, nd, u, s->chunk_points, staging);
   entry_slots(v->L, slot);
-  memset(Kc, 0, sizeof(double) * (size_t)mica_kernel_ke_size(nc, u));
+  int flags = MICA_KERNEL_HALF; /* the first flush writes Kc, the later ones add: no clearing of Kc */
   for (long p = first; p < last; p++) {
     MICA_CALL(point_residual(s, v, p, uvec, R, 1));
     if (!classical) MICA_CALL(check_symmetric(s->work, s->nq, p)); /* a classical A is symmetric by construction */
     const long n = c->ptr[p + 1] - c->ptr[p];
     for (long k = 0; k < n; k++) loc[k] = s->cell_slot[c->index[c->ptr[p] + k]];
     kernel_tangent(width, slot, s->work, s->nq, A);
-    if (chunk.count == chunk.capacity) mica_kernel_chunk_flush(&chunk, MICA_KERNEL_HALF | MICA_KERNEL_ADD, Kc);
+    if (chunk.count == chunk.capacity) {
+      mica_kernel_chunk_flush(&chunk, flags, Kc);
+      flags |= MICA_KERNEL_ADD;
+    }
     mica_kernel_chunk_add(&chunk, n, point_entries(v->L, c, p, beta), loc, A, s->disc->qw[p]);
   }
-  mica_kernel_chunk_flush(&chunk, MICA_KERNEL_HALF | MICA_KERNEL_ADD, Kc);
+  mica_kernel_chunk_flush(&chunk, flags, Kc);
   return mica_sparse_add_clique_upper(K, u, s->cell_nodes, Kc, mica_kernel_padded(u));
 }
 
