@@ -1,7 +1,7 @@
 /* Background cells of the built-in shapes and their volume quadrature (docs/theory.md §geometry,
  * "Volume quadrature"). Cells are boxes of a tensor grid in parameter space: by default one cell between
- * neighboring particle lines (count − 1 per axis, following a graded layout), otherwise count[d] equal
- * cells. A kink of the map must fall on a cell edge. Each cell carries the tensor Gauss rule of `order`
+ * neighboring particle lines (count − 1 per axis, following a graded layout), otherwise count[d] cells placed
+ * along the particle lines (equal cells for a uniform layout, graded with a graded one). A kink of the map must fall on a cell edge. Each cell carries the tensor Gauss rule of `order`
  * points per axis, mapped by X: weight = w_ref × (cell volume in parameter space) × |det ∂X/∂ξ|.
  */
 #include <math.h>
@@ -18,9 +18,21 @@ static int axis_edges(const GeomAxes *axes, long requested, int d, long *n, doub
   if (ncells == axes->n[d] - 1) {
     /* cells between particle lines, graded or not */
     memcpy(*edges, axes->t[d], (size_t)(ncells + 1) * sizeof **edges);
-  } else {
-    for (long i = 0; i <= ncells; i++) (*edges)[i] = (double)i / (double)ncells;
+    return MICA_SUCCESS;
   }
+  /* Other counts follow the particle lines too: edge i sits at the fractional line index i (n − 1)/ncells,
+   * interpolated linearly between the lines, so k cells per spacing split each spacing into k equal parts and
+   * a graded layout keeps its grading (equal cells in parameter space would put the same number of cells
+   * where the particles are 40 times sparser). A uniform layout gives equal cells, as before. */
+  const long nlines = axes->n[d];
+  for (long i = 0; i <= ncells; i++) {
+    const double position = (double)i * (double)(nlines - 1) / (double)ncells;
+    long line = (long)floor(position);
+    if (line >= nlines - 1) line = nlines - 2;
+    const double frac = position - (double)line, *t = axes->t[d];
+    (*edges)[i] = nlines < 2 ? (double)i / (double)ncells : t[line] + frac * (t[line + 1] - t[line]);
+  }
+  (*edges)[0] = 0.0, (*edges)[ncells] = 1.0;
   return MICA_SUCCESS;
 }
 
