@@ -170,11 +170,13 @@ static int run_steps(Newton *nw, double *u, int (*on_step)(void *, int, double, 
   const long n = nw->s->ndof;
   double t = 0, dt = 1.0 / nw->opt->steps;
   int step = 0;
+  /* a linear problem's tangent does not depend on the load: a smaller step cannot cure a failed solve */
+  const int may_cut = !mica_solid_linear(nw->s);
   while (t < 1.0 - 1e-12) {
     const double target = fmin(1.0, t + dt);
     memcpy(nw->saved, u, sizeof(double) * (size_t)n);
     int ierr = newton_step(nw, step + 1, target, u);
-    if (ierr == MICA_ERR_NUMERIC && nw->stats->cuts < nw->opt->max_cuts) {
+    if (ierr == MICA_ERR_NUMERIC && may_cut && nw->stats->cuts < nw->opt->max_cuts) {
       if (nw->opt->verbose) printf("  cut back: %s\n", mica_error_message());
       mica_error_clear();
       memcpy(u, nw->saved, sizeof(double) * (size_t)n);

@@ -48,3 +48,13 @@ expect_failure 2 'cg needs a symmetric positive definite tangent' -- \
 expect_failure 3 'did not converge in 3 iterations' -- \
   "$MICA" run input/cube3d.cfg -o "$work/bad" --set solver.linear='"cg"' --set solver.linear_max_iterations=3 \
   --set solver.max_cuts=0 --set output.vtu=false
+# a linear problem's tangent does not depend on the load: a failed solve is not retried with load cuts (the
+# monitor would print "cut back" before each retry; max_cuts is left at its default 8)
+set +e
+"$MICA" run input/cube3d.cfg -o "$work/bad" --set solver.linear='"cg"' --set solver.linear_max_iterations=3 \
+  --set output.vtu=false > "$work/nocut.log" 2>&1
+status=$?
+set -e
+[ "$status" = 3 ] || { echo "FAIL: linear cg failure exit $status, expected 3"; exit 1; }
+if grep -q "cut back" "$work/nocut.log"; then echo "FAIL: a linear problem's failed solve was retried with load cuts"; exit 1; fi
+echo "ok: linear problem, failed cg: exit 3 without load cuts"
