@@ -69,7 +69,7 @@ const MicaDeckKey mica_run_schema[] = {
      "first-order models). nodal and scni need a built-in shape with a regular, graded or jittered layout; error "
      "norms stay on the background Gauss points"},
     {"quadrature.cells", MICA_KEY_INTS, NULL, 1, 1e6, NULL, 2, 3,
-     "background cells per parameter axis (default: particles.count − 1)"},
+     "background cells per parameter axis (default: particles.count − 1; other counts are placed along the particle lines, so k (count − 1) splits every spacing in k and a graded layout stays graded)"},
     {"material.model", MICA_KEY_CHOICE, "\"linear\"", NOLIMIT, "linear|svk|neohooke|neohooke-cook|cosserat|cosserat-finite|micromorph|strain-gradient|couple-stress", 0, 0,
      "continuum model (docs/theory.md §models); cosserat: small-strain micropolar (u, φ); cosserat-finite: the same constants with finite rotations (u, total rotation vector Φ); micromorph: gradient micromorph χ = F, J^(−1/3) F or R(Φ) (material.micro_kind); strain-gradient, couple-stress: small strain with length material.l"},
     {"material.micro_model", MICA_KEY_CHOICE, "\"svk\"", NOLIMIT, "linear|svk|neohooke|neohooke-cook", 0, 0,
