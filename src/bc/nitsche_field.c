@@ -97,19 +97,30 @@ static double second_variation(const FieldPoint *fp, const BcPoint *bp, const do
   return v;
 }
 
-static void field_tangent(const FieldPoint *fp, const BcPoint *bp, const double *H, double *Ke) {
+/* T[(a·n + l)·nc + d] = T_a(l,d) for the prescribed components a (the only ones the tangent uses), computed once
+ * per point instead of once per entry of Ke. */
+static void sensitivities(const FieldPoint *fp, const BcPoint *bp, double *T) {
   const int nc = fp->ncomp;
-  const long m = bp->n * nc;
-  for (long k = 0; k < bp->n; k++)
-    for (int b = 0; b < nc; b++)
+  for (int a = 0; a < nc; a++)
+    if (fp->mask & (1 << a))
       for (long l = 0; l < bp->n; l++)
+        for (int d = 0; d < nc; d++) T[(a * bp->n + l) * nc + d] = traction_sensitivity(fp, bp, a, l, d);
+}
+
+/* Ke (m × m, m = n·nc) with T from sensitivities(). */
+static void field_tangent(const FieldPoint *fp, const BcPoint *bp, const double *H, const double *T, double *Ke) {
+  const int nc = fp->ncomp;
+  const long n = bp->n, m = n * nc;
+  for (long k = 0; k < n; k++)
+    for (int b = 0; b < nc; b++)
+      for (long l = 0; l < n; l++)
         for (int d = 0; d < nc; d++) {
           double v = 0;
           if (fp->mask & (1 << b)) {
-            v -= bp->N[k] * traction_sensitivity(fp, bp, b, l, d);
+            v -= bp->N[k] * T[(b * n + l) * nc + d];
             if (b == d) v += fp->beta[b] * bp->N[k] * bp->N[l];
           }
-          if (fp->mask & (1 << d)) v -= bp->N[l] * traction_sensitivity(fp, bp, d, k, b);
+          if (fp->mask & (1 << d)) v -= bp->N[l] * T[(d * n + k) * nc + b];
           if (H) v -= second_variation(fp, bp, H, k, b, l, d);
           Ke[(k * nc + b) * m + l * nc + d] = bp->w * v;
         }
@@ -160,8 +171,11 @@ static int field_point(MicaSolid *s, const MicaDirichlet *c, long p, double t, c
   if (K) {
     const int curved = s->opt.field.ops->finite;
     if (curved) MICA_CALL(residual_curvature(s, fp, &bp, q, H));
-    field_tangent(fp, &bp, curved ? H : NULL, s->work);
-    MICA_CALL(mica_sparse_add_clique(K, bp.n, bp.index, s->work));
+    /* s->work holds Ke (m × m) and then at least m·nq ≥ m·nc doubles (solid.c), for T */
+    double *Ke = s->work, *T = Ke + (bp.n * fp->ncomp) * (bp.n * fp->ncomp);
+    sensitivities(fp, &bp, T);
+    field_tangent(fp, &bp, curved ? H : NULL, T, Ke);
+    MICA_CALL(mica_sparse_add_clique(K, bp.n, bp.index, Ke));
   }
   return MICA_SUCCESS;
 }
