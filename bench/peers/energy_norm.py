@@ -63,6 +63,13 @@ def read_points(path):
             data[:, col["W"]])
 
 
+def solve2(A, b):
+    """Batched 2 × 2 solves A x = b (A (n, 2, 2), b (n, 2)) by Cramer's rule; singular → inf/NaN, no exception."""
+    det = A[:, 0, 0] * A[:, 1, 1] - A[:, 0, 1] * A[:, 1, 0]
+    return np.stack([A[:, 1, 1] * b[:, 0] - A[:, 0, 1] * b[:, 1], A[:, 0, 0] * b[:, 1] - A[:, 1, 0] * b[:, 0]],
+                    axis=1) / det[:, None]
+
+
 class Fields:
     """(u, φ, ∇u, ∇φ) of a FEniCS solution of the hole, evaluable at physical points of its curved mesh."""
 
@@ -107,16 +114,16 @@ class Fields:
         """Newton on the quadratic map of each point's cell: X with x(X) = x, and min barycentric of X."""
         c = self.nodes[cells]                                   # (n, 6, 2)
         A = np.stack([c[:, 1] - c[:, 0], c[:, 2] - c[:, 0]], axis=2)
-        X = np.linalg.solve(A, (x - c[:, 0])[..., None])[..., 0]  # the affine guess
-        for _ in range(12):
-            N, dN = self.shape(X)
-            r = np.einsum("pi,pid->pd", N, c) - x
-            J = np.einsum("pid,pie->pde", c, dN)                # J[d, e] = ∂x_d/∂X_e
-            step = np.linalg.solve(J, r[..., None])[..., 0]
-            X -= step
-            if np.abs(step).max() < 1e-14:
-                break
-        return X, np.minimum(np.minimum(X[:, 0], X[:, 1]), 1 - X[:, 0] - X[:, 1])
+        X = solve2(A, x - c[:, 0])                              # the affine guess
+        with np.errstate(all="ignore"):  # a far candidate cell may not converge: its X is NaN, never chosen
+            for _ in range(12):
+                N, dN = self.shape(X)
+                step = solve2(np.einsum("pid,pie->pde", c, dN), np.einsum("pi,pid->pd", N, c) - x)  # J = ∂x/∂X
+                X -= step
+                if not np.nanmax(np.abs(step), initial=0) >= 1e-14:
+                    break
+            inside = np.minimum(np.minimum(X[:, 0], X[:, 1]), 1 - X[:, 0] - X[:, 1])
+        return X, np.nan_to_num(inside, nan=-np.inf)
 
     def locate(self, x):
         """Each point's cell (the curved one that holds it, or the nearest) and its reference coordinates."""
@@ -126,12 +133,20 @@ class Fields:
             c = self.tree.compute_first_entity_collision(Point(a, b))
             cells[i] = c if c < big else self.tree.compute_closest_entity(Point(a, b))[0]
         X, inside = self.reference_coordinates(x, cells)
-        for i in np.nonzero(inside < -1e-10)[0]:                # near a curved edge: the cells around it
-            near = np.unique(np.concatenate([self.vertex_cells[v] for v in self.cell_vertices[cells[i]]]))
-            Xn, inn = self.reference_coordinates(np.repeat(x[i:i + 1], len(near), axis=0), near)
-            j = int(np.argmax(inn))
-            if inn[j] > inside[i]:
-                cells[i], X[i], inside[i] = near[j], Xn[j], inn[j]
+        out = np.nonzero(inside < -1e-10)[0]  # near a curved edge: try every cell around the first guess at once
+        if len(out):
+            near = [np.unique(np.concatenate([self.vertex_cells[v] for v in self.cell_vertices[cells[i]]]))
+                    for i in out]
+            width = max(len(n) for n in near)
+            cand = np.array([np.pad(n, (0, width - len(n)), mode="edge") for n in near])  # (m, width)
+            Xn, inn = self.reference_coordinates(np.repeat(x[out], width, axis=0), cand.ravel())
+            inn = inn.reshape(len(out), width)
+            j = np.argmax(inn, axis=1)
+            better = inn[np.arange(len(out)), j] > inside[out]
+            pick = out[better]
+            cells[pick] = cand[better, j[better]]
+            X[pick] = Xn.reshape(len(out), width, 2)[better, j[better]]
+            inside[pick] = inn[better, j[better]]
         return cells, X, inside
 
     def at(self, x):
