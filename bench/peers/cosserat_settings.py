@@ -7,7 +7,8 @@ FEniCS P3/P2 k = 16 reference at quadrature.error_order = 8 points of its own.
                                                       [--ks 2,3,4] [--angular 8] [--repeats 1]
 
 k: particles.count = [A k + 1, 6 k + 1] (A = --angular: 8 as peers.py's nitsche-q8, 4 as nitsche-q8r). Writes
-bench/results/cosserat_settings.csv: order, dilation, k, dofs, e_E, e_U (sqrt(|U − U_ref| / U_ref)), the solve
+bench/results/cosserat_settings.csv (or --out; the committed cosserat_settings_a4.csv holds the runs with
+--angular 4 --orders 5,6,7,8 --dilations 3.5,4.0 --ks 2,3,4,5 and --orders 3,4 --ks 2,3,4): order, dilation, k, dofs, e_E, e_U (sqrt(|U − U_ref| / U_ref)), the solve
 phases (time_mls_setup + time_cache_and_pattern + time_newton, wall, minimum over the repeats) and the CPU time
 of the cache and the assembly (cpu_cache_and_pattern + cpu_assemble: what the load of the machine moves least).
 """
