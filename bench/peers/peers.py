@@ -14,6 +14,10 @@ Time counted as "solve" (time_solve_s):
   FEniCS  assemble_system (sparsity pattern included) + LU factorization and solve (MUMPS), every Newton
           iteration for Cook; mesh creation, JIT and post-processing excluded.
 time_total_s is the wall clock of the whole process for both (for FEniCS it includes `import dolfin`).
+
+The Cosserat hole's error: for mica the relative energy-norm error against the FEniCS P3/P2 reference at 8 x 8
+Gauss points per cell (mica writes its fields there in the first repeat, energy_norm.py measures them); for
+FEniCS sqrt(|U - U_ref| / U_ref), equal to it by Galerkin orthogonality, which each run checks on P2P1 k = 2, 4.
 """
 import argparse
 import csv
@@ -137,8 +141,8 @@ def run_mica(problem, variant, k, fields=False):
 
 
 def cosserat_reference_solution():
-    """The reference's coefficients (REFERENCE_NPY) and U_ref: from the last peers run if both are there (the
-    summary peers_reference.json names U_ref), else a FEniCS P3/P2 k = 16 run now."""
+    """The reference's coefficients (REFERENCE_NPY) and U_ref: those the last peers run saved (U_ref in the .json
+    beside the .npy), else a FEniCS P3/P2 k = 16 run now (cosserat_settings.py)."""
     meta = REFERENCE_NPY[:-4] + ".json"
     if os.path.exists(REFERENCE_NPY) and os.path.exists(meta):
         with open(meta) as f:
