@@ -9,7 +9,7 @@ parameter (the same k as the mica side uses, see peers.py). Prints one JSON obje
 dofs, cells, qoi (the quantity each problem measures: see below), error (only where an exact solution
 exists), and the times
 
-    time_mesh      mesh creation (and, for the hole, writing/reading the quadratic XDMF mesh)
+    time_mesh      mesh creation (and, for the hole, writing/reading the quadratic XDMF mesh and the space)
     time_jit       function spaces, expressions, Form objects: the FFC/dijitso JIT, a cache lookup when warm
     time_assemble  assembly of matrix and right-hand side (assemble_system: sparsity pattern included)
     time_factor    LU factorization (MUMPS through PETSc); time_solve_lin its triangular solves
@@ -259,29 +259,46 @@ def quadratic_quad_mesh(Xmap, txi, teta, fname):
     return mesh
 
 
+COSSERAT = dict(a=1.0, a_over_l=1.063, N=0.93, G=1000.0, nu=0.3, p=1.0)
+
+
+def cosserat_constants():
+    """λ, μ, κ, γ of the hole deck's technical constants G, ν, N, l (as mica converts them), with a, b, p."""
+    c = COSSERAT
+    a, Nc, G, nu = c["a"], c["N"], c["G"], c["nu"]
+    kap = 2 * G * Nc ** 2 / (1 - Nc ** 2)
+    return dict(a=a, b=40 * a, p=c["p"], lam=2 * G * nu / (1 - 2 * nu), mu=G - kap / 2, kap=kap,
+                gam=4 * G * (a / c["a_over_l"]) ** 2)
+
+
+def cosserat_space(variant, k):
+    """The hole's mesh (see cosserat) and the mixed space of a variant: (mesh, V, degree of u, of φ)."""
+    du, dp = int(variant[1]), int(variant[3])
+    angular = 2 * k if variant.endswith("r") else 4 * k  # "r": half the cells along the hole (mica's nitsche-q8r)
+    a, b = COSSERAT["a"], 40 * COSSERAT["a"]
+    fname = os.path.join(os.environ.get("PEERS_TMP", "/tmp"), "peers_hole_%d_%d.xdmf" % (k, os.getpid()))
+    mesh = quadratic_quad_mesh(lambda s, t: plate_hole_map(a, b, s, t), np.linspace(0, 1, angular + 1),
+                               graded_axis(3 * k + 1, 40.0), fname)
+    os.remove(fname)
+    el = MixedElement([VectorElement("P", mesh.ufl_cell(), du), FiniteElement("P", mesh.ufl_cell(), dp)])
+    return mesh, FunctionSpace(mesh, el), du, dp
+
+
 def cosserat(variant, k, timer):
     """Plane-strain Cosserat, unknowns (u1, u2, φ3), the constitutive law of docs/theory.md:
     ε_kl = u_l,k + e_lkm φ_m, σ_kl = λ ε_rr δ_kl + (μ + κ) ε_kl + μ ε_lk, in-plane m = γ ∇φ3,
     W = ½ σ:ε + ½ γ |∇φ3|²; technical constants G, ν, N, l as mica converts them.
     Mesh: mica's plate_hole map and graded layout (ratio 40 outwards) on a (4k) × (3k) grid of cells (mica's
     k of peers.py has (8k) × (6k): FEniCS k = 2 is mica's grid; variants ending in r: (2k) × (3k)), each split
-    into two triangles with quadratic (curved) edges."""
-    du, dp = int(variant[1]), int(variant[3])
-    angular = 2 * k if variant.endswith("r") else 4 * k  # "r": half the cells along the hole (mica's nitsche-q8r)
-    a, aol, Nc, G, nu, p = 1.0, 1.063, 0.93, 1000.0, 0.3, 1.0
-    b, l = 40 * a, a / aol
-    lam = 2 * G * nu / (1 - 2 * nu)
-    kap = 2 * G * Nc ** 2 / (1 - Nc ** 2)
-    mu = G - kap / 2
-    gam = 4 * G * l ** 2
+    into two triangles with quadratic (curved) edges.
+    With PEERS_SAVE_SOLUTION set, the solution's coefficient vector is saved there (numpy .npy) for
+    energy_norm.py, which rebuilds the same space with cosserat_space."""
+    cc = cosserat_constants()
+    a, b, p, G = cc["a"], cc["b"], cc["p"], COSSERAT["G"]
+    lam, mu, kap, gam = cc["lam"], cc["mu"], cc["kap"], cc["gam"]
     t0 = time.perf_counter()
-    fname = os.path.join(os.environ.get("PEERS_TMP", "/tmp"), "peers_hole_%d_%d.xdmf" % (k, os.getpid()))
-    mesh = quadratic_quad_mesh(lambda s, t: plate_hole_map(a, b, s, t), np.linspace(0, 1, angular + 1),
-                               graded_axis(3 * k + 1, 40.0), fname)
-    os.remove(fname)
+    mesh, V, du, dp = cosserat_space(variant, k)
     t1 = time.perf_counter()
-    el = MixedElement([VectorElement("P", mesh.ufl_cell(), du), FiniteElement("P", mesh.ufl_cell(), dp)])
-    V = FunctionSpace(mesh, el)
 
     def strain(w):
         uu, ph = split(w)
@@ -317,6 +334,8 @@ def cosserat(variant, k, timer):
     lu_solve(A, bb, wh.vector(), timer)
     t4 = time.perf_counter()
     U = assemble(Uform)
+    if os.environ.get("PEERS_SAVE_SOLUTION"):
+        np.save(os.environ["PEERS_SAVE_SOLUTION"], wh.vector().get_local())
     # σ_11 at (0, a) from the cell that holds the point: σ_11 = λ (u1,1 + u2,2) + 2G u1,1
     uh = wh.split(deepcopy=True)[0]
     Vg = FunctionSpace(mesh, "DG", du - 1)

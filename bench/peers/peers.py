@@ -14,6 +14,10 @@ Time counted as "solve" (time_solve_s):
   FEniCS  assemble_system (sparsity pattern included) + LU factorization and solve (MUMPS), every Newton
           iteration for Cook; mesh creation, JIT and post-processing excluded.
 time_total_s is the wall clock of the whole process for both (for FEniCS it includes `import dolfin`).
+
+The Cosserat hole's error: for mica the relative energy-norm error against the FEniCS P3/P2 reference at 8 x 8
+Gauss points per cell (mica writes its fields there in the first repeat, energy_norm.py measures them); for
+FEniCS sqrt(|U - U_ref| / U_ref), equal to it by Galerkin orthogonality, which each run checks on P2P1 k = 2, 4.
 """
 import argparse
 import csv
@@ -38,6 +42,10 @@ ENV = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", OMPI_MCA_p
            DIJITSO_CACHE_DIR=os.path.join(WORK, "jit"), PEERS_TMP=WORK)
 
 ENERGY_PROBE = '{ name = "U"; field = "energy"; }'
+# The Cosserat hole is measured by the relative energy-norm error against the FEniCS reference (energy_norm.py),
+# at 8 x 8 Gauss points per background cell whatever the solve's quadrature.order: mica writes its fields there.
+FIELDS_SETS = ["quadrature.error_order=8", "output.quadrature_fields=true"]
+REFERENCE_NPY = os.path.join(WORK, "cosserat_reference_P3P2_16.npy")  # the reference solution's coefficients
 HOLE_PROBES = 'output.probes=( { name = "scf"; point = ["0", "a"]; field = "sxx"; scale = "1/p"; }, %s )' % ENERGY_PROBE
 
 # mica variants: deck and settings per refinement k; FEniCS variants: the k of fenics_peer.py.
@@ -65,7 +73,12 @@ PROBLEMS = [
          fenics={"P2": [4, 8, 16, 24, 32]}, reference=("P3", [16, 24, 32]),
          pairs=["quadratic:P2"], levels=[1e-2, 3e-3, 1e-3]),
     dict(name="cosserat", title="Cosserat plate with a hole, a/l = 1.063, N = 0.93",
-         measure="sqrt(|U - U_ref| / U_ref), U the strain energy, U_ref from FEniCS P3/P2 (overkill)",
+         # mica: the relative energy-norm error against the FEniCS reference at 8 x 8 Gauss points per cell
+         # (energy_norm.py); FEniCS: sqrt(|U - U_ref| / U_ref), the same number by Galerkin orthogonality
+         # (checked each run: IDENTITY_CHECK); e_U of both codes in peers_detail.csv (error_U)
+         measure="relative energy-norm error against FEniCS P3/P2 k = 16 (mica: at 8 x 8 Gauss points per cell; "
+                 "FEniCS: sqrt(|U - U_ref| / U_ref), equal by Galerkin orthogonality)",
+         xlabel="relative energy-norm error against FEniCS P3/P2, k = 16",
          # nitsche-q8: the deck (Nitsche, CHOLMOD) with Gauss order 8 and dilation 3.5, which the energy needs
          # (docs/verification.md §Cosserat hole); lagrange: the former deck (multipliers, UMFPACK, order 5,
          # dilation 3), whose energy error stalls near 4e-3 from the quadrature error
@@ -75,12 +88,20 @@ PROBLEMS = [
                # FEniCS meshes with half the cells along it (variants ending in r)
                "nitsche-q8r": (["input/cosserat_hole.cfg", HOLE_PROBES, "mls.dilation=3.5", "quadrature.order=8"],
                                lambda k: "particles.count=[%d,%d]" % (4 * k + 1, 6 * k + 1), [2, 3, 4, 5, 6]),
+               # mica's cheapest settings to e_E = 1e-3 and 3e-4 found by bench/peers/cosserat_settings.py (solve
+               # order 3 ... 8, dilation 3.5 ... 4.5, 8k or 4k particles along the hole; docs/performance.md):
+               # half the particles along the hole, dilation 3.5, Gauss order 4 (1e-3) and 5 (3e-4)
+               "nitsche-q4r": (["input/cosserat_hole.cfg", HOLE_PROBES, "mls.dilation=3.5", "quadrature.order=4"],
+                               lambda k: "particles.count=[%d,%d]" % (4 * k + 1, 6 * k + 1), [2, 3, 4, 5, 6]),
+               "nitsche-q5r": (["input/cosserat_hole.cfg", HOLE_PROBES, "mls.dilation=3.5", "quadrature.order=5"],
+                               lambda k: "particles.count=[%d,%d]" % (4 * k + 1, 6 * k + 1), [2, 3, 4, 5, 6]),
                "lagrange": (["input/cosserat_hole.cfg", HOLE_PROBES, "bc.method=lagrange"],
                             lambda k: "particles.count=[%d,%d]" % (8 * k + 1, 6 * k + 1), [3, 4, 5, 6, 8])},
          fenics={"P2P1": [1, 2, 4, 8, 16, 32], "P2P2": [1, 2, 4, 8, 16], "P2P1r": [1, 2, 4, 8, 16, 32],
                  "P2P2r": [1, 2, 4, 8, 16]}, reference=("P3P2", [8, 16]),
-         pairs=["nitsche-q8:P2P1", "nitsche-q8:P2P2", "nitsche-q8r:P2P1r", "nitsche-q8r:P2P2r", "*:*",
-                "lagrange:P2P1"], levels=[5e-3, 3e-3, 1e-3, 3e-4]),
+         pairs=["nitsche-q8:P2P1", "nitsche-q8:P2P2", "nitsche-q8r:P2P1r", "nitsche-q8r:P2P2r", "nitsche-q4r:P2P1r",
+                "nitsche-q4r:P2P2r", "nitsche-q5r:P2P1r", "nitsche-q5r:P2P2r", "*:*", "lagrange:P2P1"],
+         levels=[5e-3, 3e-3, 1e-3, 3e-4]),
     dict(name="block3d", title="3-D cantilever block, clamped, end shear",
          measure="sqrt(|U - U_ref| / U_ref), U the strain energy, U_ref from FEniCS P3, k = 4, 6, 8, extrapolated",
          mica={"linear": (["bench/peers/block3d.cfg", "mls.order=1", "mls.dilation=2.0", "quadrature.order=4"],
@@ -96,11 +117,13 @@ def log(msg):
     print(msg, flush=True)
 
 
-def run_mica(problem, variant, k):
+def run_mica(problem, variant, k, fields=False):
+    """One mica run; fields: also write quadrature_fields.csv (FIELDS_SETS) into a directory that stays, for
+    energy_norm.py (the solve phases are the same; the process's wall clock is not: it writes the file)."""
     deck_and_sets, count, _ = problem["mica"][variant]
-    out = os.path.join(WORK, "mica", problem["name"], "%s_%d" % (variant, k))
+    out = os.path.join(WORK, "mica", problem["name"], "%s_%d%s" % (variant, k, "_fields" if fields else ""))
     shutil.rmtree(out, ignore_errors=True)
-    sets = deck_and_sets[1:] + [count(k), "output.vtu=false", "output.monitor=false"]
+    sets = deck_and_sets[1:] + [count(k), "output.vtu=false", "output.monitor=false"] + (FIELDS_SETS if fields else [])
     cmd = [MICA, "run", deck_and_sets[0], "-o", out]
     for s in sets:
         cmd += ["--set", s]
@@ -113,13 +136,43 @@ def run_mica(problem, variant, k):
         s = json.load(f)
     s["time_solve_total"] = s["time_mls_setup"] + s["time_cache_and_pattern"] + s["time_newton"]
     s["wall"] = wall
+    s["fields_csv"] = os.path.join(out, "quadrature_fields.csv") if fields else None
     return s
 
 
-def run_fenics(problem, variant, k):
-    cmd = [PY, os.path.join(HERE, "fenics_peer.py"), problem, variant, str(k)]
-    t0 = time.perf_counter()
+def cosserat_reference_solution():
+    """The reference's coefficients (REFERENCE_NPY) and U_ref: those the last peers run saved (U_ref in the .json
+    beside the .npy), else a FEniCS P3/P2 k = 16 run now (cosserat_settings.py)."""
+    meta = REFERENCE_NPY[:-4] + ".json"
+    if os.path.exists(REFERENCE_NPY) and os.path.exists(meta):
+        with open(meta) as f:
+            return REFERENCE_NPY, json.load(f)["U"]
+    d = run_fenics("cosserat", "P3P2", 16, save=REFERENCE_NPY)
+    with open(meta, "w") as f:
+        json.dump(dict(U=d["qoi"], dofs=d["dofs"]), f)
+    return REFERENCE_NPY, d["qoi"]
+
+
+def energy_norms(ref_npy, csvs, fenics_specs):
+    """energy_norm.py on mica's quadrature_fields.csv files (and FEniCS solutions VARIANT:K:NPY at the points of
+    the last csv): its JSON, {"mica": {csv: {...}}, "fenics": {spec: {...}}}."""
+    out = os.path.join(WORK, "energy_norm.json")
+    cmd = [PY, os.path.join(HERE, "energy_norm.py"), "P3P2", "16", ref_npy, out] + csvs
+    for spec in fenics_specs:
+        cmd += ["--fenics", spec]
     r = subprocess.run(cmd, cwd=ROOT, env=ENV, capture_output=True, text=True)
+    if r.returncode != 0:
+        raise RuntimeError("energy_norm.py failed: %s\n%s" % (" ".join(cmd), r.stdout[-2000:] + r.stderr[-3000:]))
+    with open(out) as f:
+        return json.load(f)
+
+
+def run_fenics(problem, variant, k, save=None):
+    """One FEniCS run; save: a path where the Cosserat solution's coefficients go (energy_norm.py reads them)."""
+    cmd = [PY, os.path.join(HERE, "fenics_peer.py"), problem, variant, str(k)]
+    env = dict(ENV, PEERS_SAVE_SOLUTION=save) if save else ENV
+    t0 = time.perf_counter()
+    r = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
     wall = time.perf_counter() - t0
     if r.returncode != 0:
         raise RuntimeError("FEniCS failed: %s\n%s" % (" ".join(cmd), r.stdout[-2000:] + r.stderr[-3000:]))
@@ -137,6 +190,42 @@ def error_of(problem, code, d, ref):
         return abs(tip - ref) / abs(ref)
     U = d["U"] if code == "mica" else d["qoi"]
     return math.sqrt(abs(U - ref) / ref)
+
+
+# The FEniCS runs whose field-based e_E is checked against their e_U (Galerkin orthogonality makes them equal),
+# at the points of the finest run of this mica variant.
+IDENTITY_CHECK = [("P2P1", 2), ("P2P1", 4)]
+IDENTITY_POINTS = "nitsche-q8"
+
+
+def cosserat_energy_norms(fields_csv, fields_U, U_ref, detail):
+    """e_E of every mica run of the hole (fields_csv: (code, variant, k) -> its quadrature_fields.csv; fields_U:
+    its `energy` probe) and the identity check on FEniCS; logs the checks, adds them to detail. Returns
+    {(variant, k): energy_norm.py's measures}."""
+    specs = []
+    for v, k in IDENTITY_CHECK:
+        npy = os.path.join(WORK, "cosserat_%s_%d.npy" % (v, k))
+        d = run_fenics("cosserat", v, k, save=npy)
+        specs.append(("%s:%d:%s" % (v, k, npy), math.sqrt(abs(d["qoi"] - U_ref) / U_ref), d["dofs"]))
+    finest = max((k, csv_) for (c, v, k), csv_ in fields_csv.items() if v == IDENTITY_POINTS)[1]
+    csvs = [c for c in fields_csv.values() if c != finest] + [finest]  # the last: the identity check's points
+    res = energy_norms(REFERENCE_NPY, csvs, [sp for sp, _, _ in specs])
+    log("   energy norm (energy_norm.py, %.0f s): reference energy 2 U_ref = %.10g" % (res["time_total"], 2 * U_ref))
+    out = {}
+    for (c, v, k), path in sorted(fields_csv.items()):
+        m = res["mica"][path]
+        out[(v, k)] = m
+        log("   mica %-11s k=%d: e_E %.3e; at its %d points Σ w 2W(q_ref) = %.10g (%.1e from 2 U_ref), "
+            "Σ w W(mica) = %.10g (%.1e from its energy probe), W column vs ½ qᵀDq %.0e" %
+            (v, k, m["e_E"], m["points"], m["two_U_ref_points"], m["two_U_ref_points"] / (2 * U_ref) - 1,
+             m["sum_wW_mica"], m["sum_wW_mica"] / fields_U[(c, v, k)] - 1, m["W_formula_mismatch"]))
+    for spec, e_U, dofs in specs:
+        m = res["fenics"][spec]
+        log("   identity check FEniCS %s k=%d (%d dofs): e_E %.4e at %d points of %s, e_U %.4e: ratio %.4f" %
+            (m["variant"], m["k"], dofs, m["e_E"], m["points"], os.path.relpath(finest, WORK), e_U, m["e_E"] / e_U))
+        detail.append(dict(problem="cosserat", code="fenics", variant=m["variant"], k=m["k"], kind="identity-check",
+                           dofs=dofs, error=m["e_E"], error_U=e_U, two_U_ref_points=m["two_U_ref_points"]))
+    return out
 
 
 def richardson(ks, vals):
@@ -184,7 +273,11 @@ def main():
             v, ks = pb["reference"]
             vals = []
             for k in ks:
-                d = run_fenics(name, v, k)
+                save = REFERENCE_NPY if name == "cosserat" and k == ks[-1] else None  # energy_norm.py's reference
+                d = run_fenics(name, v, k, save=save)
+                if save:
+                    with open(REFERENCE_NPY[:-4] + ".json", "w") as f:
+                        json.dump(dict(U=d["qoi"], dofs=d["dofs"]), f)
                 vals.append(d["qoi"])
                 log("   reference run FEniCS %s k=%d (%d dofs): %.12g (%.1f s)" % (v, k, d["dofs"], d["qoi"], d["wall"]))
             if len(ks) == 3:
@@ -208,12 +301,18 @@ def main():
         jobs = []
         for i in range(max(len(jobs_m), len(jobs_f))):
             jobs += jobs_m[i:i + 1] + jobs_f[i:i + 1]
-        best = {}
+        best, fields_csv, fields_U = {}, {}, {}
         for rep in range(args.repeats):
             for code, v, k in jobs:
-                d = run_mica(pb, v, k) if code == "mica" else run_fenics(name, v, k)
+                fields = name == "cosserat" and rep == 0  # the fields once; energy_norm.py measures them below
+                d = run_mica(pb, v, k, fields=fields) if code == "mica" else run_fenics(name, v, k)
                 ts = d["time_solve_total"] if code == "mica" else d["time_solve"]
                 key = (code, v, k)
+                if code == "mica" and fields:
+                    fields_csv[key] = d["fields_csv"]
+                    fields_U[key] = d["U"]
+                    if args.repeats > 1:  # this process also wrote the file: its wall clock is not comparable
+                        d["wall"] = float("inf")
                 if key not in best:
                     best[key] = dict(d, ts=ts, tt=d["wall"])
                 else:
@@ -223,12 +322,19 @@ def main():
                         tt = b["tt"]
                         best[key] = dict(d, ts=ts, tt=tt)
             log("   repeat %d/%d done (%.0f s so far)" % (rep + 1, args.repeats, time.perf_counter() - started))
+        measured = cosserat_energy_norms(fields_csv, fields_U, ref, detail) if name == "cosserat" else {}
         for (code, v, k), d in best.items():
-            err = error_of(pb, code, d, ref)
+            err = measured[(v, k)]["e_E"] if (code, v, k) in fields_csv else error_of(pb, code, d, ref)
             rows.append(dict(problem=name, code=code, variant=v, dofs=d["dofs"], error="%.6g" % err,
                              time_solve_s="%.5g" % d["ts"], time_total_s="%.5g" % d["tt"]))
             det = dict(problem=name, code=code, variant=v, k=k, kind="run", dofs=d["dofs"], error=err,
                        time_solve=d["ts"], wall=d["tt"])
+            if name == "cosserat":  # e_U beside e_E: sqrt(|U - U_ref| / U_ref), the former measure
+                det["error_U"] = error_of(pb, code, d, ref)
+                if (code, v, k) in fields_csv:
+                    m = measured[(v, k)]
+                    det.update(two_U_ref_points=m["two_U_ref_points"], mica_sum_wW=m["sum_wW_mica"],
+                               mica_W_formula_mismatch=m["W_formula_mismatch"])
             if code == "mica":
                 for x in ("particles", "quadrature_points", "nnz", "nnz_factor", "support_mean", "time_mls_setup",
                           "time_cache_and_pattern", "time_newton", "time_assemble", "time_analyze", "time_factor",
@@ -290,7 +396,8 @@ def chart(pb, rows):
     gp = "\n".join([
         "set terminal pngcairo size 800,560 font ',10'",
         "set output '%s'" % os.path.join(RESULTS, "peers_%s.png" % name),
-        "set logscale xy", "set grid", "set xlabel 'error: %s'" % pb["measure"].replace("'", ""),
+        "set logscale xy", "set grid",
+        "set xlabel 'error: %s' noenhanced" % pb.get("xlabel", pb["measure"]).replace("'", ""),
         "set ylabel 'solve time [s] (assembly + factorization + solution), 1 thread'",
         "set title '%s: mica vs FEniCS 2019'" % pb["title"].replace("'", ""), "set key top right",
         "set xrange [*:*] reverse",

@@ -709,6 +709,7 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   int ierr = MICA_SUCCESS;
   memset(&stats, 0, sizeof stats);
   MICA_CALL_CLEANUP(run_problem_build_reusing(deck, &rp, reuse));
+  MICA_CALL_CLEANUP(run_quadrature_fields_check(deck, &rp));
   RunTotals totals;
   MICA_CALL_CLEANUP(count_totals(&rp, &totals));
   print_counts(&rp, &totals);
@@ -732,6 +733,7 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(run_output_finish(&out));
   MICA_CALL_CLEANUP(run_error_norms(&rp, u, summary));
   MICA_CALL_CLEANUP(run_probes(&rp, u, summary));
+  MICA_CALL_CLEANUP(run_quadrature_fields(&rp, outdir, u, summary));
   /* fields per step (inside time_newton), the PVD, error norms and probes */
   MICA_CALL_CLEANUP(mica_json_number(summary, "time_output", out.time_output + mica_wtime() - output_start));
   MICA_CALL_CLEANUP(run_peak_memory(summary));

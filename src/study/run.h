@@ -120,5 +120,14 @@ int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary);
 /* The relative errors run_error_norms reports (L2 of the values, H1 seminorm, energy), without writing them. */
 int run_error_values(RunProblem *rp, const double *u, double *rel_l2, double *rel_h1, double *rel_energy);
 int run_probes(RunProblem *rp, const double *u, MicaJson *summary);
+/* The points the error norms use, their shape functions and weights: quadrature.error_order's own points
+ * (whole = 1: every rank holds all of them), else the solve's volume points (under nodal integration the
+ * background Gauss points; under MPI this rank's). */
+int run_error_points(RunProblem *rp, const MicaShapeCache **c, const double **x, const double **w, int *whole);
+/* output.quadrature_fields (quadrature_output.c): the check after the build (MPI needs quadrature.error_order),
+ * and quadrature_fields.csv — values, gradients and energy density at run_error_points — with its row count
+ * and Σ w W in the summary. */
+int run_quadrature_fields_check(const MicaDeck *deck, const RunProblem *rp);
+int run_quadrature_fields(RunProblem *rp, const char *outdir, const double *u, MicaJson *summary);
 
 #endif

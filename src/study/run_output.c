@@ -179,8 +179,7 @@ int run_output_finish(RunOutput *out) {
 /* Where the error norms are measured: the volume quadrature, or under nodal integration the background
  * Gauss points with the MLS shape functions themselves — the nodal points alone cannot see a spurious mode
  * whose gradients vanish there, and SCNI's smoothed gradients are not the gradients of the approximation. */
-static int error_points(RunProblem *rp, const MicaShapeCache **c, const double **x, const double **w,
-                        int *whole) {
+int run_error_points(RunProblem *rp, const MicaShapeCache **c, const double **x, const double **w, int *whole) {
   const MicaDiscretization *disc = rp->solid->disc; /* under MPI, this rank's points (nodal modes are serial) */
   *whole = 0;
   if (!rp->error_disc) MICA_CALL(run_error_discretization(rp, &rp->error_disc));
@@ -201,7 +200,7 @@ static int error_points(RunProblem *rp, const MicaShapeCache **c, const double *
   return MICA_SUCCESS;
 }
 
-/* Relative errors over the volume quadrature points (error_points; with quadrature.error_order, points of their
+/* Relative errors over the volume quadrature points (run_error_points; with quadrature.error_order, points of their
  * own), of all unknowns: L2 of the values, H1 seminorm of the gradients, and the energy norm e·D₀·e with D₀ the
  * model's D at q = 0 (for classical models: ∇e:C:∇e). */
 int run_error_values(RunProblem *rp, const double *u, double *rel_l2, double *rel_h1, double *rel_energy) {
@@ -211,7 +210,7 @@ int run_error_values(RunProblem *rp, const double *u, double *rel_l2, double *re
   const MicaShapeCache *c = NULL;
   const double *qx = NULL, *qw = NULL;
   int whole = 0;
-  MICA_CALL(error_points(rp, &c, &qx, &qw, &whole));
+  MICA_CALL(run_error_points(rp, &c, &qx, &qw, &whole));
   double *D0 = NULL, q0[128] = {0}, W0, s0[128];
   MICA_CALL(MICA_MALLOC(D0, nq * nq));
   int ierr = s->opt.field.ops->eval(&s->opt.field, mdim, q0, &W0, s0, D0);

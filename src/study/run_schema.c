@@ -182,6 +182,11 @@ const MicaDeckKey mica_run_schema[] = {
     {"output.probes.[].scale", MICA_KEY_FLOAT, "1.0", NOLIMIT, NULL, 0, 0, "multiplies the value (e.g. \"1/p\")"},
     {"output.probes.[].inverse", MICA_KEY_BOOL, "false", NOLIMIT, NULL, 0, 0,
      "report scale / value instead (a stiffness from a displacement)"},
+    {"output.quadrature_fields", MICA_KEY_BOOL, "false", NOLIMIT, NULL, 0, 0,
+     "write quadrature_fields.csv: one row per error-norm point (quadrature.error_order's own points when set, "
+     "else the solve's volume points): coordinates, weight w, every unknown and its gradient, energy density W "
+     "(over the solve's points Σ w W is the energy probe); summary: quadrature_fields_points, "
+     "quadrature_fields_energy. MPI: needs quadrature.error_order > 0, rank 0 writes"},
     /* the sweep (src/study/sweep*.c) */
 
     {"sweep.parameters", MICA_KEY_LIST, NULL, NOLIMIT, NULL, 1, 0,

@@ -1,0 +1,86 @@
+/* output.quadrature_fields: the kinematic fields at the error-norm points, written to quadrature_fields.csv,
+ * so that a reader can measure the solution against a reference it holds itself (bench/peers: the energy-norm
+ * error against a FEniCS overkill solution). One row per point of run_error_points — quadrature.error_order's
+ * own points when set, else the solve's volume points (under nodal integration the background Gauss points) —
+ * with its weight, every unknown's value and geometric gradient, and the model's energy density W there: over
+ * the solve's own points Σ w W is the `energy` probe. Under MPI the error points must be whole on every rank
+ * (quadrature.error_order > 0); rank 0 writes. */
+#include <stdio.h>
+#include <string.h>
+
+#include "mica/files.h"
+#include "run.h"
+
+/* The model layout's column of geometric derivative J: the same, or for an axisymmetric section (r, z) the
+ * 3-D gradient's columns r and z (run_output.c: to_model_layout). */
+static int gradient_column(const RunProblem *rp, int J) {
+  return rp->axisymmetric ? (J == 0 ? 0 : 2) : J;
+}
+
+static void write_header(const RunProblem *rp, FILE *fp) {
+  static const char *const axes[3] = {"x", "y", "z"};
+  const int dim = rp->disc->dim, ncomp = rp->solid->ncomp;
+  for (int J = 0; J < dim; J++) fprintf(fp, "%s,", axes[J]);
+  fprintf(fp, "w");
+  for (int c = 0; c < ncomp; c++) fprintf(fp, ",%s", run_unknown_name(rp, c));
+  for (int c = 0; c < ncomp; c++)
+    for (int J = 0; J < dim; J++) fprintf(fp, ",d%s_d%s", run_unknown_name(rp, c), axes[J]);
+  fprintf(fp, ",W\n");
+}
+
+static void write_row(const RunProblem *rp, FILE *fp, const double *x, double w, const double *q, double W) {
+  const int dim = rp->disc->dim, ncomp = rp->solid->ncomp, mdim = rp->solid->model_dim;
+  for (int J = 0; J < dim; J++) fprintf(fp, "%.17g,", x[J]);
+  fprintf(fp, "%.17g", w);
+  for (int c = 0; c < ncomp; c++) fprintf(fp, ",%.17g", q[c]);
+  for (int c = 0; c < ncomp; c++)
+    for (int J = 0; J < dim; J++) fprintf(fp, ",%.17g", q[ncomp + c * mdim + gradient_column(rp, J)]);
+  fprintf(fp, ",%.17g\n", W);
+}
+
+int run_quadrature_fields_check(const MicaDeck *deck, const RunProblem *rp) {
+  int wanted;
+  long error_order;
+  MICA_CALL(mica_deck_bool(deck, "output.quadrature_fields", &wanted));
+  MICA_CALL(mica_deck_int(deck, "quadrature.error_order", &error_order));
+  if (!wanted || !rp->dist || error_order > 0) return MICA_SUCCESS;
+  char where[256];
+  mica_deck_where(deck, "output.quadrature_fields", where, sizeof where);
+  MICA_ERROR(MICA_ERR_INPUT,
+             "%s: output.quadrature_fields under MPI needs quadrature.error_order > 0 (points every rank holds "
+             "whole; the solve's own points are split among the ranks); set quadrature.error_order, e.g. 8, or run "
+             "without mpirun", where);
+}
+
+/* Writes the rows (rank 0) and adds Σ w W and the row count to the summary (every rank computes them). */
+int run_quadrature_fields(RunProblem *rp, const char *outdir, const double *u, MicaJson *summary) {
+  int wanted;
+  MICA_CALL(mica_deck_bool(rp->deck, "output.quadrature_fields", &wanted));
+  if (!wanted) return MICA_SUCCESS;
+  const MicaSolid *s = rp->solid;
+  const MicaShapeCache *c = NULL;
+  const double *qx = NULL, *qw = NULL;
+  int whole = 0;
+  MICA_CALL(run_error_points(rp, &c, &qx, &qw, &whole));
+  MICA_CHECK(whole || !rp->dist, MICA_ERR_ARGUMENT, "run_quadrature_fields: points split among the ranks");
+  const int writer = mica_parallel_rank() == 0;
+  MicaOutFile out = {0};
+  int ierr = MICA_SUCCESS;
+  if (writer) {
+    MICA_CALL_CLEANUP(mica_out_open_in(outdir, "quadrature_fields.csv", &out));
+    write_header(rp, out.fp);
+  }
+  double energy = 0, q[128], W;
+  for (long p = 0; p < c->npoints; p++) {
+    mica_solid_kinematics(s, c, p, u, q);
+    MICA_CALL_CLEANUP(s->opt.field.ops->eval(&s->opt.field, s->model_dim, q, &W, NULL, NULL));
+    energy += qw[p] * W;
+    if (writer) write_row(rp, out.fp, qx + p * rp->disc->dim, qw[p], q, W);
+  }
+  if (writer) MICA_CALL_CLEANUP(mica_out_commit(&out));
+  MICA_CALL_CLEANUP(mica_json_int(summary, "quadrature_fields_points", c->npoints));
+  MICA_CALL_CLEANUP(mica_json_number(summary, "quadrature_fields_energy", energy));
+cleanup:
+  mica_out_abort(&out);
+  return ierr;
+}
