@@ -26,33 +26,42 @@ static void stage_entries(MicaKernelChunk *ch, long n, const long *loc, const do
 }
 
 /* Stages point t's projection G_I[a][b][j] = w Σ_i β_I[i] A_(a i)(b j) in the columns t·nd + j of the rows
- * ((col(I)·nc + a)·nc + b) of G, each row ch->stride long; those columns of union members outside the support
- * are zeroed. A's zeros (a model's energy rarely couples every entry: Cosserat's displacement values none) are
- * skipped: its nonzeros, times w, are listed once per point. */
+ * ((col(I)·nc + a)·nc + b) of G, each row ch->stride long; union members outside the support get zeros. Every
+ * entry is written once. A's zeros (a model's energy rarely couples every entry: Cosserat's displacement values
+ * to nothing) are skipped: per output (a, b, j) the nonzero w A_(a i)(b j) are listed once per point. */
 static void stage_projection(MicaKernelChunk *ch, long n, const long *loc, const double *beta, const double *A,
                              double w) {
-  const int nc = ch->nc, nd = ch->nd, width = nc * nd; /* A is width × width */
+  enum { MAX_OUT = MICA_KERNEL_MAX_WIDTH * MICA_KERNEL_MAX_WIDTH / 10 * 10 }; /* nc² nd ≤ width² */
+  const int nc = ch->nc, nd = ch->nd, width = nc * nd, nout = nc * nc * nd; /* A is width × width */
   const long stride = ch->stride, block = (long)nc * nc * stride; /* a particle's rows of G */
   double *G = ch->G + (long)ch->count * nd;
-  int nonzero[MICA_KERNEL_MAX_WIDTH * MICA_KERNEL_MAX_WIDTH][3], count = 0; /* i, offset of (a, b, j), value */
+  long offset[MAX_OUT];                       /* output o = (a, b, j): its place in a particle's rows */
+  int first[MAX_OUT + 1], slot[MICA_KERNEL_MAX_WIDTH * MICA_KERNEL_MAX_WIDTH]; /* its nonzeros: i, w A */
   double value[MICA_KERNEL_MAX_WIDTH * MICA_KERNEL_MAX_WIDTH];
+  int o = 0, e = 0;
   for (int a = 0; a < nc; a++)
-    for (int i = 0; i < nd; i++)
-      for (int b = 0; b < nc; b++)
-        for (int j = 0; j < nd; j++) {
+    for (int b = 0; b < nc; b++)
+      for (int j = 0; j < nd; j++, o++) {
+        offset[o] = (a * nc + b) * stride + j, first[o] = e;
+        for (int i = 0; i < nd; i++) {
           const double entry = A[(a * nd + i) * width + b * nd + j];
-          if (entry == 0.0) continue;
-          nonzero[count][0] = i, nonzero[count][1] = (int)((a * nc + b) * stride + j);
-          value[count++] = w * entry;
+          if (entry != 0.0) slot[e] = i, value[e++] = w * entry;
         }
+      }
+  first[nout] = e;
   long K = 0; /* loc ascending: walk the union and the support together */
   for (long r = 0; r < ch->u; r++) {
     double *out = G + r * block;
-    for (int ab = 0; ab < nc * nc; ab++)
-      for (int j = 0; j < nd; j++) out[ab * stride + j] = 0.0;
-    if (K >= n || (loc ? loc[K] : K) != r) continue;
+    if (K >= n || (loc ? loc[K] : K) != r) {
+      for (o = 0; o < nout; o++) out[offset[o]] = 0.0;
+      continue;
+    }
     const double *g = beta + K * nd;
-    for (int e = 0; e < count; e++) out[nonzero[e][1]] += g[nonzero[e][0]] * value[e];
+    for (o = 0; o < nout; o++) {
+      double sum = 0;
+      for (e = first[o]; e < first[o + 1]; e++) sum += g[slot[e]] * value[e];
+      out[offset[o]] = sum;
+    }
     K++;
   }
 }
