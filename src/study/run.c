@@ -582,8 +582,9 @@ static int count_totals(const RunProblem *rp, RunTotals *c) {
   return MICA_SUCCESS;
 }
 
-static int add_counts(const RunProblem *rp, const RunTotals *c, MicaJson *summary) {
+static int add_counts(RunProblem *rp, const RunTotals *c, MicaJson *summary) {
   const MicaSolid *s = rp->solid;
+  if (!rp->error_disc) MICA_CALL(run_error_discretization(rp, &rp->error_disc)); /* NULL without error_order */
   MICA_CALL(mica_json_string(summary, "method", rp->approx.ops->name));
   if (rp->fe) MICA_CALL(mica_json_string(summary, "element", mica_fe_element_name(rp->fe->dim, rp->fe->order)));
   MICA_CALL(mica_json_int(summary, "dim", rp->disc->dim));
@@ -591,7 +592,10 @@ static int add_counts(const RunProblem *rp, const RunTotals *c, MicaJson *summar
   MICA_CALL(mica_json_int(summary, "cells", rp->disc->ncells));
   MICA_CALL(mica_json_string(summary, "integration", rp->integration));
   MICA_CALL(mica_json_int(summary, "quadrature_points", rp->disc->nquad));
-  MICA_CALL(mica_json_int(summary, "error_points", rp->disc->nodal ? rp->disc->ngauss : rp->disc->nquad));
+  /* the error norms' points: quadrature.error_order's own, else the solve's (the Gauss points of the nodal cells
+   * for the nodal modes) */
+  const long error_points = rp->error_disc ? rp->error_disc->nquad : rp->disc->nodal ? rp->disc->ngauss : rp->disc->nquad;
+  MICA_CALL(mica_json_int(summary, "error_points", error_points));
   MICA_CALL(mica_json_int(summary, "boundary_points", boundary_points(rp->disc)));
   MICA_CALL(mica_json_int(summary, "dofs", s->ndof));
   MICA_CALL(mica_json_int(summary, "multiplier_nodes", s->nmultiplier_nodes));

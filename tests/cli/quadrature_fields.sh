@@ -63,7 +63,8 @@ run_deck "$work/e8" input/timoshenko.cfg "${base[@]}" "${energy_probe[@]}" --set
 s="$work/e8/summary.json"
 read -r sum worst err rows <<<"$(check "$work/e8")"
 [ "$rows" = $((24 * 6 * 64)) ] || fail "error_order = 8: $rows rows, expected 24 x 6 cells x 64 points"
-ok "error_order = 8: $rows rows"
+[ "$rows" = "$(json_value error_points "$s")" ] || fail "error_order = 8: rows $rows, error_points $(json_value error_points "$s")"
+ok "error_order = 8: $rows rows = error_points"
 within "$err" "$(json_value error_energy "$s")" 1e-8 "error_order = 8: energy-norm error from the rows against error_energy"
 # other points, other sum: the 8 x 8 points' Σ w W differs from the 5 x 5 solve points' by 3e-7 (measured)
 within "$sum" "$(json_value U "$s")" 1e-5 "error_order = 8: Σ w W against the energy probe (other points)"
