@@ -24,12 +24,6 @@
 /* n rounded up to a multiple of MICA_KERNEL_PAD. */
 static inline long mica_kernel_padded(long n) { return (n + MICA_KERNEL_PAD - 1) / MICA_KERNEL_PAD * MICA_KERNEL_PAD; }
 
-/* Doubles of scratch the kernel needs for n particles with nd shape-function entries each and nc unknowns per
- * particle (the entries per axis and G); the classical kernel has nc = nd = dim. */
-static inline long mica_kernel_work_size(int nc, int nd, long n) {
-  return nd * (mica_kernel_padded(n) + n * nc * nc);
-}
-
 /* Doubles of Ke for n particles with nc unknowns each. */
 static inline long mica_kernel_ke_size(int nc, long n) { return n * nc * nc * mica_kernel_padded(n); }
 
@@ -77,6 +71,10 @@ typedef struct MicaKernelChunk {
 static inline long mica_kernel_chunk_size(int nc, int nd, long u, int capacity) {
   return (long)capacity * nd * (mica_kernel_padded(u) + u * nc * nc);
 }
+
+/* Doubles of scratch one point needs (a chunk of one) for n particles with nd shape-function entries each and nc
+ * unknowns per particle; the classical kernel has nc = nd = dim. */
+static inline long mica_kernel_work_size(int nc, int nd, long n) { return mica_kernel_chunk_size(nc, nd, n, 1); }
 
 void mica_kernel_chunk_init(MicaKernelChunk *ch, int nc, int nd, long u, int capacity, double *scratch);
 /* Stages one point (n particles at union positions loc, ascending; NULL: 0..n−1), flushing first is the

@@ -31,13 +31,13 @@ static void stage_entries(MicaKernelChunk *ch, long n, const long *loc, const do
  * to nothing) are skipped: per output (a, b, j) the nonzero w A_(a i)(b j) are listed once per point. */
 static void stage_projection(MicaKernelChunk *ch, long n, const long *loc, const double *beta, const double *A,
                              double w) {
-  enum { MAX_OUT = MICA_KERNEL_MAX_WIDTH * MICA_KERNEL_MAX_WIDTH / 10 * 10 }; /* nc² nd ≤ width² */
+  enum { MAX_OUT = MICA_KERNEL_MAX_WIDTH * MICA_KERNEL_MAX_WIDTH }; /* outputs nc² nd and nonzeros ≤ width² */
   const int nc = ch->nc, nd = ch->nd, width = nc * nd, nout = nc * nc * nd; /* A is width × width */
   const long stride = ch->stride, block = (long)nc * nc * stride; /* a particle's rows of G */
   double *G = ch->G + (long)ch->count * nd;
   long offset[MAX_OUT];                       /* output o = (a, b, j): its place in a particle's rows */
-  int first[MAX_OUT + 1], slot[MICA_KERNEL_MAX_WIDTH * MICA_KERNEL_MAX_WIDTH]; /* its nonzeros: i, w A */
-  double value[MICA_KERNEL_MAX_WIDTH * MICA_KERNEL_MAX_WIDTH];
+  int first[MAX_OUT + 1], slot[MAX_OUT]; /* its nonzeros: i, w A */
+  double value[MAX_OUT];
   int o = 0, e = 0;
   for (int a = 0; a < nc; a++)
     for (int b = 0; b < nc; b++)
