@@ -87,9 +87,18 @@ int mls_search_set_supports(MlsSearch *search, MlsSupportKind support, const dou
 int mls_search_query(const MlsSearch *search, const double *x, long **index, long *count, long *cap);
 /* The k nearest other particles of particle i (k ≤ n − 1), nearest first; dist2 may be NULL. */
 int mls_search_knn(const MlsSearch *search, long i, int k, long *index, double *dist2);
-/* Local spacing h[i*dim + d] per particle and axis: the distance along d to the nearest particle whose
- * offset points mainly along d (|Δx_d| ≥ |Δx_e| for all e). Regular grids give their spacing everywhere,
- * boundaries and corners included. An axis with no such neighbor takes the largest of the other axes. */
+/* Which side's neighbor sets the local spacing along an axis (docs/theory.md §supports): on each side of a
+ * particle the nearest particle whose offset points mainly along d (|Δx_d| ≥ |Δx_e| for all e);
+ *   NEAR: the nearer of the two (the nearest such particle on either side),
+ *   FAR:  the farther, if it is at most twice as far as the nearer (else the nearer), so that in a graded
+ *         cloud supports reach as far toward the coarse side as the coarse neighbors reach back. */
+typedef enum { MLS_SPACING_NEAR, MLS_SPACING_FAR } MlsSpacingRule;
+
+/* Local spacing h[i*dim + d] per particle and axis by the rule. Regular grids give their spacing everywhere,
+ * boundaries and corners included, under either rule. An axis with no such neighbor takes the largest of the
+ * other axes. */
+int mls_search_local_spacing_rule(const MlsSearch *search, MlsSpacingRule rule, double *h);
+/* The same with MLS_SPACING_NEAR. */
 int mls_search_local_spacing(const MlsSearch *search, double *h);
 
 /* ---- The approximation ----------------------------------------------------------------------------- */
@@ -104,6 +113,7 @@ typedef struct MlsOptions {
                                  particles whose supports contain x_I), eqs 3.34-3.36; default 1 */
   double rcond_min;           /* reciprocal condition of M below this is an error; default 1e-13 */
   MlsSearchKind search;       /* default kdtree */
+  MlsSpacingRule spacing;     /* the local spacing a dilation multiplies; default near */
 } MlsOptions;
 
 void mls_options_default(MlsOptions *opt);

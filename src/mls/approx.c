@@ -19,6 +19,7 @@ void mls_options_default(MlsOptions *opt) {
   opt->alpha = 1.0;
   opt->rcond_min = 1e-13;
   opt->search = MLS_SEARCH_KDTREE;
+  opt->spacing = MLS_SPACING_NEAR;
 }
 
 static int check_options(int dim, long n, const MlsOptions *opt) {
@@ -112,7 +113,7 @@ int mls_create(int dim, long n, const double *x, const MlsOptions *opt, MlsAppro
   double zero[MLS_MAX_DIM] = {0};
   opt->basis->eval(dim, opt->order, zero, mls->p0, mls->dp0, mls->ddp0);
   MICA_CALL_CLEANUP(mls_search_create(dim, n, x, opt->search, &mls->search));
-  if (n >= 2) MICA_CALL_CLEANUP(mls_search_local_spacing(mls->search, mls->spacing));
+  if (n >= 2) MICA_CALL_CLEANUP(mls_search_local_spacing_rule(mls->search, opt->spacing, mls->spacing));
   set_radii_from_options(mls);
   MICA_CALL_CLEANUP(mls_set_radii(mls, mls->radii));
   *out = mls;

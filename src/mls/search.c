@@ -550,27 +550,29 @@ static void knn_find(const MlsSearch *s, const Vec p, long exclude, int k, long 
 
 /* ---- local spacing ------------------------------------------------------------------------------- */
 
-/* From particle i's neighbors (nearest first), the nearest whose offset points mainly along each axis:
- * sets h[d] = |Δx_d| for the axes found and returns them as a bit mask. Equally near candidates with
+/* From particle i's neighbors (nearest first), on each side of each axis the nearest whose offset points
+ * mainly along that axis (|Δx_d| ≥ |Δx_e| for all e): best[2d + side] its squared distance, side_h its |Δx_d|,
+ * side 1 the positive one. Returns the sides found as a bit mask (bit 2d + side). Equally near candidates with
  * different |Δx_d| resolve to the smallest, so the result does not depend on the order of ties. */
-static unsigned spacing_from_neighbors(const MlsSearch *s, long i, int k, const long *index,
-                                       const double *d2, double *h) {
+static unsigned sides_from_neighbors(const MlsSearch *s, long i, int k, const long *index, const double *d2,
+                                     double *best, double *side_h) {
   const int dim = s->dim;
-  double best[PAD];
   unsigned found = 0;
   for (int j = 0; j < k; j++) {
-    double delta[PAD], largest = 0.0;
+    double offset[PAD], largest = 0.0;
     for (int d = 0; d < dim; d++) {
-      delta[d] = fabs(s->x[index[j] * dim + d] - s->x[i * dim + d]);
-      largest = max_of(largest, delta[d]);
+      offset[d] = s->x[index[j] * dim + d] - s->x[i * dim + d];
+      largest = max_of(largest, fabs(offset[d]));
     }
     if (largest == 0.0) continue; /* a coincident particle points nowhere */
     for (int d = 0; d < dim; d++) {
-      if (delta[d] < largest) continue;
-      unsigned bit = 1u << d;
-      if (!(found & bit) || d2[j] < best[d] || (d2[j] == best[d] && delta[d] < h[d])) {
-        best[d] = d2[j];
-        h[d] = delta[d];
+      const double delta = fabs(offset[d]);
+      if (delta < largest) continue;
+      const int side = 2 * d + (offset[d] > 0);
+      const unsigned bit = 1u << side;
+      if (!(found & bit) || d2[j] < best[side] || (d2[j] == best[side] && delta < side_h[side])) {
+        best[side] = d2[j];
+        side_h[side] = delta;
         found |= bit;
       }
     }
@@ -578,26 +580,63 @@ static unsigned spacing_from_neighbors(const MlsSearch *s, long i, int k, const 
   return found;
 }
 
-/* Whether a particle farther than the k-th neighbor (squared distance dk2) could still point mainly along
- * an axis of missing: that needs |Δx_d|² ≥ dk2 / dim, so the cloud must reach that far from p along d.
- * This stops the search at once for a layer one particle thick instead of growing k up to n − 1. The
- * relative margin keeps rounding from stopping it when the bound is met exactly. */
-static int farther_could_qualify(const MlsSearch *s, const Vec p, unsigned missing, double dk2) {
+/* The far rule takes the farther side up to this many times the nearer side's distance: a particle farther
+ * away than that is across a gap (a hole, a notch), not the next one of a graded row, whose spacings grow by
+ * far less per step. */
+#define SIDE_RATIO 2.0
+
+/* Whether the search must look past the k nearest (the k-th at squared distance dk2): for an axis with no
+ * side yet, a farther particle could point mainly along it (|Δx_d|² ≥ dk2 / dim, so the cloud must reach that
+ * far along d); under the far rule, for an axis with one side, one on the other side could still be within
+ * SIDE_RATIO times the nearer side's distance. This stops the search at once at a boundary and for a layer
+ * one particle thick, instead of growing k up to n − 1. The relative margin keeps rounding from stopping it
+ * when a bound is met exactly. */
+static int farther_could_qualify(const MlsSearch *s, MlsSpacingRule rule, const Vec p, unsigned sides,
+                                 const double *side_h, double dk2) {
   const Box *root = &s->bounds[0];
+  const double margin = 1.0 + 1e-12;
   for (int d = 0; d < s->dim; d++) {
-    if (!(missing & (1u << d))) continue;
-    double reach = max_of(p[d] - root->lo[d], root->hi[d] - p[d]);
-    if (reach * reach * s->dim * (1.0 + 1e-12) >= dk2) return 1;
+    const unsigned lower = 1u << (2 * d), upper = lower << 1;
+    const double reach_lower = p[d] - root->lo[d], reach_upper = root->hi[d] - p[d];
+    if (!(sides & (lower | upper))) {
+      const double reach = max_of(reach_lower, reach_upper);
+      if (reach * reach * s->dim * margin >= dk2) return 1;
+      continue;
+    }
+    if (rule == MLS_SPACING_NEAR || ((sides & lower) && (sides & upper))) continue;
+    const double near = side_h[sides & lower ? 2 * d : 2 * d + 1], reach = sides & lower ? reach_upper : reach_lower;
+    const double bound = fmin(reach, SIDE_RATIO * near);
+    if (bound * bound * s->dim * margin >= dk2) return 1;
   }
   return 0;
 }
 
-/* Local spacing of the particle at tree position q; index and d2 hold *kmax entries (grown as needed). */
-static int spacing_one(const MlsSearch *s, long q, int *kmax, long **index, double **d2, double *h) {
+/* h along one axis from its sides (mask bits 0 and 1): near, the side of the nearer particle (ties: the
+ * smaller |Δx_d|); far, the larger of the two sides' |Δx_d| if it is at most SIDE_RATIO times the smaller,
+ * else the smaller. 0 when neither side has one. */
+static double axis_spacing(MlsSpacingRule rule, unsigned sides, const double *best, const double *side_h) {
+  if (!(sides & 3u)) return 0.0;
+  if (sides != 3u) return side_h[sides & 1u ? 0 : 1];
+  if (rule == MLS_SPACING_FAR) {
+    const double lo = fmin(side_h[0], side_h[1]), hi = fmax(side_h[0], side_h[1]);
+    return hi <= SIDE_RATIO * lo ? hi : lo;
+  }
+  return best[0] < best[1] || (best[0] == best[1] && side_h[0] <= side_h[1]) ? side_h[0] : side_h[1];
+}
+
+/* Local spacing of the particle at tree position q by the rule (mica/mls.h, docs/theory.md §supports). Why
+ * the far rule exists: in a graded cloud the nearer side is the fine one, so particles reach less far toward
+ * the coarse side than their coarse neighbors reach toward them, and just inside a boundary on the coarse side
+ * too few particles may cover a point for the basis (the 40:1 graded Cosserat plate at dilation 3 and Gauss
+ * order 4 carried a mode along its outer edge that the Gauss points barely see: docs/verification.md §graded
+ * supports). index and d2 hold *kmax entries (grown as needed). */
+static int spacing_one(const MlsSearch *s, MlsSpacingRule rule, long q, int *kmax, long **index, double **d2,
+                       double *h) {
   const long i = s->perm[q];
-  const unsigned all = (1u << s->dim) - 1;
+  const unsigned all = (1u << (2 * s->dim)) - 1;
   const int klast = (int)(s->n - 1 < INT_MAX / 2 ? s->n - 1 : INT_MAX / 2);
-  unsigned found = 0;
+  double best[2 * PAD], side_h[2 * PAD];
+  unsigned sides = 0;
   for (int k = klast < 2 * s->dim + 2 ? klast : 2 * s->dim + 2;; k = 2 * k < klast ? 2 * k : klast) {
     if (k > *kmax) {
       MICA_CALL(MICA_REALLOC(*index, k));
@@ -605,20 +644,22 @@ static int spacing_one(const MlsSearch *s, long q, int *kmax, long **index, doub
       *kmax = k;
     }
     knn_find(s, s->xt[q], i, k, *index, *d2);
-    found = spacing_from_neighbors(s, i, k, *index, *d2, h);
-    if (found == all || k == klast || !farther_could_qualify(s, s->xt[q], all & ~found, (*d2)[k - 1]))
+    sides = sides_from_neighbors(s, i, k, *index, *d2, best, side_h);
+    if (sides == all || k == klast || !farther_could_qualify(s, rule, s->xt[q], sides, side_h, (*d2)[k - 1]))
       break;
   }
-  if (!found)
+  if (!sides)
     MICA_ERROR(MICA_ERR_INPUT,
                "local spacing: particle %ld has no distinct neighbor (all %ld particles coincide); "
                "give at least two distinct particles",
                i, s->n);
   double largest = 0.0;
+  for (int d = 0; d < s->dim; d++) {
+    h[d] = axis_spacing(rule, (sides >> (2 * d)) & 3u, best + 2 * d, side_h + 2 * d);
+    largest = max_of(largest, h[d]);
+  }
   for (int d = 0; d < s->dim; d++)
-    if (found & (1u << d)) largest = max_of(largest, h[d]);
-  for (int d = 0; d < s->dim; d++)
-    if (!(found & (1u << d))) h[d] = largest;
+    if (h[d] == 0.0) h[d] = largest; /* a layer one particle thick: no neighbor along d */
   return MICA_SUCCESS;
 }
 
@@ -731,8 +772,10 @@ int mls_search_knn(const MlsSearch *search, long i, int k, long *index, double *
   return MICA_SUCCESS;
 }
 
-int mls_search_local_spacing(const MlsSearch *search, double *h) {
+int mls_search_local_spacing_rule(const MlsSearch *search, MlsSpacingRule rule, double *h) {
   MICA_CHECK(search && h, MICA_ERR_ARGUMENT, "mls_search_local_spacing: search or h is NULL");
+  MICA_CHECK(rule == MLS_SPACING_NEAR || rule == MLS_SPACING_FAR, MICA_ERR_ARGUMENT,
+             "mls_search_local_spacing: unknown rule %d", (int)rule);
   const MlsSearch *s = search;
   MICA_CHECK(s->n >= 2, MICA_ERR_INPUT,
              "local spacing: a single particle has no neighbor to measure spacing from; "
@@ -741,9 +784,13 @@ int mls_search_local_spacing(const MlsSearch *search, double *h) {
   double *d2 = NULL;
   int kmax = 0, ierr = MICA_SUCCESS;
   for (long q = 0; q < s->n; q++) /* tree order: consecutive particles are near, so caches stay warm */
-    MICA_CALL_CLEANUP(spacing_one(s, q, &kmax, &index, &d2, h + s->perm[q] * s->dim));
+    MICA_CALL_CLEANUP(spacing_one(s, rule, q, &kmax, &index, &d2, h + s->perm[q] * s->dim));
 cleanup:
   free(index);
   free(d2);
   return ierr;
+}
+
+int mls_search_local_spacing(const MlsSearch *search, double *h) {
+  return mls_search_local_spacing_rule(search, MLS_SPACING_NEAR, h);
 }

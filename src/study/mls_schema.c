@@ -28,6 +28,9 @@ const MicaDeckKey mica_mls_schema[] = {
      "absolute support radius (one value, or one per axis for box supports)"},
     {"mls.dilation", MICA_KEY_FLOAT, NULL, 1e-3, 1e3, NULL, 0, 0,
      "support radius as a multiple of the local particle spacing (default: order + 1)"},
+    {"mls.spacing", MICA_KEY_CHOICE, "\"near\"", NOLIMIT, "near|far", 0, 0,
+     "the local spacing mls.dilation multiplies, per axis: near, the nearer neighbor's distance; far, the "
+     "farther side's (if at most twice the nearer), for graded clouds (docs/theory.md §supports)"},
     {"mls.alpha", MICA_KEY_FLOAT, "1.0", 1e-3, 1e3, NULL, 0, 0,
      "exponential weight: c = alpha × the largest distance to particles whose supports reach it (eqs 3.34-3.36: 1 to 2)"},
     {"mls.rcond_min", MICA_KEY_FLOAT, "1e-13", 0, 1e-2, NULL, 0, 0,

@@ -50,6 +50,9 @@ const MicaDeckKey mica_run_schema[] = {
     {"mls.radius", MICA_KEY_FLOATS, NULL, 1e-12, 1e12, NULL, 1, 3, "absolute support radius"},
     {"mls.dilation", MICA_KEY_FLOAT, NULL, 1e-3, 1e3, NULL, 0, 0,
      "support radius as a multiple of the local spacing (default: order + 1)"},
+    {"mls.spacing", MICA_KEY_CHOICE, "\"near\"", NOLIMIT, "near|far", 0, 0,
+     "the local spacing mls.dilation multiplies, per axis: near, the nearer neighbor's distance; far, the "
+     "farther side's (if at most twice the nearer), for graded clouds (docs/theory.md §supports)"},
     {"mls.alpha", MICA_KEY_FLOAT, "1.0", 1e-3, 1e3, NULL, 0, 0, "exponential weight parameter"},
     {"mls.rcond_min", MICA_KEY_FLOAT, "1e-13", 0, 1e-2, NULL, 0, 0, "smallest acceptable reciprocal condition of M"},
     {"mls.search", MICA_KEY_CHOICE, "\"kdtree\"", NOLIMIT, "kdtree|cells", 0, 0, "neighbor search structure"},

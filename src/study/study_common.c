@@ -31,6 +31,8 @@ int mica_study_mls_options(const MicaDeck *deck, int dim, MlsOptions *opt) {
   opt->support = strcmp(name, "ball") == 0 ? MLS_SUPPORT_BALL : MLS_SUPPORT_BOX;
   MICA_CALL(mica_deck_string(deck, "mls.search", &name));
   opt->search = strcmp(name, "cells") == 0 ? MLS_SEARCH_CELLS : MLS_SEARCH_KDTREE;
+  MICA_CALL(mica_deck_string(deck, "mls.spacing", &name));
+  opt->spacing = strcmp(name, "far") == 0 ? MLS_SPACING_FAR : MLS_SPACING_NEAR;
   MICA_CALL(mica_deck_float(deck, "mls.alpha", &opt->alpha));
   MICA_CALL(mica_deck_float(deck, "mls.rcond_min", &opt->rcond_min));
   const int has_radius = mica_deck_has(deck, "mls.radius"), has_dilation = mica_deck_has(deck, "mls.dilation");

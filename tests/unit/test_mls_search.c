@@ -326,23 +326,36 @@ static void test_knn_matches_brute_force(void **state) {
 
 /* ---- local spacing ------------------------------------------------------------------------------- */
 
-/* The definition, particle by particle, with the same tie rule (smallest |Δx_d| among equally near). */
-static void brute_spacing(int dim, long n, const double *x, double *h) {
+/* The definition, particle by particle (mica/mls.h, docs/theory.md §supports): per axis and side the nearest
+ * particle pointing mainly along the axis, ties to the smallest |Δx_d|; near: the nearer side's, ties to the
+ * smaller |Δx_d|; far: the larger side's if at most twice the smaller, else the smaller; an axis without any:
+ * the largest other h. */
+static void brute_spacing_rule(int dim, long n, const double *x, MlsSpacingRule rule, double *h) {
   for (long i = 0; i < n; i++) {
-    double best[3] = {INFINITY, INFINITY, INFINITY}, *hi = h + i * dim, largest = 0;
-    for (int d = 0; d < dim; d++) hi[d] = INFINITY;
+    double best[6], side_h[6], *hi = h + i * dim, largest = 0;
+    for (int e = 0; e < 6; e++) best[e] = INFINITY, side_h[e] = INFINITY;
     for (long j = 0; j < n; j++) {
       double delta[3], m = 0, d2 = sq_dist(dim, x + i * dim, x + j * dim);
       for (int d = 0; d < dim; d++) m = fmax(m, delta[d] = fabs(x[j * dim + d] - x[i * dim + d]));
-      for (int d = 0; d < dim && m > 0; d++)
-        if (delta[d] == m && (d2 < best[d] || (d2 == best[d] && delta[d] < hi[d])))
-          best[d] = d2, hi[d] = delta[d];
+      for (int d = 0; d < dim && m > 0; d++) {
+        const int e = 2 * d + (x[j * dim + d] > x[i * dim + d]);
+        if (delta[d] == m && (d2 < best[e] || (d2 == best[e] && delta[d] < side_h[e]))) best[e] = d2, side_h[e] = delta[d];
+      }
     }
-    for (int d = 0; d < dim; d++)
+    for (int d = 0; d < dim; d++) {
+      const double *b = best + 2 * d, *sh = side_h + 2 * d;
+      const double lo = fmin(sh[0], sh[1]), high = fmax(sh[0], sh[1]);
+      if (rule == MLS_SPACING_FAR) hi[d] = high <= 2.0 * lo ? high : lo;
+      else hi[d] = b[0] < b[1] || (b[0] == b[1] && sh[0] <= sh[1]) ? sh[0] : sh[1];
       if (hi[d] < INFINITY) largest = fmax(largest, hi[d]);
+    }
     for (int d = 0; d < dim; d++)
       if (hi[d] == INFINITY) hi[d] = largest;
   }
+}
+
+static void brute_spacing(int dim, long n, const double *x, double *h) {
+  brute_spacing_rule(dim, n, x, MLS_SPACING_NEAR, h);
 }
 
 /* A regular grid of count[d] particles spaced step[d] apart, from origin. */
@@ -370,19 +383,30 @@ static double *spacing_of(int dim, long n, const double *x, MlsSearchKind kind) 
   return h;
 }
 
+static double *spacing_rule_of(int dim, long n, const double *x, MlsSpacingRule rule) {
+  MlsSearch *search = NULL;
+  double *h = malloc((size_t)(n * dim) * sizeof *h);
+  check_ok(mls_search_create(dim, n, x, MLS_SEARCH_KDTREE, &search));
+  check_ok(mls_search_local_spacing_rule(search, rule, h));
+  mls_search_destroy(&search);
+  return h;
+}
+
 static void expect_grid_spacing(int dim, const int *count, const double *step, const double *expected) {
   const double origin[3] = {-3.0, 2.0, 0.5};
   long n;
   double *x = make_grid(dim, count, step, origin, &n);
-  double *h = spacing_of(dim, n, x, MLS_SEARCH_KDTREE);
+  double *h = spacing_of(dim, n, x, MLS_SEARCH_KDTREE), *hf = spacing_rule_of(dim, n, x, MLS_SPACING_FAR);
   for (long i = 0; i < n; i++)
     for (int d = 0; d < dim; d++)
-      if (!(fabs(h[i * dim + d] - expected[d]) <= 1e-12)) {
-        print_error("particle %ld axis %d: h = %.17g, expected %.17g\n", i, d, h[i * dim + d], expected[d]);
+      if (!(fabs(h[i * dim + d] - expected[d]) <= 1e-12) || !(fabs(hf[i * dim + d] - expected[d]) <= 1e-12)) {
+        print_error("particle %ld axis %d: h = %.17g (far rule %.17g), expected %.17g\n", i, d, h[i * dim + d],
+                    hf[i * dim + d], expected[d]);
         fail();
       }
   free(x);
   free(h);
+  free(hf);
 }
 
 static void test_spacing_regular_grids(void **state) {
@@ -403,8 +427,45 @@ static void test_spacing_regular_grids(void **state) {
 
 static void test_spacing_nonuniform_1d(void **state) {
   (void)state;
-  const double x[] = {6, 0, 3, 1}, expected[] = {3, 1, 2, 1};
-  double *h = spacing_of(1, 4, x, MLS_SEARCH_KDTREE);
+  /* sorted 0, 1, 3, 6: near takes the nearer side, far the farther (at 3: 2 to the left, 3 to the right) */
+  const double x[] = {6, 0, 3, 1}, near[] = {3, 1, 2, 1}, far[] = {3, 1, 3, 2};
+  double *h = spacing_of(1, 4, x, MLS_SEARCH_KDTREE), *hf = spacing_rule_of(1, 4, x, MLS_SPACING_FAR);
+  for (int i = 0; i < 4; i++) assert_true(h[i] == near[i] && hf[i] == far[i]);
+  free(h);
+  free(hf);
+}
+
+/* A 2-D grid graded along x (spacings 1, 1.3, 1.3², ...) and uniform (0.5) along y: under the far rule h_x is
+ * the spacing on the coarse side, the right one, of every particle but the last, which has only its left one;
+ * under the near rule the fine side, the left one, but for the first. h_y is 0.5 under both. */
+static void test_spacing_graded_grid(void **state) {
+  (void)state;
+  enum { NX = 9, NY = 4 };
+  double xs[NX], x[NX * NY * 2];
+  xs[0] = 0;
+  for (int i = 1; i < NX; i++) xs[i] = xs[i - 1] + pow(1.3, i - 1);
+  for (int j = 0; j < NY; j++)
+    for (int i = 0; i < NX; i++) x[2 * (j * NX + i)] = xs[i], x[2 * (j * NX + i) + 1] = 0.5 * j;
+  double *far = spacing_rule_of(2, NX * NY, x, MLS_SPACING_FAR), *near = spacing_rule_of(2, NX * NY, x, MLS_SPACING_NEAR);
+  for (int j = 0; j < NY; j++)
+    for (int i = 0; i < NX; i++) {
+      const long p = j * NX + i;
+      const double coarse = i + 1 < NX ? xs[i + 1] - xs[i] : xs[i] - xs[i - 1];
+      const double fine = i > 0 ? xs[i] - xs[i - 1] : xs[1] - xs[0];
+      assert_true(fabs(far[2 * p] - coarse) <= 1e-14 * coarse);
+      assert_true(fabs(near[2 * p] - fine) <= 1e-14 * fine);
+      assert_true(far[2 * p + 1] == 0.5 && near[2 * p + 1] == 0.5);
+    }
+  free(far);
+  free(near);
+}
+
+/* A particle across a gap is no graded neighbor: on a row 0, 1, 2, 5 (a gap of 3 after a spacing of 1) the far
+ * rule keeps 1 at x = 2, whose right side is three times its left. */
+static void test_spacing_far_gap(void **state) {
+  (void)state;
+  const double x[] = {0, 1, 2, 5}, expected[] = {1, 1, 1, 3};
+  double *h = spacing_rule_of(1, 4, x, MLS_SPACING_FAR);
   for (int i = 0; i < 4; i++) assert_true(h[i] == expected[i]);
   free(h);
 }
@@ -434,16 +495,20 @@ static void test_spacing_matches_brute_force(void **state) {
     for (int dim = 1; dim <= 3; dim++) {
       Cloud c;
       cloud_make(&c, shape, dim);
-      double *h = spacing_of(dim, c.n, c.x, MLS_SEARCH_CELLS), *want = malloc((size_t)(c.n * dim) * sizeof *want);
-      brute_spacing(dim, c.n, c.x, want);
-      for (long j = 0; j < c.n * dim; j++)
-        if (h[j] != want[j]) {
-          print_error("cloud %d, dim %d, particle %ld axis %ld: h = %.17g, expected %.17g\n", shape, dim,
-                      j / dim, j % dim, h[j], want[j]);
-          fail();
-        }
-      free(h);
-      free(want);
+      for (int rule = MLS_SPACING_NEAR; rule <= MLS_SPACING_FAR; rule++) {
+        double *h = rule == MLS_SPACING_NEAR ? spacing_of(dim, c.n, c.x, MLS_SEARCH_CELLS)
+                                             : spacing_rule_of(dim, c.n, c.x, MLS_SPACING_FAR);
+        double *want = malloc((size_t)(c.n * dim) * sizeof *want);
+        brute_spacing_rule(dim, c.n, c.x, (MlsSpacingRule)rule, want);
+        for (long j = 0; j < c.n * dim; j++)
+          if (h[j] != want[j]) {
+            print_error("rule %d, cloud %d, dim %d, particle %ld axis %ld: h = %.17g, expected %.17g\n", rule,
+                        shape, dim, j / dim, j % dim, h[j], want[j]);
+            fail();
+          }
+        free(h);
+        free(want);
+      }
       cloud_free(&c);
     }
   }
@@ -554,6 +619,8 @@ int main(void) {
       cmocka_unit_test(test_knn_matches_brute_force),
       cmocka_unit_test(test_spacing_regular_grids),
       cmocka_unit_test(test_spacing_nonuniform_1d),
+      cmocka_unit_test(test_spacing_graded_grid),
+      cmocka_unit_test(test_spacing_far_gap),
       cmocka_unit_test(test_spacing_jittered_grid),
       cmocka_unit_test(test_spacing_matches_brute_force),
       cmocka_unit_test(test_spacing_duplicates),
