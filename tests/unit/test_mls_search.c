@@ -374,22 +374,22 @@ static double *make_grid(int dim, const int *count, const double *step, const do
   return x;
 }
 
-static double *spacing_of(int dim, long n, const double *x, MlsSearchKind kind) {
+static double *spacing_with(int dim, long n, const double *x, MlsSearchKind kind, MlsSpacingRule rule) {
   MlsSearch *search = NULL;
   double *h = malloc((size_t)(n * dim) * sizeof *h);
   check_ok(mls_search_create(dim, n, x, kind, &search));
-  check_ok(mls_search_local_spacing(search, h));
+  if (rule == MLS_SPACING_NEAR) check_ok(mls_search_local_spacing(search, h)); /* the near rule's own entry */
+  else check_ok(mls_search_local_spacing_rule(search, rule, h));
   mls_search_destroy(&search);
   return h;
 }
 
+static double *spacing_of(int dim, long n, const double *x, MlsSearchKind kind) {
+  return spacing_with(dim, n, x, kind, MLS_SPACING_NEAR);
+}
+
 static double *spacing_rule_of(int dim, long n, const double *x, MlsSpacingRule rule) {
-  MlsSearch *search = NULL;
-  double *h = malloc((size_t)(n * dim) * sizeof *h);
-  check_ok(mls_search_create(dim, n, x, MLS_SEARCH_KDTREE, &search));
-  check_ok(mls_search_local_spacing_rule(search, rule, h));
-  mls_search_destroy(&search);
-  return h;
+  return spacing_with(dim, n, x, MLS_SEARCH_KDTREE, rule);
 }
 
 static void expect_grid_spacing(int dim, const int *count, const double *step, const double *expected) {
