@@ -5,11 +5,16 @@ FEniCS P3/P2 k = 16 reference at quadrature.error_order = 8 points of its own.
 
     /usr/bin/python3 bench/peers/cosserat_settings.py [--orders 3,4,5,6,7,8] [--dilations 3.5,4.0,4.5]
                                                       [--ks 2,3,4] [--angular 8] [--repeats 1]
+                                                      [--set mls.spacing=far ...]
 
-k: particles.count = [A k + 1, 6 k + 1] (A = --angular: 8 as peers.py's nitsche-q8, 4 as nitsche-q8r). Writes
-bench/results/cosserat_settings.csv (or --out; the committed cosserat_settings_a4.csv holds the runs with
---angular 4 --orders 5,6,7,8 --dilations 3.5,4.0 --ks 2,3,4,5 and --orders 3,4 --ks 2,3,4): order, dilation, k, dofs, e_E, e_U (sqrt(|U − U_ref| / U_ref)), the solve
-phases (time_mls_setup + time_cache_and_pattern + time_newton, wall, minimum over the repeats) and the CPU time
+k: particles.count = [A k + 1, 6 k + 1] (A = --angular: 8 as peers.py's nitsche-q8, 4 as nitsche-q8r); k may be a
+half-integer when A k and 6 k are whole (A k even: the plate's corner needs an even count of intervals along the hole).
+--set: further deck settings for every run (repeatable). Writes bench/results/cosserat_settings.csv (or --out;
+the committed cosserat_settings_a4.csv holds the runs with --angular 4 --orders 5,6,7,8 --dilations 3.5,4.0
+--ks 2,3,4,5 and --orders 3,4 --ks 2,3,4; cosserat_settings_far_box.csv those with --angular 4 --orders 3,4
+--dilations 2.5,2.7,3.0 --ks 2,2.5,3,3.5 --set mls.spacing=far, cosserat_settings_far_ball.csv the same with
+--dilations 2.7,3.0,3.3 --set mls.support=ball added): order, dilation, k, dofs, e_E, e_U
+(sqrt(|U − U_ref| / U_ref)), the solve phases (time_mls_setup + time_cache_and_pattern + time_newton, wall, minimum over the repeats) and the CPU time
 of the cache and the assembly (cpu_cache_and_pattern + cpu_assemble: what the load of the machine moves least).
 """
 import argparse
@@ -33,6 +38,7 @@ def main():
     ap.add_argument("--ks", default="2,3,4")
     ap.add_argument("--angular", type=int, default=8)
     ap.add_argument("--repeats", type=int, default=1)
+    ap.add_argument("--set", action="append", default=[], dest="sets")
     ap.add_argument("--out", default=os.path.join(peers.RESULTS, "cosserat_settings.csv"))
     args = ap.parse_args()
     os.makedirs(peers.WORK, exist_ok=True)
@@ -40,19 +46,22 @@ def main():
     runs = []
     for order in [int(s) for s in args.orders.split(",")]:
         for dil in [float(s) for s in args.dilations.split(",")]:
-            for k in [int(s) for s in args.ks.split(",")]:
-                out = os.path.join(peers.WORK, "settings", "q%d_d%g_a%d_k%d" % (order, dil, args.angular, k))
+            for k in [float(s) for s in args.ks.split(",")]:
+                counts = (args.angular * k + 1, 6 * k + 1)
+                if any(c != int(c) for c in counts):
+                    sys.exit("--ks: k = %g gives a fractional particle count %s" % (k, counts))
+                out = os.path.join(peers.WORK, "settings", "q%d_d%g_a%d_k%g" % (order, dil, args.angular, k))
                 best = None
                 for rep in range(args.repeats):
                     shutil.rmtree(out, ignore_errors=True)
                     cmd = [peers.MICA, "run", "input/cosserat_hole.cfg", "-o", out]
                     for s in [peers.HOLE_PROBES, "mls.dilation=%g" % dil, "quadrature.order=%d" % order,
-                              "particles.count=[%d,%d]" % (args.angular * k + 1, 6 * k + 1), "output.vtu=false",
-                              "output.monitor=false"] + peers.FIELDS_SETS:
+                              "particles.count=[%d,%d]" % counts, "output.vtu=false",
+                              "output.monitor=false"] + peers.FIELDS_SETS + args.sets:
                         cmd += ["--set", s]
                     r = subprocess.run(cmd, cwd=peers.ROOT, env=peers.ENV, capture_output=True, text=True)
                     if r.returncode != 0:
-                        peers.log("   order %d dilation %g k %d: mica failed: %s" % (order, dil, k, r.stderr[-300:]))
+                        peers.log("   order %d dilation %g k %g: mica failed: %s" % (order, dil, k, r.stderr[-300:]))
                         break
                     with open(os.path.join(out, "summary.json")) as f:
                         s = json.load(f)
@@ -63,7 +72,7 @@ def main():
                                     cpu_cache_assemble=cpu, csv=os.path.join(out, "quadrature_fields.csv"))
                 if best:
                     runs.append(best)
-                    peers.log("   order %d dilation %g k %d: %d dofs, solve %.3f s" %
+                    peers.log("   order %d dilation %g k %g: %d dofs, solve %.3f s" %
                               (order, dil, k, best["dofs"], best["time_solve"]))
     measured = peers.energy_norms(ref_npy, [r["csv"] for r in runs], [])
     rows = []

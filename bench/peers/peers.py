@@ -48,6 +48,9 @@ FIELDS_SETS = ["quadrature.error_order=8", "output.quadrature_fields=true"]
 REFERENCE_NPY = os.path.join(WORK, "cosserat_reference_P3P2_16.npy")  # the reference solution's coefficients
 HOLE_PROBES = 'output.probes=( { name = "scf"; point = ["0", "a"]; field = "sxx"; scale = "1/p"; }, %s )' % ENERGY_PROBE
 
+# (4 k + 1) x (6 k + 1) particles for k in half steps
+HALF_STEP_COUNT = lambda k: "particles.count=[%d,%d]" % (round(4 * k) + 1, round(6 * k) + 1)  # noqa: E731
+
 # mica variants: deck and settings per refinement k; FEniCS variants: the k of fenics_peer.py.
 PROBLEMS = [
     dict(name="timoshenko", title="Timoshenko cantilever (plane stress, exact solution)",
@@ -95,12 +98,21 @@ PROBLEMS = [
                                lambda k: "particles.count=[%d,%d]" % (4 * k + 1, 6 * k + 1), [2, 3, 4, 5, 6]),
                "nitsche-q5r": (["input/cosserat_hole.cfg", HOLE_PROBES, "mls.dilation=3.5", "quadrature.order=5"],
                                lambda k: "particles.count=[%d,%d]" % (4 * k + 1, 6 * k + 1), [2, 3, 4, 5, 6]),
+               # the far spacing rule (mls.spacing = far: supports set by the coarse side of the graded cloud, so
+               # the particles near the loaded edge cover it; docs/verification.md §graded supports), which lets
+               # the supports shrink to dilation 2.7 at Gauss order 4: box and ball supports, k in half steps
+               # (4 k even: the plate's corner)
+               "nitsche-q4f": (["input/cosserat_hole.cfg", HOLE_PROBES, "mls.spacing=far", "mls.dilation=2.7",
+                                "quadrature.order=4"], HALF_STEP_COUNT, [2, 2.5, 3, 3.5, 4, 5]),
+               "nitsche-q4fb": (["input/cosserat_hole.cfg", HOLE_PROBES, "mls.spacing=far", "mls.support=ball",
+                                 "mls.dilation=2.7", "quadrature.order=4"], HALF_STEP_COUNT, [2, 2.5, 3, 3.5, 4, 5]),
                "lagrange": (["input/cosserat_hole.cfg", HOLE_PROBES, "bc.method=lagrange"],
                             lambda k: "particles.count=[%d,%d]" % (8 * k + 1, 6 * k + 1), [3, 4, 5, 6, 8])},
          fenics={"P2P1": [1, 2, 4, 8, 16, 32], "P2P2": [1, 2, 4, 8, 16], "P2P1r": [1, 2, 4, 8, 16, 32],
                  "P2P2r": [1, 2, 4, 8, 16]}, reference=("P3P2", [8, 16]),
          pairs=["nitsche-q8:P2P1", "nitsche-q8:P2P2", "nitsche-q8r:P2P1r", "nitsche-q8r:P2P2r", "nitsche-q4r:P2P1r",
-                "nitsche-q4r:P2P2r", "nitsche-q5r:P2P1r", "nitsche-q5r:P2P2r", "*:*", "lagrange:P2P1"],
+                "nitsche-q4r:P2P2r", "nitsche-q5r:P2P1r", "nitsche-q5r:P2P2r", "nitsche-q4f:P2P1r",
+                "nitsche-q4f:P2P2r", "nitsche-q4fb:P2P1r", "nitsche-q4fb:P2P2r", "*:*", "lagrange:P2P1"],
          levels=[5e-3, 3e-3, 1e-3, 3e-4]),
     dict(name="block3d", title="3-D cantilever block, clamped, end shear",
          measure="sqrt(|U - U_ref| / U_ref), U the strain energy, U_ref from FEniCS P3, k = 4, 6, 8, extrapolated",
@@ -121,7 +133,7 @@ def run_mica(problem, variant, k, fields=False):
     """One mica run; fields: also write quadrature_fields.csv (FIELDS_SETS) into a directory that stays, for
     energy_norm.py (the solve phases are the same; the process's wall clock is not: it writes the file)."""
     deck_and_sets, count, _ = problem["mica"][variant]
-    out = os.path.join(WORK, "mica", problem["name"], "%s_%d%s" % (variant, k, "_fields" if fields else ""))
+    out = os.path.join(WORK, "mica", problem["name"], "%s_%g%s" % (variant, k, "_fields" if fields else ""))
     shutil.rmtree(out, ignore_errors=True)
     sets = deck_and_sets[1:] + [count(k), "output.vtu=false", "output.monitor=false"] + (FIELDS_SETS if fields else [])
     cmd = [MICA, "run", deck_and_sets[0], "-o", out]
@@ -215,7 +227,7 @@ def cosserat_energy_norms(fields_csv, fields_U, U_ref, detail):
     for (c, v, k), path in sorted(fields_csv.items()):
         m = res["mica"][path]
         out[(v, k)] = m
-        log("   mica %-11s k=%d: e_E %.3e; at its %d points Σ w 2W(q_ref) = %.10g (%.1e from 2 U_ref), "
+        log("   mica %-11s k=%g: e_E %.3e; at its %d points Σ w 2W(q_ref) = %.10g (%.1e from 2 U_ref), "
             "Σ w W(mica) = %.10g (%.1e from its energy probe), W column vs ½ qᵀDq %.0e" %
             (v, k, m["e_E"], m["points"], m["two_U_ref_points"], m["two_U_ref_points"] / (2 * U_ref) - 1,
              m["sum_wW_mica"], m["sum_wW_mica"] / fields_U[(c, v, k)] - 1, m["W_formula_mismatch"]))
@@ -347,7 +359,7 @@ def main():
                     if x in d:
                         det["fenics_" + x] = d[x]
             detail.append(det)
-            log("   %-6s %-9s k=%-3d dofs %7d  error %.3e  solve %8.4f s  total %8.3f s" %
+            log("   %-6s %-9s k=%-3g dofs %7d  error %.3e  solve %8.4f s  total %8.3f s" %
                 (code, v, k, d["dofs"], err, d["ts"], d["tt"]))
     rows.sort(key=lambda r: (r["problem"], r["code"], r["variant"], int(r["dofs"])))
     suffix = "" if not only else "_" + "_".join(only)
