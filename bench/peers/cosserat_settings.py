@@ -14,8 +14,9 @@ the committed cosserat_settings_a4.csv holds the runs with --angular 4 --orders 
 --ks 2,3,4,5 and --orders 3,4 --ks 2,3,4; cosserat_settings_far_box.csv those with --angular 4 --orders 3,4
 --dilations 2.5,2.7,3.0 --ks 2,2.5,3,3.5 --set mls.spacing=far, cosserat_settings_far_ball.csv the same with
 --dilations 2.7,3.0,3.3 --set mls.support=ball added): order, dilation, k, dofs, e_E, e_U
-(sqrt(|U − U_ref| / U_ref)), the solve phases (time_mls_setup + time_cache_and_pattern + time_newton, wall, minimum over the repeats) and the CPU time
-of the cache and the assembly (cpu_cache_and_pattern + cpu_assemble: what the load of the machine moves least).
+(sqrt(|U − U_ref| / U_ref)), the solve phases (time_mls_setup + time_cache_and_pattern + time_newton, wall, minimum
+over the repeats) and the CPU time of the cache and the assembly (cpu_cache_and_pattern + cpu_assemble: what the
+load of the machine moves least).
 """
 import argparse
 import csv
