@@ -57,7 +57,7 @@ def main():
                     shutil.rmtree(out, ignore_errors=True)
                     cmd = [peers.MICA, "run", "input/cosserat_hole.cfg", "-o", out]
                     for s in [peers.HOLE_PROBES, "mls.dilation=%g" % dil, "quadrature.order=%d" % order,
-                              "particles.count=[%d,%d]" % counts, "output.vtu=false",
+                              peers.hole_particles(args.angular)(k), "output.vtu=false",
                               "output.monitor=false"] + peers.FIELDS_SETS + args.sets:
                         cmd += ["--set", s]
                     r = subprocess.run(cmd, cwd=peers.ROOT, env=peers.ENV, capture_output=True, text=True)

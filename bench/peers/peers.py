@@ -48,8 +48,12 @@ FIELDS_SETS = ["quadrature.error_order=8", "output.quadrature_fields=true"]
 REFERENCE_NPY = os.path.join(WORK, "cosserat_reference_P3P2_16.npy")  # the reference solution's coefficients
 HOLE_PROBES = 'output.probes=( { name = "scf"; point = ["0", "a"]; field = "sxx"; scale = "1/p"; }, %s )' % ENERGY_PROBE
 
-# (4 k + 1) x (6 k + 1) particles for k in half steps
-HALF_STEP_COUNT = lambda k: "particles.count=[%d,%d]" % (round(4 * k) + 1, round(6 * k) + 1)  # noqa: E731
+
+def hole_particles(angular):
+    """The hole's particles.count for refinement k: (angular k + 1) × (6 k + 1); k may be a half-integer where
+    both counts are whole (cosserat_settings.py checks that)."""
+    return lambda k: "particles.count=[%d,%d]" % (round(angular * k) + 1, round(6 * k) + 1)
+
 
 # mica variants: deck and settings per refinement k; FEniCS variants: the k of fenics_peer.py.
 PROBLEMS = [
@@ -86,28 +90,28 @@ PROBLEMS = [
          # (docs/verification.md §Cosserat hole); lagrange: the former deck (multipliers, UMFPACK, order 5,
          # dilation 3), whose energy error stalls near 4e-3 from the quadrature error
          mica={"nitsche-q8": (["input/cosserat_hole.cfg", HOLE_PROBES, "mls.dilation=3.5", "quadrature.order=8"],
-                              lambda k: "particles.count=[%d,%d]" % (8 * k + 1, 6 * k + 1), [2, 3, 4, 5, 6]),
+                              hole_particles(8), [2, 3, 4, 5, 6]),
                # the same with half the particles along the hole (the fields vary as cos 2θ there) against
                # FEniCS meshes with half the cells along it (variants ending in r)
                "nitsche-q8r": (["input/cosserat_hole.cfg", HOLE_PROBES, "mls.dilation=3.5", "quadrature.order=8"],
-                               lambda k: "particles.count=[%d,%d]" % (4 * k + 1, 6 * k + 1), [2, 3, 4, 5, 6]),
+                               hole_particles(4), [2, 3, 4, 5, 6]),
                # mica's cheapest settings to e_E = 1e-3 and 3e-4 found by bench/peers/cosserat_settings.py (solve
                # order 3 ... 8, dilation 3.5 ... 4.5, 8k or 4k particles along the hole; docs/performance.md):
                # half the particles along the hole, dilation 3.5, Gauss order 4 (1e-3) and 5 (3e-4)
                "nitsche-q4r": (["input/cosserat_hole.cfg", HOLE_PROBES, "mls.dilation=3.5", "quadrature.order=4"],
-                               lambda k: "particles.count=[%d,%d]" % (4 * k + 1, 6 * k + 1), [2, 3, 4, 5, 6]),
+                               hole_particles(4), [2, 3, 4, 5, 6]),
                "nitsche-q5r": (["input/cosserat_hole.cfg", HOLE_PROBES, "mls.dilation=3.5", "quadrature.order=5"],
-                               lambda k: "particles.count=[%d,%d]" % (4 * k + 1, 6 * k + 1), [2, 3, 4, 5, 6]),
+                               hole_particles(4), [2, 3, 4, 5, 6]),
                # the far spacing rule (mls.spacing = far: supports set by the coarse side of the graded cloud, so
                # the particles near the loaded edge cover it; docs/verification.md §graded supports), which lets
                # the supports shrink to dilation 2.7 at Gauss order 4: box and ball supports, k in half steps
                # (4 k even: the plate's corner)
                "nitsche-q4f": (["input/cosserat_hole.cfg", HOLE_PROBES, "mls.spacing=far", "mls.dilation=2.7",
-                                "quadrature.order=4"], HALF_STEP_COUNT, [2, 2.5, 3, 3.5, 4, 5]),
+                                "quadrature.order=4"], hole_particles(4), [2, 2.5, 3, 3.5, 4, 5]),
                "nitsche-q4fb": (["input/cosserat_hole.cfg", HOLE_PROBES, "mls.spacing=far", "mls.support=ball",
-                                 "mls.dilation=2.7", "quadrature.order=4"], HALF_STEP_COUNT, [2, 2.5, 3, 3.5, 4, 5]),
+                                 "mls.dilation=2.7", "quadrature.order=4"], hole_particles(4), [2, 2.5, 3, 3.5, 4, 5]),
                "lagrange": (["input/cosserat_hole.cfg", HOLE_PROBES, "bc.method=lagrange"],
-                            lambda k: "particles.count=[%d,%d]" % (8 * k + 1, 6 * k + 1), [3, 4, 5, 6, 8])},
+                            hole_particles(8), [3, 4, 5, 6, 8])},
          fenics={"P2P1": [1, 2, 4, 8, 16, 32], "P2P2": [1, 2, 4, 8, 16], "P2P1r": [1, 2, 4, 8, 16, 32],
                  "P2P2r": [1, 2, 4, 8, 16]}, reference=("P3P2", [8, 16]),
          pairs=["nitsche-q8:P2P1", "nitsche-q8:P2P2", "nitsche-q8r:P2P1r", "nitsche-q8r:P2P2r", "nitsche-q4r:P2P1r",
