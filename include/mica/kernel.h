@@ -8,9 +8,10 @@
  * MICA_KERNEL_PAD particles), which the compiler vectorizes; built for AVX-512, AVX2 + FMA and the baseline,
  * chosen at run time. Symmetric: A has the major symmetry of a hyperelastic tangent and the test functions are
  * the trial functions, so the blocks K > I are the transposes of blocks K < I. Generalized continua use the same
- * two steps with their shape-function entries β in place of ∇N (mica_kernel_field_mapped below). Row (I a) over K ≤ I is column
- * (I a) of the upper triangle: mica_sparse_add_clique_upper adds it as such, with two (three) contiguous reads
- * per block, and mica_sparse_mirror_upper fills the lower triangle of the matrix once per assembly.
+ * two steps with their shape-function entries β in place of ∇N (mica_kernel_field_mapped below). Row (I a) over
+ * K ≤ I is column (I a) of the upper triangle: mica_sparse_add_clique_upper adds it as such, with two (three)
+ * contiguous reads per block, and mica_sparse_mirror_upper fills the lower triangle of the matrix once per
+ * assembly.
  *
  * Layout of Ke ("planar"): row r = I·nc + a (nc unknowns per particle: dim for a classical model), then for each
  * b a row of np = mica_kernel_padded(n) entries over K:

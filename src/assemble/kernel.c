@@ -1,11 +1,12 @@
 /* The stiffness kernel of a classical or field model at one quadrature point (mica/kernel.h).
  *
  * Why this shape: K_(I a)(K b) = Σ_j G_I[a][b][j] β_K[j] has 2·nd flops per entry, so the kernel is bound by
- * writing Ke, not by arithmetic. Each (I, a, b) is one loop over K that loads nd contiguous rows of shape-function entries
- * and stores one contiguous row: with the entries stored per slot and padded to a multiple of 8 particles
- * the loop has whole vectors only (trip counts of 8, which -O2's cheap vectorizer accepts without peeling).
- * The functions are compiled for AVX-512, AVX2 + FMA and the baseline x86-64, chosen when the program
- * loads (GCC target_clones), since the default build targets the baseline ISA only. */
+ * writing Ke, not by arithmetic. Each (I, a, b) is one loop over K that loads nd contiguous rows of
+ * shape-function entries and stores one contiguous row: with the entries stored per slot and padded to a
+ * multiple of 8 particles the loop has whole vectors only (trip counts of 8, which -O2's cheap vectorizer accepts
+ * without peeling). The rows are compiled for AVX-512, AVX2 + FMA and the baseline x86-64 (GCC target
+ * attributes) and chosen at the first call from the CPU's features (rows_for), since the default build targets
+ * the baseline ISA only. */
 #include "mica/kernel.h"
 
 #include <string.h>

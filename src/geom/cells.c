@@ -1,8 +1,9 @@
 /* Background cells of the built-in shapes and their volume quadrature (docs/theory.md §geometry,
  * "Volume quadrature"). Cells are boxes of a tensor grid in parameter space: by default one cell between
  * neighboring particle lines (count − 1 per axis, following a graded layout), otherwise count[d] cells placed
- * along the particle lines (equal cells for a uniform layout, graded with a graded one). A kink of the map must fall on a cell edge. Each cell carries the tensor Gauss rule of `order`
- * points per axis, mapped by X: weight = w_ref × (cell volume in parameter space) × |det ∂X/∂ξ|.
+ * along the particle lines (equal cells for a uniform layout, graded with a graded one). A kink of the map must
+ * fall on a cell edge. Each cell carries the tensor Gauss rule of `order` points per axis, mapped by X:
+ * weight = w_ref × (cell volume in parameter space) × |det ∂X/∂ξ|.
  */
 #include <math.h>
 #include <string.h>
