@@ -33,7 +33,7 @@ static void getopt_tables(const CliOption *options, GetoptTables *tables) {
   int n = 0, k = 0;
   tables->shorts[k++] = '-';
   tables->shorts[k++] = ':';
-  for (; options[n].name && n < MAX_OPTIONS; n++) {
+  for (; options[n].name && n < MAX_OPTIONS; n++) { /* the tables in main.c hold 3 and 2 */
     const int has_value = options[n].value != NULL;
     tables->longs[n] = (struct option){options[n].name, has_value ? required_argument : no_argument, NULL,
                                        option_code(options, n)};
@@ -149,6 +149,17 @@ static int is_option(const CliOption *options, const char *arg) {
   return 0;
 }
 
+/* Whether "-" + spelled is a long option written with one dash: its name ("-output"), its name with a
+ * value ("-output=DIR") or a prefix of 3 letters or more ("-out"). */
+static int spells_long_option(const CliOption *options, const char *spelled) {
+  for (int i = 0; options[i].name; i++) {
+    size_t n = strlen(options[i].name), length = strcspn(spelled, "=");
+    if (length >= 3 && length <= n && !strncmp(spelled, options[i].name, length) && (length == n || !spelled[length]))
+      return 1;
+  }
+  return 0;
+}
+
 /* A value getopt_long accepted that is surely a mistake: empty; the next option taken as the value
  * ("-o --set x=1"); or a long name written with one dash ("-output DIR" is -o with the value "utput"). */
 static int check_value(const char *who, const CliOption *options, const CliOption *option, const char *element,
@@ -161,14 +172,10 @@ static int check_value(const char *who, const CliOption *options, const CliOptio
   }
   if (separate || element[1] == '-' || !option->letter) return 0;
   snprintf(spelled, sizeof spelled, "%c%s", option->letter, value);
-  for (int i = 0; options[i].name; i++) {
-    size_t n = strlen(options[i].name);
-    if (strncmp(spelled, options[i].name, n) || (spelled[n] && spelled[n] != '=')) continue;
-    fprintf(stderr, "%s: '%s' is -%c with the value '%s'; did you mean '-%s'?\n", who, element, option->letter,
-            value, element);
-    return CLI_USAGE;
-  }
-  return 0;
+  if (!spells_long_option(options, spelled)) return 0;
+  fprintf(stderr, "%s: '%s' is -%c with the value '%s'; did you mean '-%s'?\n", who, element, option->letter, value,
+          element);
+  return CLI_USAGE;
 }
 
 /* ---- the parser ---- */
@@ -200,7 +207,7 @@ int cli_parse(int argc, char **argv, const char *who, const CliOption *options, 
     code = getopt_long(argc, argv, tables.shorts, tables.longs, NULL);
     if (code == -1) break;
     if (code == WORD_CODE) status = word(inv, who, optarg);
-    else status = handle(code, argv, at < argc ? at : argc - 1, who, options, inv);
+    else status = handle(code, argv, at, who, options, inv);
     if (status == CLI_STOP && stopped) *stopped = optind - 1;
   }
   for (int i = optind; !status && !inv->help && !inv->version && i < argc; i++) { /* after "--" */
