@@ -88,7 +88,9 @@ int mica_deck_fingerprint(const MicaDeck *deck, int nscopes, const char *const *
 /* Writes the resolved deck (overrides applied, defaults filled) to path, atomically. */
 int mica_deck_write_resolved(const MicaDeck *deck, const char *path);
 
-/* Prints the schema, one line per setting: path, type, default, range or choices, help. */
-void mica_deck_print_schema(const MicaDeckKey *schema, FILE *stream);
+/* Prints the schema for a terminal `width` columns wide: per setting a line of path, type, default and
+ * range or choices (a long list wrapped after a '|', under the range column), then its help indented by
+ * four spaces and wrapped. */
+void mica_deck_print_schema(const MicaDeckKey *schema, int width, FILE *stream);
 
 #endif

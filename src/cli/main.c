@@ -1,11 +1,12 @@
 /* The `mica` program: a thin layer over libmica.
  *
- *   mica <command> DECK [-o DIR] [--set path=value]...
- *   mica --help | mica help <command> | mica --version
+ *   mica <command> [-o DIR] [--set PATH=VALUE]... [--] DECK
+ *   mica --help | mica help [<command>] | mica <command> --help | mica --version
  *
- * A run writes into a staging directory inside DIR and moves its files into DIR only when it succeeds,
- * so a failed run leaves the results of an earlier one complete and untouched. Exit status: 0 success,
- * 2 bad input (deck or command line), 3 numerical failure, 1 anything else.
+ * The options are declared once, in the tables below; the parser (options.c) and the help (help.c) both
+ * read them. A run writes into a staging directory inside DIR and moves its files into DIR only when it
+ * succeeds, so a failed run leaves the results of an earlier one complete and untouched. Exit status:
+ * 0 success, 2 bad input (deck or command line), 3 numerical failure, 1 anything else.
  */
 #include <dirent.h>
 #include <mpi.h>
@@ -15,105 +16,152 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "mica/command.h"
+#include "cli.h"
 #include "mica/files.h"
 #include "mica/parallel.h"
 #include "mica/timer.h"
 
-#define MICA_VERSION "0.1.0"
-enum { MAX_OVERRIDES = 256 };
+/* ---- the options ---- */
 
-typedef struct {
-  const MicaCommand *command;
-  const char *deck_path;
-  const char *outdir; /* NULL: out/<deck name> */
-  const char *overrides[MAX_OVERRIDES];
-  int noverrides;
-} Invocation;
-
-static void print_usage(FILE *out) {
-  fprintf(out,
-          "mica " MICA_VERSION " — meshfree MLS/EFG solver for solids and generalized continua\n\n"
-          "usage: mica <command> DECK [-o DIR] [--set path=value]...\n"
-          "       mica help <command>      settings of a command's deck\n"
-          "       mica --version\n\n"
-          "commands:\n");
-  for (const MicaCommand *const *c = mica_commands(); *c; c++) fprintf(out, "  %-8s %s\n", (*c)->name, (*c)->summary);
-  fprintf(out,
-          "\noptions:\n"
-          "  -o DIR              write results to DIR (default out/<deck name>)\n"
-          "  --set path=value    override a deck setting; value in libconfig syntax, a bare word is a\n"
-          "                      string: --set mls.order=2 --set particles.count=[21,21,21]\n"
-          "                      --set function.f=\"x^2\" --set parameters.L=10\n\n"
-          "exit status: 0 success, 2 bad input, 3 numerical failure, 1 other errors\n"
-          "documentation: README.md, docs/input.md\n");
+static int set_output(Invocation *inv, const char *who, const char *value) {
+  if (inv->outdir) { /* the first would have no effect */
+    fprintf(stderr, "%s: --output given twice ('%s' and '%s'); one output directory per run\n", who, inv->outdir,
+            value);
+    return CLI_USAGE;
+  }
+  inv->outdir = value;
+  return 0;
 }
 
-static int print_command_help(const char *name) {
-  const MicaCommand *command = mica_command_find(name);
-  if (!command) {
-    fprintf(stderr, "mica: no command '%s'; `mica --help` lists them\n", name);
-    return 2;
+static int add_override(Invocation *inv, const char *who, const char *value) {
+  if (inv->noverrides == MAX_OVERRIDES) {
+    fprintf(stderr, "%s: more than %d --set overrides; put the settings in the deck\n", who, MAX_OVERRIDES);
+    return CLI_USAGE;
   }
-  printf("mica %s DECK [-o DIR] [--set path=value]...\n\n%s\n\n%s\n\nsettings:\n", command->name,
-         command->summary, command->description);
-  mica_deck_print_schema(command->schema, stdout);
+  inv->overrides[inv->noverrides++] = value;
+  return 0;
+}
+
+static int ask_help(Invocation *inv, const char *who, const char *value) {
+  (void)who, (void)value;
+  inv->help = 1;
+  return 0;
+}
+
+static int ask_version(Invocation *inv, const char *who, const char *value) {
+  (void)who, (void)value;
+  inv->version = 1;
+  return 0;
+}
+
+const CliOption cli_command_options[] = {
+    {"output", 'o', "DIR", 0,
+     "write the results to DIR (default out/<deck name>, relative to the working directory); a failed run "
+     "leaves the results already in DIR untouched",
+     set_output},
+    {"set", 0, "PATH=VALUE", 1,
+     "override a deck setting (repeatable; applied in order, after the deck): VALUE in libconfig syntax, "
+     "a bare word is a string (mica --help shows examples)",
+     add_override},
+    {"help", 'h', NULL, 0, "print this help (the command's options and deck settings) and exit", ask_help},
+    {NULL, 0, NULL, 0, NULL, NULL}};
+
+const CliOption cli_program_options[] = {
+    {"help", 'h', NULL, 0, "list the commands and options and exit (as does mica help)", ask_help},
+    {"version", 0, NULL, 0, "print the version and exit", ask_version},
+    {NULL, 0, NULL, 0, NULL, NULL}};
+
+/* ---- the arguments ---- */
+
+static int stop_at_command(Invocation *inv, const char *who, const char *arg) {
+  (void)inv, (void)who, (void)arg;
+  return CLI_STOP;
+}
+
+static int take_deck(Invocation *inv, const char *who, const char *arg) {
+  if (inv->deck_path) {
+    fprintf(stderr, "%s: one deck at a time: '%s' and '%s'\n", who, inv->deck_path, arg);
+    return CLI_USAGE;
+  }
+  inv->deck_path = arg;
+  return 0;
+}
+
+/* The command called name, or NULL after saying there is none (and which one was probably meant). */
+static const MicaCommand *find_command(const char *who, const char *name) {
+  const MicaCommand *command = mica_command_find(name);
+  if (command) return command;
+  const char *names[64] = {"help"};
+  int n = 1;
+  for (const MicaCommand *const *c = mica_commands(); *c && n < 63; c++) names[n++] = (*c)->name;
+  names[n] = NULL;
+  const char *closest = cli_closest(name, names);
+  fprintf(stderr, "%s: unknown command '%s'%s%s%s (`mica --help` lists the commands)\n", who, name,
+          closest ? "; did you mean '" : "", closest ? closest : "", closest ? "'?" : "");
+  return NULL;
+}
+
+/* mica help [<command>] */
+static int print_help_topic(int argc, char **argv) {
+  if (argc == 1) {
+    cli_print_program_help(stdout);
+    return 0;
+  }
+  if (argc > 2) {
+    fprintf(stderr, "mica help: one command at a time ('%s' and '%s'); `mica help` lists them\n", argv[1], argv[2]);
+    return CLI_USAGE;
+  }
+  const MicaCommand *command = find_command("mica help", argv[1]);
+  if (!command) return CLI_USAGE;
+  cli_print_command_help(command, stdout);
+  return 0;
+}
+
+/* The command's own arguments, argv[0] being its name. */
+static int parse_command(int argc, char **argv, Invocation *inv, int *done) {
+  char who[64];
+  snprintf(who, sizeof who, "mica %s", inv->command->name);
+  int status = cli_parse(argc, argv, who, cli_command_options, inv, take_deck, NULL);
+  if (status) return status;
+  if (inv->help) {
+    cli_print_command_help(inv->command, stdout);
+    return 0;
+  }
+  if (!inv->deck_path) {
+    fprintf(stderr, "%s: which deck? ", who);
+    cli_print_command_usage(inv->command, stderr);
+    return CLI_USAGE;
+  }
+  *done = 0;
   return 0;
 }
 
 /* Fills inv from argv; returns 0, or an exit status to stop with (after printing why). */
 static int parse_arguments(int argc, char **argv, Invocation *inv, int *done) {
-  *done = 0;
-  if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
-    print_usage(argc < 2 ? stderr : stdout);
-    *done = 1;
-    return argc < 2 ? 2 : 0;
+  int at = 0;
+  *done = 1;
+  if (argc < 2) {
+    cli_print_program_help(stderr);
+    return CLI_USAGE;
   }
-  if (!strcmp(argv[1], "--version")) {
+  int status = cli_parse(argc, argv, "mica", cli_program_options, inv, stop_at_command, &at);
+  if (status) return status;
+  if (inv->version) {
     printf("mica %s\n", MICA_VERSION);
-    *done = 1;
     return 0;
   }
-  if (!strcmp(argv[1], "help")) {
-    *done = 1;
-    if (argc < 3) {
-      print_usage(stdout);
-      return 0;
-    }
-    return print_command_help(argv[2]);
+  if (inv->help) {
+    cli_print_program_help(stdout);
+    return 0;
   }
-  inv->command = mica_command_find(argv[1]);
-  if (!inv->command) {
-    fprintf(stderr, "mica: unknown command '%s'; `mica --help` lists the commands\n", argv[1]);
-    return 2;
+  if (!at) {
+    fprintf(stderr, "mica: which command? `mica --help` lists them\n");
+    return CLI_USAGE;
   }
-  for (int i = 2; i < argc; i++) {
-    const char *arg = argv[i];
-    if (!strcmp(arg, "-o") || !strcmp(arg, "--set")) {
-      if (i + 1 >= argc) {
-        fprintf(stderr, "mica: %s needs a value\n", arg);
-        return 2;
-      }
-      if (arg[1] == 'o') inv->outdir = argv[++i];
-      else if (inv->noverrides < MAX_OVERRIDES) inv->overrides[inv->noverrides++] = argv[++i];
-    } else if (!strncmp(arg, "--set=", 6)) {
-      if (inv->noverrides < MAX_OVERRIDES) inv->overrides[inv->noverrides++] = arg + 6;
-    } else if (arg[0] == '-' && arg[1]) {
-      fprintf(stderr, "mica: unknown option '%s'; `mica --help` lists the options\n", arg);
-      return 2;
-    } else if (!inv->deck_path) {
-      inv->deck_path = arg;
-    } else {
-      fprintf(stderr, "mica: one deck at a time: '%s' and '%s'\n", inv->deck_path, arg);
-      return 2;
-    }
-  }
-  if (!inv->deck_path) {
-    fprintf(stderr, "mica %s: which deck? usage: mica %s DECK [-o DIR] [--set path=value]...\n",
-            inv->command->name, inv->command->name);
-    return 2;
-  }
-  return 0;
+  if (!strcmp(argv[at], "help")) return print_help_topic(argc - at, argv + at);
+  inv->command = find_command("mica", argv[at]);
+  if (!inv->command) return CLI_USAGE;
+  return parse_command(argc - at, argv + at, inv, done);
 }
 
 /* Moves every entry of the staging directory into outdir (each rename is atomic). A directory (a sweep's

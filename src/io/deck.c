@@ -4,11 +4,13 @@
 #include <ctype.h>
 #include <errno.h>
 #include <stdio.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "deck_private.h"
 #include "mica/files.h"
+#include "mica/text.h"
 
 static int copy_text(const char *text, size_t length, char **copy) {
   MICA_CALL(MICA_MALLOC(*copy, length + 1));
@@ -427,22 +429,46 @@ static KeyColumns key_columns(const MicaDeckKey *key) {
   return columns;
 }
 
-static int widest(int width, const char *text) { return (int)strlen(text) > width ? (int)strlen(text) : width; }
+static int widest(int width, const char *text) {
+  int w = mica_text_width(text, SIZE_MAX);
+  return w > width ? w : width;
+}
 
-void mica_deck_print_schema(const MicaDeckKey *schema, FILE *stream) {
-  int widths[4] = {7, 4, 7, 5}; /* the headings' lengths */
+enum { HELP_INDENT = 4 }; /* a setting's description, under its line */
+
+/* path, type and default in columns, then the range from column `at`, wrapped there after a '|' */
+static void print_key_line(const char *path, const char *type, const char *def, const char *range,
+                           const int widths[3], int width, FILE *stream) {
+  const int at = widths[0] + widths[1] + widths[2] + 6;
+  mica_text_pad(stream, path, widths[0] + 2);
+  mica_text_pad(stream, type, widths[1] + 2);
+  if (!range[0]) {
+    fprintf(stream, "%s\n", def);
+    return;
+  }
+  mica_text_pad(stream, def, widths[2] + 2);
+  mica_text_wrap(stream, range, at, at, width, "|");
+}
+
+static void print_key_help(const char *help, int width, FILE *stream) {
+  if (!help || !help[0]) return;
+  fprintf(stream, "%*s", HELP_INDENT, "");
+  mica_text_wrap(stream, help, HELP_INDENT, HELP_INDENT, width, NULL);
+}
+
+void mica_deck_print_schema(const MicaDeckKey *schema, int width, FILE *stream) {
+  int widths[3] = {7, 4, 7}; /* the headings' lengths */
   for (const MicaDeckKey *key = schema; key->path; key++) {
     KeyColumns columns = key_columns(key);
     widths[0] = widest(widths[0], key->path);
     widths[1] = widest(widths[1], columns.type);
     widths[2] = widest(widths[2], columns.def);
-    widths[3] = widest(widths[3], columns.range);
   }
-  fprintf(stream, "%-*s  %-*s  %-*s  %-*s  %s\n", widths[0], "setting", widths[1], "type", widths[2], "default",
-          widths[3], "range", "description");
+  print_key_line("setting", "type", "default", "range", widths, width, stream);
+  print_key_help("description", width, stream);
   for (const MicaDeckKey *key = schema; key->path; key++) {
     KeyColumns columns = key_columns(key);
-    fprintf(stream, "%-*s  %-*s  %-*s  %-*s  %s\n", widths[0], key->path, widths[1], columns.type, widths[2],
-            columns.def, widths[3], columns.range, key->help ? key->help : "");
+    print_key_line(key->path, columns.type, columns.def, columns.range, widths, width, stream);
+    print_key_help(key->help, width, stream);
   }
 }

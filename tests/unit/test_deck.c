@@ -412,12 +412,32 @@ static void test_print_schema(void **state) {
   size_t size = 0;
   FILE *stream = open_memstream(&text, &size);
   assert_non_null(stream);
-  mica_deck_print_schema(schema, stream);
+  mica_deck_print_schema(schema, 100, stream);
   fclose(stream);
   assert_non_null(strstr(text, "mls.order"));
   assert_non_null(strstr(text, "cubic|quartic|quartic-c3|gauss|exponential"));
   assert_non_null(strstr(text, "[0, 3]"));
   assert_non_null(strstr(text, "floats[1-3]"));
+  free(text);
+}
+
+/* At 70 columns the choices wrap after a '|' under the range column (22 + 11 + 10 + 3 x 2 = 49: 21 columns
+ * are left), the help goes under the setting, and no line is wider. */
+static void test_print_schema_narrow(void **state) {
+  (void)state;
+  char *text = NULL;
+  size_t size = 0;
+  FILE *stream = open_memstream(&text, &size);
+  assert_non_null(stream);
+  mica_deck_print_schema(schema, 70, stream);
+  fclose(stream);
+  const char *weight = "mls.weight              choice       \"cubic\"     cubic|quartic|\n"
+                       "                                                 quartic-c3|gauss|\n"
+                       "                                                 exponential\n"
+                       "    weight function\n";
+  assert_non_null(strstr(text, weight));
+  assert_non_null(strstr(text, "setting                 type         default     range\n    description\n"));
+  for (const char *line = text; *line; line = strchr(line, '\n') + 1) assert_true(strcspn(line, "\n") <= 70);
   free(text);
 }
 
@@ -445,6 +465,7 @@ int main(void) {
       cmocka_unit_test(test_variant_parameters_checked_by_getter),
       cmocka_unit_test(test_write_resolved),
       cmocka_unit_test(test_print_schema),
+      cmocka_unit_test(test_print_schema_narrow),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
