@@ -25,8 +25,10 @@ void mica_gnuplot_words(const char *in, char *out, size_t size);
  * (15 kinds); series k and k + MICA_GNUPLOT_SERIES look alike. */
 enum { MICA_GNUPLOT_SERIES = 21 };
 const char *mica_gnuplot_colour(int k); /* "#0072B2" */
-/* "lc rgb '#0072B2' dt 1 pt 7" for series k. */
+/* "lc rgb '#0072B2' dt 1 pt 7" for series k (lines with points). */
 void mica_gnuplot_series(int k, char *out, size_t size);
+/* "lc rgb '#0072B2' dt 1" for series k drawn as lines only. */
+void mica_gnuplot_line(int k, char *out, size_t size);
 
 /* Writes `set key` for a key outside the plot area, below it, `columns` entries a row, with the bottom margin
  * it needs (gnuplot's own `set key below` lets the key's box run over the x label). Returns the rows, for
@@ -34,9 +36,12 @@ void mica_gnuplot_series(int k, char *out, size_t size);
 int mica_gnuplot_key_below(FILE *fp, int nentries, int columns);
 /* Writes `set Xrange` (axis 'x' or 'y') to [lo, hi] widened by a margin of `margin` of the span (of the
  * decades on a log axis), so that no curve or reference line lies on the border; on a log axis spanning
- * less than two decades, also tics at 2 and 5 (or 1.5, 2, 3, 5, 7 under one decade) times the powers of 10,
+ * less than three decades, also tics at 2 and 5 (or 1.5, 2, 3, 5, 7 under one decade) times the powers of 10,
  * where gnuplot would label the decades only. */
 void mica_gnuplot_range(FILE *fp, char axis, double lo, double hi, int logscale, double margin);
+/* How many columns of entries whose longest title has `longest` characters fit across `width` pixels (at
+ * most maxcols, at least 1; generous per character, so that gnuplot never needs more rows than counted). */
+int mica_gnuplot_key_columns(int width, size_t longest, int maxcols);
 /* The rows such a key takes. */
 int mica_gnuplot_key_rows(int nentries, int columns);
 

@@ -53,13 +53,25 @@ static const int point_types[] = {7, 5, 9, 11, 13, 15, 6, 4, 8, 10, 12, 14, 1, 2
 
 const char *mica_gnuplot_colour(int k) { return palette[(k < 0 ? -k : k) % NCOLOURS]; }
 
-void mica_gnuplot_series(int k, char *out, size_t size) {
+void mica_gnuplot_line(int k, char *out, size_t size) {
   k = (k < 0 ? -k : k) % MICA_GNUPLOT_SERIES;
-  snprintf(out, size, "lc rgb '%s' dt %d pt %d", palette[k % NCOLOURS], dashes[k / NCOLOURS],
-           point_types[k % (int)(sizeof point_types / sizeof *point_types)]);
+  snprintf(out, size, "lc rgb '%s' dt %d", palette[k % NCOLOURS], dashes[k / NCOLOURS]);
+}
+
+void mica_gnuplot_series(int k, char *out, size_t size) {
+  char line[64];
+  mica_gnuplot_line(k, line, sizeof line);
+  k = (k < 0 ? -k : k) % MICA_GNUPLOT_SERIES;
+  snprintf(out, size, "%s pt %d", line, point_types[k % (int)(sizeof point_types / sizeof *point_types)]);
 }
 
 /* ---- the key ---- */
+
+int mica_gnuplot_key_columns(int width, size_t longest, int maxcols) {
+  /* gnuplot's default font: about 8 pixels a character (9 counted), the line sample and gaps about 110 */
+  const int fit = (int)((width - 40) / (9 * (long)longest + 110));
+  return fit < 1 ? 1 : fit > maxcols ? maxcols : fit;
+}
 
 int mica_gnuplot_key_rows(int nentries, int columns) {
   if (columns < 1) columns = 1;
@@ -96,7 +108,7 @@ void mica_gnuplot_range(FILE *fp, char axis, double lo, double hi, int logscale,
   if (logscale) {
     const double f = hi > lo ? pow(hi / lo, margin) : 1.1;
     lo /= f, hi *= f;
-    if (hi / lo < 100) log_tics(fp, axis, lo, hi);
+    if (hi / lo < 1000) log_tics(fp, axis, lo, hi);
   } else {
     const double span = hi > lo ? hi - lo : (lo != 0 ? fabs(lo) : 1.0);
     lo -= margin * span, hi += margin * span;

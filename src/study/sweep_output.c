@@ -483,7 +483,7 @@ static int write_header(const SweepSpec *spec, Chart *ch, int pass, FILE *fp) {
   mica_gnuplot_label(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);
   MICA_CALL(x_label(spec, xlabel, sizeof xlabel));
   MICA_CALL(y_label(spec, ylabel, sizeof ylabel));
-  const int columns = ch->longest <= 36 ? 2 : 1; /* two columns of up to 36 characters fit in 900 pixels */
+  const int columns = mica_gnuplot_key_columns(900, ch->longest, 3);
   const int rows = mica_gnuplot_key_rows(ch->nplots, columns), height = 560 + 22 * rows;
   fprintf(fp, pass ? "set terminal svg size 900,%d noenhanced\nset output 'sweep.svg'\n"
                    : "set terminal pngcairo size 900,%d noenhanced\nset output 'sweep.png'\n", height);
