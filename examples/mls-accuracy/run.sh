@@ -9,7 +9,7 @@
 #
 # Outputs, relative to this directory (<s> is empty, or _c<value> with --c):
 #   out/<deck><s>/       mica's output (summary.json, mls.csv, mls_error.png/.svg, ...), gitignored
-#   figures/<deck><s>.png  the error chart re-drawn smaller (libgd PNG); each error axis starts at
+#   figures/<deck><s>.png  the error chart re-drawn smaller (cairo PNG: libgd has no dash patterns); each error axis starts at
 #                        the decade of the 3rd percentile of its errors (the deep dips where an
 #                        error changes sign carry no information)
 #   figures/<deck>.svg   the same chart as SVG (as-printed c only, to keep the figures small)
@@ -124,7 +124,7 @@ for d in "${decks[@]}"; do
     bin/mica mls "$deck" -o "$out" ${set_c[@]+"${set_c[@]}"} > "$out.log" 2>&1 ||
         { cat "$out.log" >&2; echo "run.sh: mica failed on $deck" >&2; exit 1; }
 
-    # The chart, re-drawn from mica's own gnuplot script: a smaller (libgd) PNG, and each error
+    # The chart, re-drawn from mica's own gnuplot script: a smaller PNG, and each error
     # axis starting at the decade of the panel's 3rd percentile (the deep dips where an error
     # changes sign carry no information).
     read -r lo_f lo_d lo_dd < <(awk '
@@ -147,7 +147,7 @@ for d in "${decks[@]}"; do
             }
             print ""
         }' "$out/mls_line.dat")
-    sed -e "s/^set terminal pngcairo .*/set terminal png size 760,900 noenhanced/" \
+    sed -e "s/^set terminal pngcairo .*/set terminal pngcairo size 760,900 noenhanced/" \
         -e "s/^set terminal svg .*/set terminal svg size 760,900 noenhanced/" \
         -e "s/^\(set multiplot layout 3,1 title '.*\)'\$/\1${c:+, c = $c}'/" \
         -e "s/^\(set ylabel 'relative error of f'\)\$/\1\nset yrange [$lo_f:*]/" \

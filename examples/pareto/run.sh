@@ -25,14 +25,16 @@ series() {  # series CSV ORDER: "time error" of the ok rows of that order
 for k in 1 2 3; do series "$efg" $k > "$here/out/efg_k$k.dat"; done
 for k in 1 2; do series "$fe" $k > "$here/out/fe_k$k.dat"; done
 gnuplot <<GP
-set terminal pngcairo size 900,600 noenhanced
+set terminal pngcairo size 1050,600 noenhanced
 set output "$here/figures/timoshenko_efg_fe.png"
-set logscale xy; set grid; set key top right box; set format y "%.0e"
+set logscale xy; set grid; set key outside right top box; set format y "%.0e"; set format x "%g"
 set xlabel "solve time (assembly + factorization + solution), s"; set ylabel "relative energy-norm error"
 set title "Timoshenko cantilever: EFG (MLS) against finite elements on the same particles"
-plot "$here/out/efg_k1.dat" t "EFG linear" pt 6, "$here/out/efg_k2.dat" t "EFG quadratic" pt 8, \
-     "$here/out/efg_k3.dat" t "EFG cubic" pt 4, "$here/out/fe_k1.dat" t "FE Q1" pt 7, \
-     "$here/out/fe_k2.dat" t "FE Q2" pt 9, 1e-3 t "target 1e-3" lt 0
+set arrow from graph 0, first 1e-3 to graph 1, first 1e-3 nohead dt 2 lw 1.5 lc rgb "black"  # the target, full width
+# Okabe & Ito's colours (docs/input.md §Charts): EFG open markers, FE filled
+plot "$here/out/efg_k1.dat" t "EFG linear" pt 6 lc rgb "#0072B2", "$here/out/efg_k2.dat" t "EFG quadratic" pt 8 lc rgb "#D55E00", \
+     "$here/out/efg_k3.dat" t "EFG cubic" pt 4 lc rgb "#009E73", "$here/out/fe_k1.dat" t "FE Q1" pt 7 lc rgb "#CC79A7", \
+     "$here/out/fe_k2.dat" t "FE Q2" pt 9 lc rgb "#E69F00", 1e-3 t "target 1e-3" dt 2 lw 1.5 lc rgb "black"
 GP
 # the fastest to the target by each time measure, recomputed from study.csv
 for study in timoshenko timoshenko_fe manufactured; do

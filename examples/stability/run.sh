@@ -111,31 +111,37 @@ done
 # The charts: one curve per variant that ran; the spectrum in absolute eigenvalues, so that the references'
 # lowest nonzero eigenvalues (dilation 2 and 3) are lines, and the low-energy modes marked.
 spectra="" infsup="" refs="" k=0
-colors=('#9467bd' '#17becf' '#1f77b4' '#d62728' '#2ca02c' '#1f77b4' '#d62728' '#2ca02c' '#7f7f7f')
+# Okabe & Ito's colours (docs/input.md §Charts); a variant with dilation 3 takes its rule's colour, dashed
+colors=('#CC79A7' '#56B4E9' '#0072B2' '#D55E00' '#009E73' '#0072B2' '#D55E00' '#009E73' '#E69F00')
 for name in "${names[@]}"; do
   color=${colors[$((k++ % ${#colors[@]}))]} dash=1
   case $name in *_d3) dash=2 ;; esac
   spectra+="${spectra:+, }'$out/$name/eigenvalues.csv' every ::1::80 using 1:(abs(\$2)) with linespoints pt 7 ps 0.4 dt $dash lc rgb '$color' title '$name'"
   spectra+=", '$out/$name/eigenvalues.csv' every ::1::80 using 1:(strcol(4) eq 'low_energy' ? \$2 : 1/0) with points pt 6 ps 2 lc rgb 'black' notitle"
-  [ -s "$out/$name/inf_sup.csv" ] && infsup+="${infsup:+, }'$out/$name/inf_sup.csv' every ::1 using 1:7 with linespoints pt 7 lw 2 title '$name'"
+  [ -s "$out/$name/inf_sup.csv" ] && infsup+="${infsup:+, }'$out/$name/inf_sup.csv' every ::1 using 1:7 with linespoints pt 7 lw 2 dt $dash lc rgb '$color' title '$name'"
 done
+dt=2
 for name in gauss4 gauss4_d3; do
   l=$(value reference_lambda_min_nonzero "$out/$name/summary.json" 2>/dev/null || true)
-  [ -n "$l" ] && refs+=", $l with lines dt 2 lw 2 lc rgb 'gray' title 'lambda_1,ref ($name)'"
+  [ -n "$l" ] && refs+=", $l with lines dt $dt lw 1.5 lc rgb 'black' title 'λ₁,ref of $name'"
+  dt=4
 done
 gnuplot <<GP
 set datafile separator ','
-set terminal pngcairo size 1000,650 noenhanced
+set terminal pngcairo size 1050,650 noenhanced
 set output '$here/figures/spectra.png'
-set title 'Free block, 21 x 11 particles: the 80 lowest eigenvalues (circled: low-energy modes)'
-set logscale y; set format y '%.0e'; set grid; set key bottom right; set yrange [1e-10:100]
-set xlabel 'index'; set ylabel '|eigenvalue|'
+set title "Free block, 21 x 11 particles: the 80 lowest eigenvalues (circled: low-energy modes;\nblack: λ₁,ref, the lowest nonzero eigenvalue of the Gauss reference, dilation 2 and 3)"
+set logscale y; set format y '%.0e'; set grid; set key outside right top box width 1; set yrange [1e-10:100]
+set xrange [0:81]
+set xlabel 'eigenvalue index, ascending'; set ylabel '|eigenvalue| of the tangent at u = 0'
 plot $spectra$refs
-unset yrange
+unset yrange; unset xrange
+set terminal pngcairo size 1000,650 noenhanced
 set output '$here/figures/inf_sup.png'
 set title 'Numerical inf-sup test, displacement formulation'
-set logscale xy; set format y '%g'; set key bottom left
-set xlabel 'N (particles along x)'; set ylabel 'beta_h'
+set logscale xy; set format y '%g'; set key outside right top box width 4; set xrange [4:40]; set yrange [5e-5:1]
+set xtics (5, 9, 17, 33)
+set xlabel 'N (particles along x)'; set ylabel 'inf-sup constant β_h'
 plot $infsup
 GP
 echo

@@ -1,5 +1,6 @@
 /* Charts through gnuplot: a child process in the output directory, its messages in gnuplot.log. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/wait.h>
@@ -28,8 +29,89 @@ int mica_gnuplot(const char *dir, const char *script, const char *switch_off) {
   return MICA_SUCCESS;
 }
 
+static int unsafe(char c) { return c == '"' || c == '\\' || c == '\'' || c == '`' || (unsigned char)c < 0x20 || c == 0x7f; }
+
 void mica_gnuplot_label(const char *in, char *out, size_t size) {
   size_t j = 0;
-  for (size_t i = 0; in[i] && j + 1 < size; i++) out[j++] = (in[i] == '"' || in[i] == '\\' || in[i] == '\'') ? ' ' : in[i];
+  for (size_t i = 0; in[i] && j + 1 < size; i++) out[j++] = unsafe(in[i]) ? ' ' : in[i];
   out[j] = '\0';
+}
+
+void mica_gnuplot_words(const char *in, char *out, size_t size) {
+  mica_gnuplot_label(in, out, size);
+  for (char *c = out; *c; c++)
+    if (*c == '_') *c = ' ';
+}
+
+/* ---- one palette ---- */
+
+static const char *const palette[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442"};
+enum { NCOLOURS = sizeof palette / sizeof *palette };
+static const int dashes[] = {1, 4, 5}; /* solid, dash-dot, dash-dot-dot: one per round of the colours */
+/* filled circle, square, triangles, diamond, pentagon; the same open; plus, cross, star */
+static const int point_types[] = {7, 5, 9, 11, 13, 15, 6, 4, 8, 10, 12, 14, 1, 2, 3};
+
+const char *mica_gnuplot_colour(int k) { return palette[(k < 0 ? -k : k) % NCOLOURS]; }
+
+void mica_gnuplot_line(int k, char *out, size_t size) {
+  k = (k < 0 ? -k : k) % MICA_GNUPLOT_SERIES;
+  snprintf(out, size, "lc rgb '%s' dt %d", palette[k % NCOLOURS], dashes[k / NCOLOURS]);
+}
+
+void mica_gnuplot_series(int k, char *out, size_t size) {
+  char line[64];
+  mica_gnuplot_line(k, line, sizeof line);
+  k = (k < 0 ? -k : k) % MICA_GNUPLOT_SERIES;
+  snprintf(out, size, "%s pt %d", line, point_types[k % (int)(sizeof point_types / sizeof *point_types)]);
+}
+
+/* ---- the key ---- */
+
+int mica_gnuplot_key_columns(int width, size_t longest, int maxcols) {
+  /* gnuplot's default font: about 8 pixels a character (9 counted), the line sample and gaps about 110 */
+  const int fit = (int)((width - 40) / (9 * (long)longest + 110));
+  return fit < 1 ? 1 : fit > maxcols ? maxcols : fit;
+}
+
+int mica_gnuplot_key_rows(int nentries, int columns) {
+  if (columns < 1) columns = 1;
+  return nentries > 0 ? (nentries + columns - 1) / columns : 0;
+}
+
+int mica_gnuplot_key_below(FILE *fp, int nentries, int columns) {
+  const int rows = mica_gnuplot_key_rows(nentries, columns);
+  /* margin in character heights: x tic labels and x label (3), the key's rows at spacing 1.2, its box (2) */
+  fprintf(fp, "set key at screen 0.5, screen 0.01 center bottom horizontal maxcols %d box spacing 1.2 width 1\n"
+              "set bmargin %d\n", columns < 1 ? 1 : columns, 3 + (12 * rows + 9) / 10 + 2);
+  return rows;
+}
+
+/* ---- ranges ---- */
+
+/* Tics at 2 and 5 (1.5, 2, 3, 5, 7 under a decade) times the powers of 10 in [lo, hi], beside gnuplot's
+ * decades. */
+static void log_tics(FILE *fp, char axis, double lo, double hi) {
+  static const double coarse[] = {2, 5}, fine[] = {1.5, 2, 3, 5, 7};
+  const int narrow = hi / lo < 10, nm = narrow ? 5 : 2;
+  const double *mantissa = narrow ? fine : coarse;
+  int n = 0;
+  for (int e = (int)floor(log10(lo)) - 1; e <= (int)ceil(log10(hi)); e++)
+    for (int m = 0; m < nm; m++) {
+      const double v = mantissa[m] * pow(10.0, e);
+      if (v >= lo && v <= hi) fprintf(fp, "%s%.6g", n++ ? ", " : (axis == 'x' ? "set xtics add (" : "set ytics add ("), v);
+    }
+  if (n) fprintf(fp, ")\n");
+}
+
+void mica_gnuplot_range(FILE *fp, char axis, double lo, double hi, int logscale, double margin) {
+  if (!(isfinite(lo) && isfinite(hi)) || lo > hi || (logscale && lo <= 0)) return; /* nothing to fit: autoscale */
+  if (logscale) {
+    const double f = hi > lo ? pow(hi / lo, margin) : 1.1;
+    lo /= f, hi *= f;
+    if (hi / lo < 1000) log_tics(fp, axis, lo, hi);
+  } else {
+    const double span = hi > lo ? hi - lo : (lo != 0 ? fabs(lo) : 1.0);
+    lo -= margin * span, hi += margin * span;
+  }
+  fprintf(fp, "set %crange [%.10g:%.10g]\n", axis, lo, hi);
 }

@@ -68,8 +68,10 @@ static void write_panel(FILE *fp, int nvariants, int column, const char *ylabel,
   for (int v = 0; v < nvariants; v++) {
     char name[160];
     mica_gnuplot_label(r[v].name, name, sizeof name);
-    fprintf(fp, "%s'mls_line.dat' index %d using 1:($%d > 0 ? $%d : 1/0) with lines lw 1.5 title \"%s\"",
-            v ? ", " : "", v, column, column, name);
+    char series[96];
+    mica_gnuplot_line(v, series, sizeof series);
+    fprintf(fp, "%s'mls_line.dat' index %d using 1:($%d > 0 ? $%d : 1/0) with lines lw 1.5 %s title '%s'",
+            v ? ", " : "", v, column, column, series, name);
   }
   fprintf(fp, "\n");
 }
@@ -87,7 +89,7 @@ static int write_chart_script(const MlsVariantResult *r, int nvariants, const ch
     if (pass == 0) fprintf(fp, "set terminal pngcairo size 900,1100 noenhanced\nset output 'mls_error.png'\n");
     else fprintf(fp, "set terminal svg size 900,1100 noenhanced\nset output 'mls_error.svg'\n");
     fprintf(fp, "set multiplot layout 3,1 title '%s'\nset logscale y\nset format y '%%.0e'\nset grid\n"
-                "set key outside right\nset xlabel '%c'\n", safe_title, axis);
+                "set key outside right top\nset xlabel 'position %c along the sample line'\n", safe_title, axis);
     char label[64];
     write_panel(fp, nvariants, 2, "relative error of f", r);
     snprintf(label, sizeof label, "relative error of df/d%c", axis);

@@ -211,6 +211,12 @@ const MicaDeckKey mica_run_schema[] = {
      "the probe charted (an output.probes name; default: the first)"},
     {"sweep.x", MICA_KEY_STRING, "\"\"", NOLIMIT, NULL, 0, 0,
      "the swept path on the chart's x axis (default: the first numeric one); the other paths make the curves"},
+    {"sweep.xlabel", MICA_KEY_STRING, "\"\"", NOLIMIT, NULL, 0, 0,
+     "the chart's x-axis label, words with units: \"hole radius / length scale a/ℓ\" (default: \"parameter a over "
+     "l\" for parameters.a_over_l, \"mls dilation\" for a setting: underscores and dots as spaces)"},
+    {"sweep.ylabel", MICA_KEY_STRING, "\"\"", NOLIMIT, NULL, 0, 0,
+     "the chart's y-axis label (default: the probe's name, underscores as spaces, and its field: \"tip uy (probe of "
+     "uy)\")"},
     {"sweep.analytic", MICA_KEY_LIST, NULL, NOLIMIT, NULL, 0, 0,
      "reference curves: ( { name = \"beam\"; f = \"P*x^3/(3*E*I)\"; }, ... )"},
     {"sweep.analytic.[].name", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, 0, "legend of the curve"},

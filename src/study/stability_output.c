@@ -62,21 +62,31 @@ static int spectrum_data(FILE *fp, const void *ctx) {
 static int spectrum_script(FILE *fp, const void *ctx) {
   const SpectrumCtx *c = ctx;
   const EigenResult *r = c->r;
+  const int entries = 5 + (r->band > 0);
+  const int columns = mica_gnuplot_key_columns(900, strlen("lowest nonzero of the Gauss reference"), 3);
+  const int height = 560 + 22 * mica_gnuplot_key_rows(entries, columns);
+  const double zero_tol = c->zero_tol > 0 ? c->zero_tol : 1e-18;
+  double lo = fmin(zero_tol, r->band > 0 ? r->band / r->lambda_max : 1.0);
+  for (int k = 0; k < r->nvalues; k++) lo = fmin(lo, fmax(fabs(r->lambda[k]) / r->lambda_max, 1e-18));
   for (int pass = 0; pass < 2; pass++) {
-    fprintf(fp, pass == 0 ? "set terminal pngcairo size 900,600 noenhanced\nset output 'spectrum.png'\n"
-                          : "set terminal svg size 900,600 noenhanced\nset output 'spectrum.svg'\n");
+    fprintf(fp, pass == 0 ? "set terminal pngcairo size 900,%d noenhanced\nset output 'spectrum.png'\n"
+                          : "set terminal svg size 900,%d noenhanced\nset output 'spectrum.svg'\n", height);
     fprintf(fp, "set title 'Tangent at u = 0: %d eigenvalues of %ld unknowns; %d zero (%d rigid, %d spurious), %d "
-                "low-energy'\nset logscale y\nset format y '%%.0e'\nset grid\nset key bottom right\n"
-                "set xrange [0.5:%d.5]\nset xlabel 'index'\nset ylabel '|eigenvalue| / lambda_max'\n",
+                "low-energy'\nset logscale y\nset format y '%%.0e'\nset grid\n"
+                "set xrange [0.5:%d.5]\nset xlabel 'eigenvalue index, ascending'\n"
+                "set ylabel '|eigenvalue| / largest eigenvalue λ_max'\n",
             r->nvalues, r->ndof, r->zero, r->rigid, r->spurious_zero, r->low_energy, r->nvalues);
-    fprintf(fp, "plot 'spectrum.dat' index 2 using 1:2 with points pt 7 ps 0.5 lc rgb '#1f77b4' title 'nonzero', "
-                "'spectrum.dat' index 0 using 1:2 with points pt 5 ps 1 lc rgb '#2ca02c' title 'rigid', "
-                "'spectrum.dat' index 1 using 1:2 with points pt 9 ps 1.2 lc rgb '#d62728' title 'spurious', "
-                "'spectrum.dat' index 3 using 1:2 with points pt 11 ps 1.2 lc rgb '#ff7f0e' title 'low-energy', "
-                "%.6e with lines dt 2 lc rgb 'black' title 'zero_tol'",
-            c->zero_tol > 0 ? c->zero_tol : 1e-18);
+    mica_gnuplot_range(fp, 'y', lo, 1.0, 1, 0.03); /* the largest is 1; the lines and the zeros inside */
+    mica_gnuplot_key_below(fp, entries, columns);
+    fprintf(fp, "plot 'spectrum.dat' index 2 using 1:2 with points pt 7 ps 0.5 lc rgb '%s' title 'nonzero', "
+                "'spectrum.dat' index 0 using 1:2 with points pt 5 ps 1 lc rgb '%s' title 'rigid body', "
+                "'spectrum.dat' index 1 using 1:2 with points pt 9 ps 1.2 lc rgb '%s' title 'spurious zero', "
+                "'spectrum.dat' index 3 using 1:2 with points pt 11 ps 1.2 lc rgb '%s' title 'low-energy', "
+                "%.6e with lines dt 2 lc rgb 'black' title 'zero tolerance (stability.zero_tol)'",
+            mica_gnuplot_colour(0), mica_gnuplot_colour(2), mica_gnuplot_colour(1), mica_gnuplot_colour(4),
+            zero_tol);
     if (r->band > 0) /* low-energy modes are sought below the reference's lowest nonzero eigenvalue */
-      fprintf(fp, ", %.6e with lines dt 4 lc rgb '#ff7f0e' title 'lowest nonzero of the Gauss reference'",
+      fprintf(fp, ", %.6e with lines dt 4 lc rgb 'black' title 'lowest nonzero of the Gauss reference'",
               r->band / r->lambda_max);
     fprintf(fp, "\nset output\n");
   }
@@ -113,15 +123,23 @@ static int inf_sup_csv(FILE *fp, const void *ctx) {
 }
 
 static int inf_sup_script(FILE *fp, const void *ctx) {
-  (void)ctx;
+  const InfSupCtx *c = ctx;
+  double nlo = INFINITY, nhi = -INFINITY, blo = INFINITY, bhi = -INFINITY;
+  for (int i = 0; i < c->n; i++) {
+    nlo = fmin(nlo, (double)c->rows[i].count[0]), nhi = fmax(nhi, (double)c->rows[i].count[0]);
+    blo = fmin(blo, c->rows[i].beta), bhi = fmax(bhi, c->rows[i].beta);
+  }
   for (int pass = 0; pass < 2; pass++) {
-    fprintf(fp, pass == 0 ? "set terminal pngcairo size 800,600 noenhanced\nset output 'inf_sup.png'\n"
-                          : "set terminal svg size 800,600 noenhanced\nset output 'inf_sup.svg'\n");
+    fprintf(fp, pass == 0 ? "set terminal pngcairo size 800,620 noenhanced\nset output 'inf_sup.png'\n"
+                          : "set terminal svg size 800,620 noenhanced\nset output 'inf_sup.svg'\n");
     fprintf(fp, "set title 'Numerical inf-sup test (Chapelle-Bathe), displacement formulation'\nset datafile "
-                "separator ','\nset logscale xy\nset grid\nset key bottom left\nset xlabel 'N (particles along "
-                "the first axis)'\nset ylabel 'beta_h'\n"
-                "plot 'inf_sup.csv' every ::1 using 1:7 with linespoints pt 7 lw 2 title 'mica', "
-                "'inf_sup.csv' every ::1::1 using 1:7 with lines dt 2 lc rgb 'gray' notitle\n");
+                "separator ','\nset logscale xy\nset grid\n"
+                "set xlabel 'N (particles along the first axis)'\nset ylabel 'inf-sup constant β_h'\n");
+    mica_gnuplot_range(fp, 'x', nlo, nhi, 1, 0.05);
+    mica_gnuplot_range(fp, 'y', blo, bhi, 1, 0.05);
+    mica_gnuplot_key_below(fp, 1, 1);
+    fprintf(fp, "plot 'inf_sup.csv' every ::1 using 1:7 with linespoints pt 7 lw 2 lc rgb '%s' title 'mica'\n",
+            mica_gnuplot_colour(0));
     fprintf(fp, "set output\n");
   }
   return MICA_SUCCESS;

@@ -203,29 +203,49 @@ static void write_chart(const StudySpec *spec, const StudyRow *rows, const Curve
     if (!cv->npoints[k]) continue;
     curve_label(spec, rows, cv->first[k], label, sizeof label);
     mica_gnuplot_label(label, safe, sizeof safe);
-    snprintf(text, sizeof text,
-             "'study_points.dat' index %ld using %s:($2 > 0 ? $2 : 1/0) with linespoints lw 1.2 pt %ld ps 0.9 lc %ld "
-             "title \"%s\"", k, x, 4 + 2 * (k / 8 % 4), k % 8 + 1, safe);
+    char series[96];
+    mica_gnuplot_series((int)k, series, sizeof series);
+    snprintf(text, sizeof text, "'study_points.dat' index %ld using %s:($2 > 0 ? $2 : 1/0) with linespoints lw 1.2 ps 0.9 %s "
+             "title '%s'", k, x, series, safe);
     item(&pl, text);
   }
   if (nfront) {
     if (xcol == 1) {
-      item(&pl, "'study_front.dat' using 1:2 with steps lw 2.5 lc rgb 'black' title \"Pareto front\"");
+      item(&pl, "'study_front.dat' using 1:2 with steps lw 2.5 lc rgb 'black' title 'Pareto front'");
       item(&pl, "'study_front.dat' using 1:2:4 with labels left offset 0.6,0.6 font ',8' rotate by 20 notitle");
     }
-    snprintf(text, sizeof text, "'study_front.dat' using %s:2 with points pt 6 ps 1.8 lw 1.5 lc rgb 'black' title \"%s\"",
+    snprintf(text, sizeof text, "'study_front.dat' using %s:2 with points pt 6 ps 1.8 lw 1.5 lc rgb 'black' title '%s'",
              x, xcol == 1 ? "on the front" : "on the front (error against time)");
     item(&pl, text);
   }
   if (fastest >= 0) {
-    snprintf(text, sizeof text, "'study_fastest.dat' using %s:2 with points pt 7 ps 2.2 lc rgb 'red' title "
-             "\"fastest to %s error <= %g\"", x, spec->error_name, spec->target);
+    mica_gnuplot_label(spec->error_name, safe, sizeof safe);
+    snprintf(text, sizeof text, "'study_fastest.dat' using %s:2 with points pt 7 ps 2.4 lc rgb 'black' title "
+             "'fastest to %s error <= %g'", x, safe, spec->target);
     item(&pl, text);
   }
-  snprintf(text, sizeof text, "%.17g with lines dt 2 lw 1.5 lc rgb 'red' title \"target %g\"", spec->target,
+  snprintf(text, sizeof text, "%.17g with lines dt 2 lw 1.5 lc rgb 'black' title 'target %g'", spec->target,
            spec->target);
   item(&pl, text);
   fprintf(fp, "\n");
+}
+
+/* The key's entries (titled plot items) of a chart and the longest curve title. */
+static int key_entries(const StudySpec *spec, const StudyRow *rows, const Curves *cv, long nfront, long fastest,
+                       int xcol, size_t *longest) {
+  int n = 1; /* the target */
+  char label[LABEL_MAX];
+  char fastest_title[LABEL_MAX];
+  snprintf(fastest_title, sizeof fastest_title, "fastest to %s error <= %g", spec->error_name, spec->target);
+  *longest = strlen(fastest_title);
+  for (long k = 0; k < cv->n; k++)
+    if (cv->npoints[k]) {
+      curve_label(spec, rows, cv->first[k], label, sizeof label);
+      if (strlen(label) > *longest) *longest = strlen(label);
+      n++;
+    }
+  if (nfront) n += xcol == 1 ? 2 : 1;
+  return n + (fastest >= 0);
 }
 
 static int write_script(const StudySpec *spec, const StudyRow *rows, const Curves *cv, long nfront, long fastest,
@@ -236,21 +256,29 @@ static int write_script(const StudySpec *spec, const StudyRow *rows, const Curve
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_deck_string(spec->deck, "problem.title", &deck_title));
   mica_gnuplot_label(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);
-  study_error_title(spec, error_title, sizeof error_title);
+  char raw[128];
+  study_error_title(spec, raw, sizeof raw); /* a probe's name is the deck's */
+  mica_gnuplot_label(raw, error_title, sizeof error_title);
   MICA_CALL_CLEANUP(mica_out_open_in(outdir, "study_chart.gp", &out));
   fprintf(out.fp, "# mica study: %s against time and against dofs (data: study_points.dat, study_front.dat, "
           "study_fastest.dat)\n", error_title);
   for (int chart = 0; chart < 2; chart++)
     for (int pass = 0; pass < 2; pass++) {
       const char *name = chart ? "study_dofs" : "study_time";
-      fprintf(out.fp, pass ? "set terminal svg size 1100,800 noenhanced\nset output '%s.svg'\n"
-                           : "set terminal pngcairo size 1100,800 noenhanced\nset output '%s.png'\n", name);
+      size_t longest;
+      const int entries = key_entries(spec, rows, cv, nfront, fastest, chart ? 3 : 1, &longest);
+      const int columns = mica_gnuplot_key_columns(1100, longest, 4);
+      const int height = 760 + 22 * mica_gnuplot_key_rows(entries, columns);
+      fprintf(out.fp, "reset\n");
+      fprintf(out.fp, pass ? "set terminal svg size 1100,%d noenhanced\nset output '%s.svg'\n"
+                           : "set terminal pngcairo size 1100,%d noenhanced\nset output '%s.png'\n", height, name);
       /* the target across the whole width (the plotted constant keeps it inside the y range, and in the key) */
-      fprintf(out.fp, "set arrow 1 from graph 0, first %.17g to graph 1, first %.17g nohead dt 2 lw 1.5 lc rgb 'red'\n",
+      fprintf(out.fp, "set arrow 1 from graph 0, first %.17g to graph 1, first %.17g nohead dt 2 lw 1.5 lc rgb 'black'\n",
               spec->target, spec->target);
       fprintf(out.fp, "set title '%s: %s against %s'\nset xlabel '%s'\nset ylabel '%s'\nset logscale xy\n"
-              "set format y '%%.0e'\nset grid\nset key below box maxrows 8\nset offsets 0, graph 0.12, graph 0.04, 0\n", title, error_title,
-              chart ? "dofs" : "time", chart ? "dofs (unknowns)" : study_time_title(spec), error_title);
+              "set format y '%%.0e'\nset grid\nset offsets 0, graph 0.12, graph 0.04, graph 0.04\n", title, error_title,
+              chart ? "dofs" : "time", chart ? "unknowns (degrees of freedom)" : study_time_title(spec), error_title);
+      mica_gnuplot_key_below(out.fp, entries, columns);
       write_chart(spec, rows, cv, nfront, fastest, chart ? 3 : 1, out.fp);
       fprintf(out.fp, "set output\n");
     }

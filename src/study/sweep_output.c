@@ -151,19 +151,6 @@ static int same_curve(const SweepSpec *spec, const SweepPoint *pts, long p, long
   return 1;
 }
 
-static void curve_label(const SweepSpec *spec, const SweepPoint *pts, long first, char *buf, size_t size) {
-  size_t used = 0;
-  buf[0] = '\0';
-  for (int a = 0; a < spec->naxes && !spec->zip; a++) {
-    if (a == spec->x) continue;
-    char label[256];
-    sweep_value_label(&spec->axes[a], pts[first].choice[a], label, sizeof label);
-    int n = snprintf(buf + used, size - used, "%s%s", used ? " " : "", label);
-    if (n > 0 && (size_t)n < size - used) used += (size_t)n;
-  }
-  if (!used) snprintf(buf, size, "%s", spec->probes[spec->probe]);
-}
-
 /* One block per curve: the curve's successful points by increasing x. Returns the number of points. */
 static int write_curve(FILE *fp, const SweepSpec *spec, const SweepPoint *pts, long first) {
   const SweepAxis *xa = &spec->axes[spec->x];
@@ -242,11 +229,19 @@ static int analytic_repeats(const double *y, int nanalytic, int c, int k) {
   return 0;
 }
 
+/* A gap in the line is one blank line between finite values (two would end the block, and a block without a
+ * data line would not count as one for gnuplot's `index`: a curve with no finite value is one NaN). */
 static void write_analytic_block(FILE *fp, const double *x, const double *y) {
+  int written = 0, gap = 0;
   for (int i = 0; i < FINE; i++) {
-    if (isfinite(y[i])) fprintf(fp, "%.10g %.10g\n", x[i], y[i]);
-    else fprintf(fp, "\n"); /* a gap in the line */
+    if (!isfinite(y[i])) {
+      gap = written;
+      continue;
+    }
+    fprintf(fp, "%s%.10g %.10g\n", gap ? "\n" : "", x[i], y[i]);
+    written = 1, gap = 0;
   }
+  if (!written) fprintf(fp, "%.10g NaN\n", x[0]);
   fprintf(fp, "\n\n");
 }
 
@@ -257,8 +252,11 @@ typedef struct {
   int *npoints;       /* per curve: points written */
   double x[FINE];
   double *analytic;   /* [curve][analytic][FINE] */
-  FILE *script;
+  int *shared;        /* per analytic curve: 1 when every chart curve gives it the same values */
+  FILE *script;       /* the plot command being written (a memory stream) */
   int nplots;
+  size_t longest;     /* the longest title, for the key's columns */
+  double xlo, xhi, ylo, yhi; /* what the chart shows: points, analytic curves, experiments */
 } Chart;
 
 static int write_points_file(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, Chart *ch) {
@@ -274,14 +272,23 @@ cleanup:
   return ierr;
 }
 
+static void find_shared(const SweepSpec *spec, Chart *ch) {
+  for (int k = 0; k < spec->nanalytic; k++) {
+    ch->shared[k] = 1;
+    for (int c = 1; c < ch->curves.n && ch->shared[k]; c++) ch->shared[k] = analytic_repeats(ch->analytic, spec->nanalytic, c, k);
+  }
+}
+
 static int write_analytic_file(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, Chart *ch) {
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   if (!spec->nanalytic) return MICA_SUCCESS;
   fine_grid(spec, ch->x);
   MICA_CALL_CLEANUP(MICA_MALLOC(ch->analytic, (size_t)ch->curves.n * (size_t)spec->nanalytic * FINE));
+  MICA_CALL_CLEANUP(MICA_CALLOC(ch->shared, spec->nanalytic));
   for (int c = 0; c < ch->curves.n; c++)
     MICA_CALL_CLEANUP(analytic_eval(spec, pts, ch->curves.first[c], ch->x, &ch->analytic[c * spec->nanalytic * FINE]));
+  find_shared(spec, ch);
   MICA_CALL_CLEANUP(mica_out_open_in(outdir, "sweep_analytic.dat", &out));
   fprintf(out.fp, "# one block per chart curve and analytic curve (curve-major)\n");
   for (int c = 0; c < ch->curves.n; c++)
@@ -310,38 +317,119 @@ cleanup:
   return ierr;
 }
 
-/* One plot item; on log axes, values that are not positive are left out (1/0). */
+/* ---- what the chart shows: its ranges ---- */
+
+static void extend(const SweepSpec *spec, Chart *ch, double x, double y) {
+  if (!isfinite(x) || !isfinite(y) || (spec->logx && x <= 0) || (spec->logy && y <= 0)) return;
+  ch->xlo = fmin(ch->xlo, x), ch->xhi = fmax(ch->xhi, x);
+  ch->ylo = fmin(ch->ylo, y), ch->yhi = fmax(ch->yhi, y);
+}
+
+/* Analytic curve k of chart curve c is drawn: it has a value the axes can show, and no earlier chart curve
+ * drew the same one. */
+static int analytic_drawn(const SweepSpec *spec, const Chart *ch, int c, int k) {
+  if (analytic_repeats(ch->analytic, spec->nanalytic, c, k)) return 0;
+  const double *y = &ch->analytic[(c * spec->nanalytic + k) * FINE];
+  for (int i = 0; i < FINE; i++)
+    if (isfinite(y[i]) && (!spec->logy || y[i] > 0) && (!spec->logx || ch->x[i] > 0)) return 1;
+  return 0;
+}
+
+static void find_extent(const SweepSpec *spec, const SweepPoint *pts, Chart *ch) {
+  ch->xlo = ch->ylo = INFINITY, ch->xhi = ch->yhi = -INFINITY;
+  for (long p = 0; p < spec->npoints; p++)
+    if (!pts[p].status) extend(spec, ch, spec->axes[spec->x].values[pts[p].choice[spec->x]], pts[p].probe[spec->probe]);
+  for (int c = 0; c < ch->curves.n; c++)
+    for (int k = 0; k < spec->nanalytic; k++)
+      if (analytic_drawn(spec, ch, c, k))
+        for (int i = 0; i < FINE; i++) extend(spec, ch, ch->x[i], ch->analytic[(c * spec->nanalytic + k) * FINE + i]);
+  for (int e = 0; e < spec->nexperiments; e++)
+    for (int i = 0; i < spec->experiments[e].n; i++) extend(spec, ch, spec->experiments[e].x[i], spec->experiments[e].y[i]);
+}
+
+/* ---- the plot command ---- */
+
+/* "N = 0.93, L = 8": the values that make chart curve `first`, or "" for a single curve. */
+static void curve_values(const SweepSpec *spec, const SweepPoint *pts, long first, char *buf, size_t size) {
+  size_t used = 0;
+  buf[0] = '\0';
+  for (int a = 0; a < spec->naxes && !spec->zip; a++) {
+    if (a == spec->x) continue;
+    const SweepAxis *axis = &spec->axes[a];
+    const int v = pts[first].choice[a];
+    char value[64];
+    if (axis->values) snprintf(value, sizeof value, "%g", axis->values[v]);
+    else snprintf(value, sizeof value, "%s", axis->words[v]);
+    const int n = snprintf(buf + used, size - used, "%s%s = %s", used ? ", " : "", axis->label, value);
+    if (n > 0 && (size_t)n < size - used) used += (size_t)n;
+  }
+}
+
+/* One plot item, its title made safe for gnuplot; on log axes values that are not positive are left out. */
 static void plot_item(const SweepSpec *spec, Chart *ch, const char *file, int index, const char *style,
                       const char *title) {
   char safe[512];
   mica_gnuplot_label(title, safe, sizeof safe);
-  fprintf(ch->script, "%s'%s' index %d using %s:%s %s title \"%s\"", ch->nplots++ ? ", \\\n     " : "", file, index,
+  if (strlen(safe) > ch->longest) ch->longest = strlen(safe);
+  fprintf(ch->script, "%s'%s' index %d using %s:%s %s title '%s'", ch->nplots++ ? ", \\\n     " : "", file, index,
           spec->logx ? "($1 > 0 ? $1 : 1/0)" : "1", spec->logy ? "($2 > 0 ? $2 : 1/0)" : "2", style, safe);
+}
+
+static void plot_points(const SweepSpec *spec, const SweepPoint *pts, Chart *ch) {
+  for (int c = 0; c < ch->curves.n; c++) {
+    if (!ch->npoints[c]) continue;
+    char values[400], title[512], series[96], style[160];
+    curve_values(spec, pts, ch->curves.first[c], values, sizeof values);
+    snprintf(title, sizeof title, values[0] ? "mica, %s" : "mica", values);
+    mica_gnuplot_series(c, series, sizeof series);
+    snprintf(style, sizeof style, "with linespoints lw 1.5 ps 1.1 %s", series);
+    plot_item(spec, ch, "sweep_points.dat", c, style, title);
+  }
+}
+
+/* A level (the same constant for every chart curve: a classical limit) is drawn once, in black, dashed; a
+ * reference shared by several chart curves once, in black, dash-dot; any other for each chart curve, in its
+ * colour, dashed (dash-dot, dotted for a second and third such reference). */
+static int analytic_level(const SweepSpec *spec, const Chart *ch, int k) {
+  const double *y = &ch->analytic[k * FINE];
+  double first = NAN;
+  for (int i = 0; i < FINE; i++)
+    if (isfinite(y[i])) {
+      if (isnan(first)) first = y[i];
+      else if (y[i] != first) return 0;
+    }
+  (void)spec;
+  return ch->shared[k] && !isnan(first);
+}
+
+static void analytic_style(const SweepSpec *spec, const Chart *ch, int c, int k, char *style, size_t size) {
+  static const int dash[] = {2, 4, 3};
+  int rank = 0; /* the references before k drawn in the curves' colours */
+  for (int j = 0; j < k; j++) rank += !analytic_level(spec, ch, j) && !(ch->shared[j] && ch->curves.n > 1);
+  if (analytic_level(spec, ch, k)) snprintf(style, size, "with lines lw 1.5 lc rgb 'black' dt 2");
+  else if (ch->shared[k] && ch->curves.n > 1) snprintf(style, size, "with lines lw 2 lc rgb 'black' dt 4");
+  else snprintf(style, size, "with lines lw 2 lc rgb '%s' dt %d", mica_gnuplot_colour(c), dash[rank % 3]);
+}
+
+static void plot_analytic(const SweepSpec *spec, const SweepPoint *pts, Chart *ch) {
+  for (int c = 0; c < ch->curves.n; c++)
+    for (int k = 0; k < spec->nanalytic; k++) {
+      if (!analytic_drawn(spec, ch, c, k)) continue;
+      char path[64], title[1024], values[400], style[128];
+      const char *name = NULL;
+      snprintf(path, sizeof path, "sweep.analytic.[%d].name", k);
+      if (!mica_deck_has(spec->deck, path) || mica_deck_string(spec->deck, path, &name)) name = "analytic";
+      curve_values(spec, pts, ch->curves.first[c], values, sizeof values);
+      snprintf(title, sizeof title, !ch->shared[k] && values[0] ? "%s, %s" : "%s", name, values);
+      analytic_style(spec, ch, c, k, style, sizeof style);
+      plot_item(spec, ch, "sweep_analytic.dat", c * spec->nanalytic + k, style, title);
+    }
 }
 
 static void plot_items(const SweepSpec *spec, const SweepPoint *pts, Chart *ch) {
   ch->nplots = 0;
-  for (int c = 0; c < ch->curves.n; c++) {
-    if (!ch->npoints[c]) continue;
-    char label[512];
-    curve_label(spec, pts, ch->curves.first[c], label, sizeof label);
-    char style[64];
-    snprintf(style, sizeof style, "with linespoints lw 1.5 pt 7 lc %d", c + 1);
-    plot_item(spec, ch, "sweep_points.dat", c, style, label);
-  }
-  for (int c = 0; c < ch->curves.n; c++)
-    for (int k = 0; k < spec->nanalytic; k++) {
-      if (analytic_repeats(ch->analytic, spec->nanalytic, c, k)) continue;
-      char path[64], title[1024], label[512];
-      const char *name = NULL;
-      snprintf(path, sizeof path, "sweep.analytic.[%d].name", k);
-      if (!mica_deck_has(spec->deck, path) || mica_deck_string(spec->deck, path, &name)) name = "analytic";
-      curve_label(spec, pts, ch->curves.first[c], label, sizeof label);
-      snprintf(title, sizeof title, ch->curves.n > 1 ? "%s (%s)" : "%s", name, label);
-      char style[64]; /* the colour of its chart curve, a dash pattern per expression */
-      snprintf(style, sizeof style, "with lines lw 1 lc %d dt %d", c + 1, 2 + k % 4);
-      plot_item(spec, ch, "sweep_analytic.dat", c * spec->nanalytic + k, style, title);
-    }
+  plot_points(spec, pts, ch);
+  plot_analytic(spec, pts, ch);
   static const int open_marker[] = {6, 4, 8, 10, 12, 14}; /* circle, square, triangles, diamond, pentagon */
   for (int e = 0; e < spec->nexperiments; e++) {
     char style[64]; /* a distinct open marker per data set, so the sets stay apart without colour */
@@ -351,36 +439,93 @@ static void plot_items(const SweepSpec *spec, const SweepPoint *pts, Chart *ch) 
   fprintf(ch->script, "\n");
 }
 
-static int write_script(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, Chart *ch) {
-  char title[512];
-  const char *deck_title;
-  MicaOutFile out = {0};
-  int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(mica_deck_string(spec->deck, "problem.title", &deck_title));
-  mica_gnuplot_label(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);
-  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "sweep_chart.gp", &out));
-  ch->script = out.fp;
-  for (int pass = 0; pass < 2; pass++) {
-    fprintf(out.fp, pass ? "set terminal svg size 900,650 noenhanced\nset output 'sweep.svg'\n"
-                         : "set terminal pngcairo size 900,650 noenhanced\nset output 'sweep.png'\n");
-    fprintf(out.fp, "set title '%s: sweep'\nset xlabel '%s'\nset ylabel '%s'\nset grid\nset key below box\n%s%s",
-            title, spec->axes[spec->x].label, spec->probes[spec->probe], spec->logx ? "set logscale x\n" : "",
-            spec->logy ? "set logscale y\n" : "");
-    fprintf(out.fp, "plot ");
-    plot_items(spec, pts, ch);
-    fprintf(out.fp, "set output\n");
+/* ---- the axis labels ---- */
+
+/* sweep.xlabel, or the swept name in words: "parameter a over l" for parameters.a_over_l, "mls dilation". */
+static int x_label(const SweepSpec *spec, char *buf, size_t size) {
+  const SweepAxis *axis = &spec->axes[spec->x];
+  const char *text;
+  char words[256];
+  MICA_CALL(mica_deck_string(spec->deck, "sweep.xlabel", &text));
+  if (text[0]) {
+    mica_gnuplot_label(text, buf, size);
+    return MICA_SUCCESS;
   }
+  mica_gnuplot_words(axis->label, words, sizeof words);
+  for (char *dot = strchr(words, '.'); dot; dot = strchr(dot, '.')) *dot = ' ';
+  snprintf(buf, size, "%s%s", axis->label == axis->path ? "" : "parameter ", words);
+  return MICA_SUCCESS;
+}
+
+/* sweep.ylabel, or the probe's name in words and what it probes: "stiffness ratio (probe of uy)". */
+static int y_label(const SweepSpec *spec, char *buf, size_t size) {
+  const char *text, *field = "energy";
+  char path[64], words[256], full[512];
+  MICA_CALL(mica_deck_string(spec->deck, "sweep.ylabel", &text));
+  if (text[0]) {
+    mica_gnuplot_label(text, buf, size);
+    return MICA_SUCCESS;
+  }
+  snprintf(path, sizeof path, "output.probes.[%d].field", spec->probe);
+  if (mica_deck_has(spec->deck, path)) MICA_CALL(mica_deck_string(spec->deck, path, &field));
+  mica_gnuplot_words(spec->probes[spec->probe], words, sizeof words);
+  snprintf(full, sizeof full, "%s (probe of %s)", words, field);
+  mica_gnuplot_label(full, buf, size);
+  return MICA_SUCCESS;
+}
+
+/* ---- the script ---- */
+
+static int write_header(const SweepSpec *spec, Chart *ch, int pass, FILE *fp) {
+  char title[512], xlabel[512], ylabel[512];
+  const char *deck_title;
+  MICA_CALL(mica_deck_string(spec->deck, "problem.title", &deck_title));
+  mica_gnuplot_label(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);
+  MICA_CALL(x_label(spec, xlabel, sizeof xlabel));
+  MICA_CALL(y_label(spec, ylabel, sizeof ylabel));
+  const int columns = mica_gnuplot_key_columns(900, ch->longest, 3);
+  const int rows = mica_gnuplot_key_rows(ch->nplots, columns), height = 560 + 22 * rows;
+  fprintf(fp, pass ? "set terminal svg size 900,%d noenhanced\nset output 'sweep.svg'\n"
+                   : "set terminal pngcairo size 900,%d noenhanced\nset output 'sweep.png'\n", height);
+  fprintf(fp, "set title '%s'\nset xlabel '%s'\nset ylabel '%s'\nset grid\n%s%s", title, xlabel, ylabel,
+          spec->logx ? "set logscale x\n" : "", spec->logy ? "set logscale y\n" : "");
+  mica_gnuplot_key_below(fp, ch->nplots, columns);
+  /* every curve, reference and measured point inside the frame, none on the border */
+  mica_gnuplot_range(fp, 'x', ch->xlo, ch->xhi, spec->logx, 0.03);
+  mica_gnuplot_range(fp, 'y', ch->ylo, ch->yhi, spec->logy, 0.06);
+  return MICA_SUCCESS;
+}
+
+static int write_script(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, Chart *ch) {
+  MicaOutFile out = {0};
+  char *items = NULL;
+  size_t items_size = 0;
+  int ierr = MICA_SUCCESS;
+  find_extent(spec, pts, ch);
+  ch->script = open_memstream(&items, &items_size);
+  MICA_CHECK(ch->script, MICA_ERR_MEMORY, "cannot open a memory stream for the chart: %s", strerror(errno));
+  plot_items(spec, pts, ch);
+  fclose(ch->script);
+  ch->script = NULL;
   if (!ch->nplots) {
     ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_NUMERIC, "nothing to chart: no point has a finite %s",
                           spec->probes[spec->probe]);
     goto cleanup;
   }
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "sweep_chart.gp", &out));
+  fprintf(out.fp, "# mica sweep: %s against %s (data: sweep_points.dat, sweep_analytic.dat, sweep_experiments.dat)\n",
+          spec->probes[spec->probe], spec->axes[spec->x].path);
+  for (int pass = 0; pass < 2; pass++) {
+    MICA_CALL_CLEANUP(write_header(spec, ch, pass, out.fp));
+    fprintf(out.fp, "plot %sset output\n", items);
+    if (!pass) fprintf(out.fp, "reset\n");
+  }
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
   mica_out_abort(&out);
+  free(items);
   return ierr;
 }
-
 
 int sweep_write_chart(const SweepSpec *spec, const SweepPoint *points, const char *outdir) {
   Chart ch;
@@ -396,5 +541,6 @@ cleanup:
   free(ch.curves.first);
   free(ch.npoints);
   free(ch.analytic);
+  free(ch.shared);
   return ierr;
 }

@@ -141,12 +141,63 @@ static void test_constant_eval(void **state) {
   mica_error_clear();
 }
 
+static void assert_relative(double got, double want, double tol, const char *what) {
+  if (!(fabs(got - want) <= tol * fabs(want))) fail_msg("%s: got %.17g, want %.17g (relative %.1e)", what, got, want, tol);
+}
+
+/* besselk0/1, besseli0/1 against tabulated values (Abramowitz & Stegun, Tables 9.8 and 9.1; 10 digits), the
+ * Wronskian I0 K1 + I1 K0 = 1/u, which holds only if all four are right, and the derivatives K0' = -K1,
+ * I0' = I1 through libmatheval's differentiation of the sums. */
+static void test_bessel(void **state) {
+  (void)state;
+  const struct { double u, k0, k1, i0, i1; } table[] = {
+      {0.1, 2.427069025, 9.853844781, 1.002501563, 0.05006252604},
+      {1.0, 0.4210244382, 0.6019072302, 1.266065878, 0.5651591040},
+      {10.0, 1.778006232e-5, 1.864877345e-5, 2815.716628, 2670.988304},
+  };
+  MicaFunction *k0 = compile_ok("besselk0(x)", 0, NULL, NULL), *k1 = compile_ok("besselk1(x)", 0, NULL, NULL);
+  MicaFunction *i0 = compile_ok("besseli0(x)", 0, NULL, NULL), *i1 = compile_ok("besseli1(x)", 0, NULL, NULL);
+  for (size_t n = 0; n < sizeof table / sizeof *table; n++) {
+    const double u = table[n].u;
+    assert_relative(at(k0, u, 0, 0, 0), table[n].k0, 1e-9, "K0");
+    assert_relative(at(k1, u, 0, 0, 0), table[n].k1, 1e-9, "K1");
+    assert_relative(at(i0, u, 0, 0, 0), table[n].i0, 1e-9, "I0");
+    assert_relative(at(i1, u, 0, 0, 0), table[n].i1, 1e-9, "I1");
+  }
+  const double wronskian_at[] = {1e-5, 1e-3, 0.3, 2.0, 17.0, 80.0, 250.0};
+  for (size_t n = 0; n < sizeof wronskian_at / sizeof *wronskian_at; n++) {
+    const double u = wronskian_at[n];
+    const double w = at(i0, u, 0, 0, 0) * at(k1, u, 0, 0, 0) + at(i1, u, 0, 0, 0) * at(k0, u, 0, 0, 0);
+    assert_relative(w, 1 / u, 1e-12, "Wronskian I0 K1 + I1 K0");
+  }
+  MicaFunction *dk0 = NULL, *di0 = NULL;
+  assert_int_equal(mica_function_derivative(k0, 0, &dk0), MICA_SUCCESS);
+  assert_int_equal(mica_function_derivative(i0, 0, &di0), MICA_SUCCESS);
+  assert_relative(at(dk0, 1.5, 0, 0, 0), -at(k1, 1.5, 0, 0, 0), 1e-12, "K0' = -K1");
+  assert_relative(at(di0, 1.5, 0, 0, 0), at(i1, 1.5, 0, 0, 0), 1e-12, "I0' = I1");
+  assert_true(isnan(at(k0, 0, 0, 0, 0)) && isnan(at(k1, -1, 0, 0, 0))); /* K_n is not defined for u <= 0 */
+  assert_relative(at(i1, -2, 0, 0, 0), -at(i1, 2, 0, 0, 0), 1e-14, "I1 is odd");
+  /* parameters inside the argument, nested calls, a constant expression */
+  const char *names[] = {"N"};
+  const double values[] = {0.5};
+  MicaFunction *f = compile_ok("besselk0(x*N)/besselk1(x*N)", 1, names, values);
+  assert_relative(at(f, 2, 0, 0, 0), table[1].k0 / table[1].k1, 1e-9, "K0(x N)/K1(x N)");
+  double v = 0;
+  assert_int_equal(mica_constant_eval("besseli0(besselk0(1)) * 2", 0, NULL, NULL, &v), MICA_SUCCESS);
+  assert_true(v > 2 && v < 2.2);
+  assert_int_equal(mica_constant_eval("besselk0(0)", 0, NULL, NULL, &v), MICA_ERR_INPUT); /* K0(0): not finite */
+  mica_error_clear();
+  expect_error("besselk2(x)", 0, NULL, NULL, "unknown function");
+  MicaFunction *all[] = {k0, k1, i0, i1, dk0, di0, f};
+  for (size_t n = 0; n < sizeof all / sizeof *all; n++) mica_function_destroy(&all[n]);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_evaluate_variables), cmocka_unit_test(test_parameters),
       cmocka_unit_test(test_derivatives),        cmocka_unit_test(test_parameter_power_derivative),
       cmocka_unit_test(test_unknown_names),      cmocka_unit_test(test_syntax_errors),
-      cmocka_unit_test(test_constant_eval),
+      cmocka_unit_test(test_constant_eval),      cmocka_unit_test(test_bessel),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
