@@ -57,6 +57,7 @@ else
 fi
 root=$(cd "$root" && pwd -P)
 [ "$root" != / ] || die "the root cannot be /"
+[[ $root != *[[:space:]]* ]] || die "the root path must not contain white space: $root"
 free_mb=$(df -Pm "$root" | awk 'NR == 2 { print $4 }')
 say "root $root ($free_mb MB free), mirror $mirror, suite $SUITE"
 if [ "${free_mb:-0}" -lt "$NEED_MB" ]; then
@@ -65,7 +66,7 @@ if [ "${free_mb:-0}" -lt "$NEED_MB" ]; then
 fi
 
 # Cleanup on every exit: stop what still runs inside the root, undo the mounts (innermost first), remove the root.
-mounts=() child=
+child=
 in_root_pids() {
   local p
   for p in /proc/[0-9]*; do
@@ -74,7 +75,7 @@ in_root_pids() {
 }
 mounted_under_root() { awk -v r="$root" '$2 == r || index($2, r "/") == 1 { print $2 }' /proc/self/mounts; }
 cleanup() {
-  local rc=$? i pids
+  local rc=$? m pids
   trap - EXIT INT TERM
   [ -z "$child" ] || kill "$child" 2>/dev/null
   pids=$(in_root_pids)
@@ -82,8 +83,9 @@ cleanup() {
     kill $pids 2>/dev/null; sleep 2
     pids=$(in_root_pids); [ -z "$pids" ] || kill -KILL $pids 2>/dev/null
   fi
-  for ((i = ${#mounts[@]} - 1; i >= 0; i--)); do
-    umount "${mounts[i]}" 2>/dev/null || umount -l "${mounts[i]}" || say "cannot unmount ${mounts[i]}"
+  # ours and any debootstrap left (it mounts proc and sys itself), the latest first
+  for m in $(mounted_under_root | tac); do
+    umount "$m" 2>/dev/null || umount -l "$m" || say "cannot unmount $m"
   done
   if [ -n "$(mounted_under_root)" ]; then
     say "still mounted, so $root is NOT removed: $(mounted_under_root | tr '\n' ' ')"
@@ -124,7 +126,7 @@ finish() { summary; say "$1"; [ "$1" = PASS ]; exit $?; }
 mount_in_root() { # mount_in_root TARGET MOUNT-ARGS...
   local target=$root/$1
   shift
-  mkdir -p "$target" && mount "$@" "$target" && mounts+=("$target")
+  mkdir -p "$target" && mount "$@" "$target"
 }
 in_root() { chroot "$root" /usr/bin/env -i HOME=/root TERM="${TERM:-dumb}" \
   PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin "$@"; }
@@ -170,7 +172,7 @@ readme_commands() {
 
 step "debootstrap --variant=minbase $SUITE" \
   debootstrap --variant=minbase "$SUITE" "$root" "$mirror" || finish FAIL
-prepare_root || { say "cannot set up the root (sources, mounts)"; finish FAIL; }   # in this shell: it records the mounts
+prepare_root || { say "cannot set up the root (sources, mounts)"; finish FAIL; }
 step "apt-get install git make (no recommends)" install_git_make || finish FAIL
 step "git clone $(git -C "$repo" rev-parse --short HEAD)" clone_repo || finish FAIL
 mapfile -t commands < <(readme_commands)
