@@ -66,18 +66,23 @@ if [ "${free_mb:-0}" -lt "$NEED_MB" ]; then
 fi
 
 # Cleanup on every exit: stop what still runs inside the root, undo the mounts (innermost first), remove the root.
-child=
+child= names=() results=() times=() step_name= step_t0=
 in_root_pids() {
   local p
   for p in /proc/[0-9]*; do
     [ "$(readlink "$p/root" 2>/dev/null)" = "$root" ] && echo "${p#/proc/}"
   done
 }
+process_tree() { # PID and all its descendants
+  local c
+  for c in $(grep -lx "PPid:[[:space:]]*$1" /proc/[0-9]*/status 2>/dev/null | cut -d/ -f3); do process_tree "$c"; done
+  echo "$1"
+}
 mounted_under_root() { awk -v r="$root" '$2 == r || index($2, r "/") == 1 { print $2 }' /proc/self/mounts; }
 cleanup() {
   local rc=$? m pids
   trap - EXIT INT TERM
-  [ -z "$child" ] || kill "$child" 2>/dev/null
+  [ -z "$child" ] || kill $(process_tree "$child") 2>/dev/null
   pids=$(in_root_pids)
   if [ -n "$pids" ]; then
     kill $pids 2>/dev/null; sleep 2
@@ -97,19 +102,24 @@ cleanup() {
   exit "$rc"
 }
 trap cleanup EXIT
-trap 'say "interrupted"; exit 130' INT
-trap 'say "terminated"; exit 143' TERM
+# stopped NAME STATUS: the step under way is recorded as stopped, the summary printed, the script exits STATUS.
+stopped() {
+  trap - INT TERM
+  [ -z "$step_name" ] || { names+=("$step_name"); results+=("STOPPED ($1)"); times+=($(($(date +%s) - step_t0))); }
+  summary; say "FAIL (stopped by SIG$1)"; exit "$2"
+}
+trap 'stopped INT 130' INT
+trap 'stopped TERM 143' TERM
 
 # step NAME COMMAND...: runs it in the background (so an interrupt is handled at once), records PASS/FAIL and time.
-names=() results=() times=()
 step() {
-  local name=$1 t0 rc
+  local rc
+  step_name=$1 step_t0=$(date +%s)
   shift
-  say "=== $name"
-  t0=$(date +%s)
+  say "=== $step_name"
   "$@" & child=$!
   wait "$child"; rc=$?; child=
-  names+=("$name"); times+=($(($(date +%s) - t0)))
+  names+=("$step_name"); times+=($(($(date +%s) - step_t0))); step_name=
   if [ "$rc" -eq 0 ]; then results+=(PASS); else results+=("FAIL (exit $rc)"); fi
   return "$rc"
 }
