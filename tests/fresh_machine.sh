@@ -169,7 +169,7 @@ install_git_make() {
 }
 
 clone_repo() {
-  git -C "$repo" bundle create "$root/root/mica.bundle" HEAD 2>&1 | tail -n 1 &&
+  git -C "$repo" bundle create --quiet "$root/root/mica.bundle" HEAD &&
     in_root git -c advice.detachedHead=false clone -q /root/mica.bundle /root/mica &&
     rm -f "$root/root/mica.bundle" && in_root git -C /root/mica log --oneline -1
 }
@@ -186,13 +186,12 @@ prepare_root || { say "cannot set up the root (sources, mounts)"; finish FAIL; }
 step "apt-get install git make (no recommends)" install_git_make || finish FAIL
 step "git clone $(git -C "$repo" rev-parse --short HEAD)" clone_repo || finish FAIL
 mapfile -t commands < <(readme_commands)
-say "the README's commands: $(printf '%s; ' "${commands[@]}")"
+say "the README's commands: $(IFS=';'; echo "${commands[*]}" | sed 's/;/; /g')"
 [ "${#commands[@]}" -gt 0 ] || { say "README.md has no \`\`\`sh block of commands"; finish FAIL; }
 for c in "${commands[@]}"; do
   [[ $c =~ ^make\ [a-z][a-z-]*$ ]] || { say "README command '$c' is not 'make TARGET'; not run"; finish FAIL; }
 done
 for c in "${commands[@]}"; do
-  # shellcheck disable=SC2086  # "make TARGET", checked above
   step "$c" in_root bash -c "cd /root/mica && $c" || finish FAIL
 done
 # A test that skips because the machine lacks something (mpirun cannot start) is a missing dependency here.
