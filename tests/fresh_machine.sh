@@ -3,7 +3,7 @@
 # installs only git and make in it, clones the committed HEAD of this repository into it and runs, as root inside
 # the chroot, the commands of the README's first ```sh block (make run, then make test) in order. Prints PASS or
 # FAIL and the wall time of every step; exits 0 only when all passed. Not part of `make test`: it needs root,
-# mount and a Debian mirror, and took 3.5 to 5 minutes here (a near mirror, 2 shared cores).
+# mount and a Debian mirror, and took 3.5 to 7.5 minutes here (a near mirror, 2 shared cores).
 #
 #   sudo bash tests/fresh_machine.sh [--root DIR] [--mirror URI] [--keep]
 #
