@@ -1,5 +1,6 @@
 # mica — build, run, test.
 #
+#   make deps       install whichever Debian package of DEB_PKGS is missing (apt-get, as root or with sudo)
 #   make run        install missing Debian packages, build, run input/quickstart.cfg (a size-effect sweep)
 #   make test       install, build, run the unit and verification tests
 #   make test SAN=1 the same under AddressSanitizer + UndefinedBehaviorSanitizer
@@ -7,9 +8,14 @@
 #   make bench-peers mica against legacy FEniCS on the same problems (~15 min; docs/performance.md)
 #
 # Normal builds go to bin/ lib/ build/; sanitizer builds to build-san/ so both can coexist.
+# `sudo bash tests/fresh_machine.sh` checks that make run and make test work on a fresh minimal Debian 12.
 
 DEB_PKGS := libsuitesparse-dev liblapacke-dev libopenblas-dev libopenmpi-dev openmpi-bin libmetis-dev \
             libconfig-dev libcmocka-dev gnuplot-nox libmatheval-dev python3
+
+# The C compiler: mpicc and the tests' reference programs run gcc, which libopenmpi-dev does not pull in
+# (only gcc-12, without the gcc command).
+DEB_PKGS += gcc libc6-dev
 
 CC := mpicc
 CSTD := -std=c11 -D_POSIX_C_SOURCE=200809L
@@ -50,7 +56,7 @@ BENCH_BIN := $(BENCH_SRC:bench/%.c=$(OUT)/bench/%)
 all: $(BIN)/mica | deps
 
 help:
-	@sed -n '3,9p' Makefile
+	@sed -n '3,10p' Makefile
 
 # Installs whatever Debian package is missing (as root; sudo otherwise). Cheap when nothing is.
 deps:
