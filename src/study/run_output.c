@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mica/cosserat.h"
 #include "mica/files.h"
 #include "mica/timer.h"
 #include "mica/vtk.h"
@@ -72,11 +73,19 @@ static void exact_at(const RunProblem *rp, const double *x, double *q) {
 /* ---- fields at points: the particles and the vertices of the output mesh ------------------------------- */
 
 typedef struct {
-  double *disp, *rotation, *strain, *stress, *couple, *mises, *error;
+  double *disp, *rotation, *strain, *stress, *couple, *micro, *mises, *error;
 } PointFields;
 
 static void fields_free(PointFields *f) {
-  free(f->disp), free(f->rotation), free(f->strain), free(f->stress), free(f->couple), free(f->mises), free(f->error);
+  free(f->disp), free(f->rotation), free(f->strain), free(f->stress), free(f->couple), free(f->micro), free(f->mises);
+  free(f->error);
+}
+
+/* The Cosserat models report a couple stress; the micromorph kinds' stress op leaves it 0 (their double stress
+ * is not reported), and a field of zeros would claim otherwise. */
+static int reports_couple_stress(const RunProblem *rp) {
+  const MicaFieldModelOps *ops = rp->solid->opt.field.ops;
+  return ops == &mica_field_cosserat || ops == &mica_field_cosserat_finite;
 }
 
 static int fields_alloc(const RunProblem *rp, long n, PointFields *f) {
@@ -84,10 +93,9 @@ static int fields_alloc(const RunProblem *rp, long n, PointFields *f) {
   MICA_CALL(MICA_CALLOC(f->strain, n * 9));
   MICA_CALL(MICA_CALLOC(f->stress, n * 9));
   MICA_CALL(MICA_CALLOC(f->mises, n));
-  if (rp->solid->ncomp > rp->solid->model_dim) {
-    MICA_CALL(MICA_CALLOC(f->rotation, n * 3));
-    MICA_CALL(MICA_CALLOC(f->couple, n * 9));
-  }
+  if (rp->solid->ncomp > rp->solid->model_dim) MICA_CALL(MICA_CALLOC(f->rotation, n * 3));
+  if (reports_couple_stress(rp)) MICA_CALL(MICA_CALLOC(f->couple, n * 9));
+  if (rp->solid->opt.field.ops->micro_deformation) MICA_CALL(MICA_CALLOC(f->micro, n * 9));
   if (rp->has_exact) MICA_CALL(MICA_CALLOC(f->error, n * 3));
   return MICA_SUCCESS;
 }
@@ -122,6 +130,11 @@ static int fields_at(RunProblem *rp, const MicaShapeCache *c, long i, const doub
   to_file_frame(rp, sigma, 9, f->stress + i * 9);
   to_file_frame(rp, strain, 9, f->strain + i * 9);
   if (f->couple) to_file_frame(rp, couple, 9, f->couple + i * 9);
+  if (f->micro) {
+    double chi[9];
+    MICA_CALL(s->opt.field.ops->micro_deformation(&s->opt.field, mdim, q, chi));
+    to_file_frame(rp, chi, 9, f->micro + i * 9);
+  }
   f->mises[i] = von_mises(sigma);
   if (rp->has_exact) {
     exact_at(rp, x, qe);
@@ -174,6 +187,7 @@ static int field_list(const RunProblem *rp, const PointFields *f, MicaVtkField *
   if (rp->solid->opt.field.classical) fields[nf++] = (MicaVtkField){"strain", 9, f->strain, tensor};
   fields[nf++] = (MicaVtkField){"stress", 9, f->stress, tensor};
   if (f->couple) fields[nf++] = (MicaVtkField){"couple_stress", 9, f->couple, tensor};
+  if (f->micro) fields[nf++] = (MicaVtkField){"micro_deformation", 9, f->micro, tensor};
   fields[nf++] = (MicaVtkField){"von_mises", 1, f->mises, NULL};
   if (f->error) fields[nf++] = (MicaVtkField){"error", 3, f->error, vector};
   return nf;
@@ -183,7 +197,7 @@ static int field_list(const RunProblem *rp, const PointFields *f, MicaVtkField *
 static int write_particles(RunOutput *out, int step, const double *u) {
   RunProblem *rp = out->rp;
   PointFields f = {0};
-  MicaVtkField fields[8];
+  MicaVtkField fields[9];
   char *path = NULL;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(particle_cache(rp));
@@ -203,7 +217,7 @@ static int write_mesh(RunOutput *out, int step, const double *u) {
   RunProblem *rp = out->rp;
   const MicaCellMesh *mesh = rp->disc->mesh;
   PointFields f = {0};
-  MicaVtkField fields[8];
+  MicaVtkField fields[9];
   char *path = NULL;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mesh_cache(rp));

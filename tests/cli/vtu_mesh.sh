@@ -8,6 +8,8 @@
 #  - 2-D Cosserat plate with a hole: biquadratic quadrilaterals (28) following the arc, micro-rotation and
 #    couple stress; the same deck with problem.method = "fe" (Q2 elements, 28);
 #  - axisymmetric Cosserat torsion: components named r, z, theta, points on the axis;
+#  - gradient micromorph: micro_deformation = I + A and det(I + A)^(-1/3) (I + A) under u = A x (kinds F and
+#    isochoric), and R(phi) of the written micro-rotation (kind rotation, the glide layer);
 #  - a cylinder (triquadratic hexahedra, 29) and a Gmsh mesh (triangles, 5);
 #  - output.mesh = false writes no mesh files; output.mesh = true with output.vtu = false is refused.
 source "$(dirname "$0")/common.bash"
@@ -40,7 +42,7 @@ hole_point=$(awk 'BEGIN { pi = atan2(0, -1); xi = 0.375; eta = 0.25
 cosserat_probes=(--probe p_ux=displacement.x --probe p_uy=displacement.y --probe p_phiz=microrotation.z
   --probe p_sxx=stress.xx --probe p_sxy=stress.xy --probe p_syx=stress.yx --probe p_mzx=couple_stress.zx
   --probe p_mzy=couple_stress.zy --probe p_mises=von_mises)
-# the quadratic cells' area is within 1e-6 of the exact 16 - pi/4 (measured 1e-8; linear cells: 3e-4)
+# the quadratic cells' area is within 1e-6 of the exact 16 - pi/4 (measured 1.0e-8; linear cells on the corners: 8.3e-5)
 run_vtu "$out/hole" tests/decks/vtu/cosserat_hole.cfg
 readback "$out/hole" --types 28 --volume-rtol 1e-6 --at "$hole_point" "${cosserat_probes[@]}"
 ok "Cosserat hole: biquadratic cells on the arc, micro-rotation and couple stress = probes"
@@ -55,7 +57,19 @@ readback "$out/axi" --types 9 --axisymmetric --at 0.5,0.5 --probe p_ur=displacem
   --probe p_mrt=couple_stress.rtheta --probe p_mises=von_mises
 ok "axisymmetric Cosserat: components r, z, theta, vertex values = probes"
 
-# the elliptical grid map of the cylinder bends more: triquadratic cells within 1e-4 of its volume (measured 2.9e-5)
+# micromorph: chi under a homogeneous deformation (patch-test error of the quadrature: 5.6e-9), and chi = R(phi)
+run_vtu "$out/micromorph" tests/decks/vtu/micromorph.cfg
+readback "$out/micromorph" --types 9 --expect micro_deformation=1.01,0.002,0,-0.003,1.005,0,0,0,1 --expect-tol 1e-7
+chi=$(awk 'BEGIN { a11 = 0.01; a12 = 0.002; a21 = -0.003; a22 = 0.005; J = (1 + a11) * (1 + a22) - a12 * a21
+               j = exp(-log(J) / 3); printf "%.17g,%.17g,0,%.17g,%.17g,0,0,0,%.17g", j * (1 + a11), j * a12, j * a21, j * (1 + a22), j }')
+run_vtu "$out/isochoric" tests/decks/vtu/micromorph.cfg --set material.micro_kind=isochoric
+readback "$out/isochoric" --types 9 --expect micro_deformation="$chi" --expect-tol 1e-7
+run_vtu "$out/glide" input/micromorph_glide.cfg
+readback "$out/glide" --types 9 --rotation micro_deformation=microrotation
+ok "micromorph kinds F, isochoric, rotation: micro_deformation"
+
+# the elliptical grid map of the cylinder bends more: triquadratic cells within 1e-4 of its volume (measured 2.9e-5;
+# trilinear cells on the corners: 1.2e-2)
 run_vtu "$out/cylinder" input/cylinder_tension.cfg
 readback "$out/cylinder" --types 29 --volume-rtol 1e-4 --at 0,0,2 --probe top_uz=displacement.z
 ok "cylinder: triquadratic hexahedra"

@@ -5,6 +5,7 @@ and against the run's own summary.json (tests/cli/vtu_mesh.sh drives it; docs/ve
 
     vtu_readback.py DIR --types 9[,28] [--steps N] [--axisymmetric] [--volume-rtol T]
                         [--at X,Y[,Z] --probe KEY=ARRAY[.COMPONENT] ...] [--no-mesh]
+                        [--expect ARRAY=V1,V2,... [--expect-tol T]] [--rotation ARRAY=VECTOR]
 
 Checks, printing "ok: ..." per check and exiting 1 at the first failure ("FAIL: ..."):
   - the PVD lists, per load step, the particles (part 0) and the mesh (part 1), at times k/N exactly, the last
@@ -20,7 +21,10 @@ Checks, printing "ok: ..." per check and exiting 1 at the first failure ("FAIL: 
     dA) equal to summary.json's "volume" to --volume-rtol;
   - at the mesh point nearest (X, Y[, Z]) (it must lie within 1e-10 of it), each ARRAY[.COMPONENT] of the last
     step equals the probe KEY of summary.json to 1e-12 relative (plus 1e-13 of the array's largest value, for
-    components near zero).
+    components near zero);
+  - --expect: ARRAY equals the given values at every point of the last step's files, to --expect-tol;
+  - --rotation: the 3x3 ARRAY equals exp(skew(VECTOR)) (Rodrigues' formula, written out here) at every point of
+    the last step's files, to 1e-14.
 """
 import argparse
 import json
@@ -270,6 +274,41 @@ def check_probes(path, vtu, at, probes, summary):
        % (os.path.basename(path), nearest, at, len(probes), worst))
 
 
+def check_everywhere(path, vtu, expect, tol, rotation):
+    """The --expect and --rotation checks at every point of one file."""
+    for spec in expect:
+        name, values = spec.split("=")
+        want = [float(v) for v in values.split(",")]
+        ncomp, _, data = vtu["arrays"][name]
+        if ncomp != len(want):
+            fail("%s: %s has %d components, --expect gives %d" % (path, name, ncomp, len(want)))
+        worst = max(abs(data[i] - want[i % ncomp]) for i in range(len(data)))
+        if worst > tol:
+            fail("%s: %s differs from %s by %.3g somewhere (> %g)" % (path, name, values, worst, tol))
+        ok("%s: %s = (%s) at all %d points (largest difference %.2g)"
+           % (os.path.basename(path), name, values, len(data) // ncomp, worst))
+    if rotation:
+        name, vector = rotation.split("=")
+        _, _, chi = vtu["arrays"][name]
+        _, _, phi = vtu["arrays"][vector]
+        worst = 0.0
+        for i in range(len(phi) // 3):
+            v = phi[3 * i:3 * i + 3]
+            theta = math.sqrt(sum(c * c for c in v))
+            k = [[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]]
+            k2 = [[sum(k[a][c] * k[c][b] for c in range(3)) for b in range(3)] for a in range(3)]
+            a_ = math.sin(theta) / theta if theta > 0 else 1.0
+            b_ = (1 - math.cos(theta)) / theta ** 2 if theta > 0 else 0.5
+            for a in range(3):
+                for b in range(3):
+                    r = (a == b) + a_ * k[a][b] + b_ * k2[a][b]
+                    worst = max(worst, abs(chi[9 * i + 3 * a + b] - r))
+        if worst > 1e-14:
+            fail("%s: %s is not exp(skew(%s)) (difference %.3g)" % (path, name, vector, worst))
+        ok("%s: %s = exp(skew(%s)) at all %d points (largest difference %.2g)"
+           % (os.path.basename(path), name, vector, len(phi) // 3, worst))
+
+
 def check_times(steps, per_step, datasets):
     times = [datasets[i][0] for i in range(0, len(datasets), per_step)]
     if len(times) != steps:
@@ -292,6 +331,9 @@ def main():
     parser.add_argument("--at", default=None)
     parser.add_argument("--probe", action="append", default=[])
     parser.add_argument("--no-mesh", action="store_true")
+    parser.add_argument("--expect", action="append", default=[])
+    parser.add_argument("--expect-tol", type=float, default=1e-10)
+    parser.add_argument("--rotation", default=None)
     args = parser.parse_args()
     with open(os.path.join(args.dir, "summary.json")) as f:
         summary = json.load(f)
@@ -314,6 +356,9 @@ def main():
             check_mesh(path, vtu, [int(t) for t in args.types.split(",")], dim, args.axisymmetric, summary["volume"],
                        args.volume_rtol)
         check_names(path, vtu["arrays"], args.axisymmetric)
+    for _, _, _, name in datasets[-per_step:]:
+        path = os.path.join(args.dir, name)
+        check_everywhere(path, read_vtu(path), args.expect, args.expect_tol, args.rotation)
     if args.no_mesh and any(f.startswith("mesh_") for f in os.listdir(args.dir)):
         fail("%s: mesh files written with output.mesh = false" % args.dir)
     if args.at:
