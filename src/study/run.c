@@ -799,8 +799,8 @@ const MicaCommand mica_command_run = {
     "solve a solid: EFG with MLS, background-cell quadrature, weak boundary conditions, Newton",
     "Builds the body, particles and background cells, the MLS approximation, the model and the boundary\n"
     "conditions of the deck, and solves with Newton's method over load steps (CHOLMOD or UMFPACK). Writes\n"
-    "fields per load step (VTU + PVD, at the particles) and summary.json: counts, per-phase times, Newton\n"
-    "iterations, error norms when an exact solution is given, and every probe.",
+    "fields per load step (VTU + PVD, at the particles and on the cells) and summary.json: counts, per-phase\n"
+    "times, Newton iterations, error norms when an exact solution is given, and every probe.",
     mica_run_schema,
     run_solve,
 };
