@@ -98,6 +98,45 @@ typedef struct MicaNodalCells {
   double *wn;      /* [ptr[n]*dim] weight (length/area element included) × outward unit normal */
 } MicaNodalCells;
 
+/* The background cells (or the mesh's elements) as a mesh for output (src/geom/cell_mesh.c): shared points
+ * written once and cells as lists of them, so that a viewer can colour and contour fields over the cells. Only
+ * the output uses it; the solver never sees a cell. Cell kinds are numbered as VTK numbers them (its cell type
+ * ids), so the VTU writer passes them through; the nodes of a cell are in VTK's order (mica_cell_lattice). */
+typedef enum {
+  MICA_CELL_TRIANGLE = 5,
+  MICA_CELL_QUAD = 9,
+  MICA_CELL_TETRA = 10,
+  MICA_CELL_HEXAHEDRON = 12,
+  MICA_CELL_BIQUADRATIC_QUAD = 28,       /* 9 nodes: corners, edge midpoints, centre */
+  MICA_CELL_TRIQUADRATIC_HEXAHEDRON = 29 /* 27 nodes: corners, edge midpoints, face centres, centre */
+} MicaCellType;
+
+typedef struct MicaCellMesh {
+  int dim;
+  long npoints;
+  double *x;           /* [npoints*dim] */
+  long ncells;
+  long *offsets;       /* [ncells+1]: the nodes of cell c are conn[offsets[c] .. offsets[c+1]) */
+  long *conn;          /* point indices */
+  unsigned char *type; /* [ncells] MicaCellType */
+} MicaCellMesh;
+
+/* Nodes of a cell kind (0: not a kind mica writes). */
+int mica_cell_nodes(int type);
+/* The nodes of a quadrilateral or hexahedral kind in VTK's order as positions on the lattice {0, 1, 2}^dim of its
+ * reference box [0, 1]^dim (lattice/2 is the position; linear kinds use 0 and 2): lattice[a*3 + d]. Returns the
+ * node count, 0 for other kinds. */
+int mica_cell_lattice(int type, int *lattice);
+/* A mesh of npoints points (dim coordinates) and ncells cells with nconn nodes in all: the arrays are allocated,
+ * offsets[0] = 0, and the caller fills x, offsets, conn and type. */
+int mica_cell_mesh_create(int dim, long npoints, long ncells, long nconn, MicaCellMesh **mesh);
+/* The same for ncells cells of one kind: offsets and types filled too. */
+int mica_cell_mesh_create_uniform(int dim, long npoints, long ncells, int type, MicaCellMesh **mesh);
+int mica_cell_mesh_destroy(MicaCellMesh **mesh);
+/* Reverses the node order of every cell whose volume (area) comes out negative at its first corner, so that all
+ * cells are positively oriented, as viewers' area, volume and integration filters assume. */
+void mica_cell_mesh_orient(MicaCellMesh *mesh);
+
 typedef struct MicaDiscretization {
   int dim;
   long nparticles;
@@ -120,6 +159,10 @@ typedef struct MicaDiscretization {
   long ngauss;
   double *gauss_x;  /* [ngauss*dim] */
   double *gauss_w;  /* [ngauss] */
+  /* The cells as a mesh for output: the background cells of a built-in shape (bilinear quadrilaterals and
+   * trilinear hexahedra where the map is multilinear, biquadratic and triquadratic ones where it bends them),
+   * a Gmsh mesh's elements, or the finite elements of problem.method = "fe"; NULL if none. */
+  MicaCellMesh *mesh;
 } MicaDiscretization;
 
 /* Builds particles, cells and quadrature points. Errors (MICA_ERR_INPUT): sizes, counts < 2, a polygon that

@@ -69,6 +69,9 @@ typedef struct MicaFieldModelOps {
   int (*eval)(const MicaFieldModel *m, int dim, const double *q, double *W, double *s, double *D);
   /* Force stress (3×3, row-major) and, if present, couple stress (3×3) at q, for output and probes. */
   int (*stress)(const MicaFieldModel *m, int dim, const double *q, double *sigma, double *couple);
+  /* The micro-deformation χ (3×3, row-major; in 2-D of the plane embedding) at q, for output; NULL for models
+   * without one (the gradient micromorph kinds have χ = F, J^(−1/3) F, R(Φ)). */
+  int (*micro_deformation)(const MicaFieldModel *m, int dim, const double *q, double *chi);
 } MicaFieldModelOps;
 
 struct MicaFieldModel {

@@ -476,6 +476,29 @@ cleanup:
   return ierr;
 }
 
+/* The elements as an output mesh on the nodes: Q1 / hex8 as VTK's quadrilaterals and hexahedra, Q2 / hex27 as its
+ * biquadratic and triquadratic kinds, whose lattice positions (mica_cell_lattice) are the local nodes' indices
+ * per axis (order 1: lattice / 2). */
+static int element_mesh(const MicaFe *fe, MicaCellMesh **out) {
+  const int dim = fe->dim, p = fe->order;
+  const int type = p == 1 ? (dim == 2 ? MICA_CELL_QUAD : MICA_CELL_HEXAHEDRON)
+                          : (dim == 2 ? MICA_CELL_BIQUADRATIC_QUAD : MICA_CELL_TRIQUADRATIC_HEXAHEDRON);
+  MicaCellMesh *m = NULL;
+  MICA_CALL(mica_cell_mesh_create_uniform(dim, fe->nnodes, fe->nelements, type, &m));
+  memcpy(m->x, fe->x, sizeof(double) * (size_t)(fe->nnodes * dim));
+  int lattice[MICA_FE_MAX_NODES * 3];
+  const int nodes = mica_cell_lattice(type, lattice);
+  for (long e = 0; e < fe->nelements; e++)
+    for (int a = 0; a < nodes; a++) {
+      int local = 0;
+      for (int d = dim - 1; d >= 0; d--) local = local * (p + 1) + lattice[a * 3 + d] * p / 2;
+      m->conn[e * nodes + a] = fe->conn[e * fe->nen + local];
+    }
+  mica_cell_mesh_orient(m);
+  *out = m;
+  return MICA_SUCCESS;
+}
+
 int mica_fe_discretize(const MicaFe *fe, const MicaDiscretization *like, int order, int boundary_order,
                        MicaDiscretization **out) {
   *out = NULL;
@@ -491,6 +514,7 @@ int mica_fe_discretize(const MicaFe *fe, const MicaDiscretization *like, int ord
   MICA_CALL_CLEANUP(volume_points(fe, order, disc));
   MICA_CALL_CLEANUP(boundary_sets(fe, like, boundary_order > 0 ? boundary_order : order, disc));
   disc->boundary_uncovered = 0; /* every boundary face is in exactly one set */
+  MICA_CALL_CLEANUP(element_mesh(fe, &disc->mesh));
   *out = disc;
   return MICA_SUCCESS;
 cleanup:

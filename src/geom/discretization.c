@@ -1,5 +1,5 @@
-/* MicaDiscretization: create (dispatching to the shape maps or to a Gmsh mesh), destroy, and the lookups
- * of boundary sets by name. */
+/* MicaDiscretization: create (dispatching to the shape maps or to a Gmsh mesh, with the cells as an output
+ * mesh), destroy, and the lookups of boundary sets by name. */
 #include <stdio.h>
 #include <math.h>
 #include <string.h>
@@ -37,6 +37,7 @@ static int create_mapped(const MicaShapeSpec *shape, const MicaLayoutSpec *layou
   MICA_CALL_CLEANUP(geom_grid_quadrature(&map, &grid, cells->order, disc));
   MICA_CALL_CLEANUP(geom_grid_boundary(&map, &grid, boundary_order(cells), disc));
   MICA_CALL_CLEANUP(mapped_particles(&map, layout, &axes, disc));
+  MICA_CALL_CLEANUP(geom_grid_mesh(&map, &grid, &disc->mesh));
 cleanup:
   geom_axes_destroy(&axes);
   geom_grid_destroy(&grid);
@@ -49,6 +50,7 @@ static int create_from_mesh(const MicaShapeSpec *shape, const MicaCellSpec *cell
   MICA_CHECK(shape->mesh_path && shape->mesh_path[0], MICA_ERR_INPUT, "gmsh: no mesh file given");
   MICA_CALL(gmsh_read(shape->mesh_path, &mesh));
   MICA_CALL_CLEANUP(geom_mesh_discretize(&mesh, cells->order, boundary_order(cells), disc));
+  MICA_CALL_CLEANUP(geom_mesh_cells(&mesh, disc->dim, &disc->mesh));
 cleanup:
   gmsh_free(&mesh);
   return ierr;
@@ -90,6 +92,7 @@ int mica_discretization_destroy(MicaDiscretization **disc) {
   MICA_FREE(d->gauss_x);
   MICA_FREE(d->gauss_w);
   mica_nodal_cells_destroy(&d->nodal);
+  mica_cell_mesh_destroy(&d->mesh);
   MICA_FREE(*disc);
   return MICA_SUCCESS;
 }

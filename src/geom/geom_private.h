@@ -1,6 +1,7 @@
 /* Internal interfaces of src/geom: the shape maps (shapes.c), particle layouts (layout.c), background
  * cells and volume quadrature (cells.c), boundary sets of mapped shapes and the set storage (boundary.c),
- * the Gmsh reader (gmsh.c) and the discretization of a mesh (mesh.c). */
+ * the Gmsh reader (gmsh.c), the discretization of a mesh (mesh.c) and the cells as an output mesh
+ * (cell_mesh.c). */
 #ifndef MICA_GEOM_PRIVATE_H
 #define MICA_GEOM_PRIVATE_H
 
@@ -78,6 +79,9 @@ int geom_grid_create(const GeomMap *map, const GeomAxes *axes, const MicaCellSpe
 void geom_grid_destroy(GeomGrid *grid);
 /* Volume quadrature points of the mapped cells into disc (qx, qw, nquad, ncells, volume). */
 int geom_grid_quadrature(const GeomMap *map, const GeomGrid *grid, int order, MicaDiscretization *disc);
+/* The mapped cells as an output mesh (cell_mesh.c): linear cells where the map is multilinear, biquadratic and
+ * triquadratic ones where it bends them. */
+int geom_grid_mesh(const GeomMap *map, const GeomGrid *grid, MicaCellMesh **mesh);
 
 /* ---- boundary sets ------------------------------------------------------------------------------------- */
 
@@ -136,5 +140,7 @@ long gmsh_entity_physicals(const GmshMesh *mesh, int dim, int tag, const int **p
 
 /* The discretization of a mesh: particles, element quadrature, boundary sets from physical groups. */
 int geom_mesh_discretize(const GmshMesh *mesh, int order, int boundary_order, MicaDiscretization *disc);
+/* The mesh's elements of dimension dim as an output mesh on the particles (cell_mesh.c). */
+int geom_mesh_cells(const GmshMesh *mesh, int dim, MicaCellMesh **cells);
 
 #endif

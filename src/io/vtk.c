@@ -3,9 +3,10 @@
  * A VTU file is VTK's XML UnstructuredGrid with every array in one raw <AppendedData> section: after its
  * '_' marker each array is a UInt64 byte count followed by the bytes, and each DataArray element names
  * its block by offset (bytes from the first byte after '_'). Raw binary keeps full double precision and
- * writes at disk speed, with no base64 or zlib. Every point is a VTK_VERTEX cell, so ParaView can show the
- * particle cloud with any filter. The data are written in the host's byte order, which the header states.
- * Values are checked for finiteness before anything is written, and the file goes through files.h, so a
+ * writes at disk speed, with no base64 or zlib. The cells are either one VTK_VERTEX per point (the particle
+ * cloud, which ParaView can show with any filter) or given (a mesh: cells listing shared points, which
+ * ParaView colours and contours directly). The data are written in the host's byte order, which the header
+ * states. Values and cells are checked before anything is written, and the file goes through files.h, so a
  * refused or failed write leaves no file.
  */
 #include "mica/vtk.h"
@@ -19,6 +20,24 @@
 #include "mica/files.h"
 
 enum { VTK_VERTEX = 1, CHUNK = 4096 /* doubles or longs staged per fwrite */ };
+
+/* Nodes of the VTK cell types mica writes (0: a type it does not). */
+static int vtk_type_nodes(int type) {
+  switch (type) {
+  case VTK_VERTEX: return 1;
+  case 5: return 3;   /* triangle */
+  case 9: return 4;   /* quad */
+  case 10: return 4;  /* tetra */
+  case 12: return 8;  /* hexahedron */
+  case 22: return 6;  /* quadratic triangle */
+  case 23: return 8;  /* quadratic quad */
+  case 24: return 10; /* quadratic tetra */
+  case 25: return 20; /* quadratic hexahedron */
+  case 28: return 9;  /* biquadratic quad */
+  case 29: return 27; /* triquadratic hexahedron */
+  default: return 0;
+  }
+}
 
 /* ---- Checks ------------------------------------------------------------------------------------------- */
 
@@ -37,7 +56,27 @@ static int check_vtu_arguments(const char *path, int dim, long n, const double *
   for (int f = 0; f < nfields; f++) {
     MICA_CHECK(fields[f].name && fields[f].ncomp >= 1 && (n == 0 || fields[f].data), MICA_ERR_ARGUMENT,
                "mica_vtu_write: field %d has no name, components or data", f);
+    for (int c = 0; fields[f].components && c < fields[f].ncomp; c++)
+      MICA_CHECK(fields[f].components[c], MICA_ERR_ARGUMENT, "mica_vtu_write: field '%s' lacks component name %d",
+                 fields[f].name, c);
     MICA_CALL(check_finite(fields[f].name, fields[f].data, n * fields[f].ncomp));
+  }
+  return MICA_SUCCESS;
+}
+
+/* Every cell: a known type, its node count, points that exist. */
+static int check_cells(long n, const MicaVtkCells *cells) {
+  MICA_CHECK(cells->n >= 0 && cells->offsets && cells->offsets[0] == 0 && (cells->n == 0 || (cells->conn && cells->type)),
+             MICA_ERR_ARGUMENT, "mica_vtu_write_cells: bad cells (%ld cells)", cells->n);
+  for (long c = 0; c < cells->n; c++) {
+    const long first = cells->offsets[c], count = cells->offsets[c + 1] - first;
+    const int nodes = vtk_type_nodes(cells->type[c]);
+    MICA_CHECK(nodes > 0 && count == nodes, MICA_ERR_ARGUMENT,
+               "mica_vtu_write_cells: cell %ld has VTK type %d and %ld nodes (the type needs %d)", c,
+               (int)cells->type[c], count, nodes);
+    for (long k = first; k < first + count; k++)
+      MICA_CHECK(cells->conn[k] >= 0 && cells->conn[k] < n, MICA_ERR_ARGUMENT,
+                 "mica_vtu_write_cells: cell %ld refers to point %ld of %ld", c, cells->conn[k], n);
   }
   return MICA_SUCCESS;
 }
@@ -64,7 +103,7 @@ static const char *host_byte_order(void) {
 
 /* The DataArray element of one appended block; returns the offset of the block after it. */
 static uint64_t write_array_element(FILE *fp, const char *indent, const char *type, const char *name, int ncomp,
-                                    uint64_t offset, uint64_t bytes) {
+                                    const char *const *components, uint64_t offset, uint64_t bytes) {
   fprintf(fp, "%s<DataArray type=\"%s\"", indent, type);
   if (name) {
     fputs(" Name=\"", fp);
@@ -72,26 +111,31 @@ static uint64_t write_array_element(FILE *fp, const char *indent, const char *ty
     fputc('"', fp);
   }
   if (ncomp > 0) fprintf(fp, " NumberOfComponents=\"%d\"", ncomp);
+  for (int c = 0; components && c < ncomp; c++) {
+    fprintf(fp, " ComponentName%d=\"", c);
+    write_escaped(fp, components[c]);
+    fputc('"', fp);
+  }
   fprintf(fp, " format=\"appended\" offset=\"%llu\"/>\n", (unsigned long long)offset);
   return offset + sizeof(uint64_t) + bytes;
 }
 
 /* Piece header: point data, points, cells, with the blocks in the order they are appended below. */
-static void write_vtu_header(FILE *fp, long n, int nfields, const MicaVtkField *fields) {
-  const uint64_t un = (uint64_t)n;
+static void write_vtu_header(FILE *fp, long n, long ncells, long nconn, int nfields, const MicaVtkField *fields) {
+  const uint64_t un = (uint64_t)n, uc = (uint64_t)ncells;
   uint64_t offset = 0;
   fprintf(fp, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"%s\" "
               "header_type=\"UInt64\">\n  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"%ld\" NumberOfCells=\"%ld\">\n"
-              "      <PointData>\n", host_byte_order(), n, n);
+              "      <PointData>\n", host_byte_order(), n, ncells);
   for (int f = 0; f < nfields; f++)
-    offset = write_array_element(fp, "        ", "Float64", fields[f].name, fields[f].ncomp, offset,
-                                 un * (uint64_t)fields[f].ncomp * sizeof(double));
+    offset = write_array_element(fp, "        ", "Float64", fields[f].name, fields[f].ncomp, fields[f].components,
+                                 offset, un * (uint64_t)fields[f].ncomp * sizeof(double));
   fputs("      </PointData>\n      <Points>\n", fp);
-  offset = write_array_element(fp, "        ", "Float64", NULL, 3, offset, un * 3 * sizeof(double));
+  offset = write_array_element(fp, "        ", "Float64", NULL, 3, NULL, offset, un * 3 * sizeof(double));
   fputs("      </Points>\n      <Cells>\n", fp);
-  offset = write_array_element(fp, "        ", "Int64", "connectivity", 0, offset, un * sizeof(int64_t));
-  offset = write_array_element(fp, "        ", "Int64", "offsets", 0, offset, un * sizeof(int64_t));
-  write_array_element(fp, "        ", "UInt8", "types", 0, offset, un);
+  offset = write_array_element(fp, "        ", "Int64", "connectivity", 0, NULL, offset, (uint64_t)nconn * sizeof(int64_t));
+  offset = write_array_element(fp, "        ", "Int64", "offsets", 0, NULL, offset, uc * sizeof(int64_t));
+  write_array_element(fp, "        ", "UInt8", "types", 0, NULL, offset, uc);
   fputs("      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _", fp);
 }
 
@@ -136,21 +180,56 @@ static void write_types_block(FILE *fp, long n) {
     fwrite(staged, 1, (size_t)(n - first < CHUNK ? n - first : CHUNK), fp);
 }
 
+/* n longs as Int64 (connectivity, or the cells' end offsets), staged through a buffer. */
+static void write_long_block(FILE *fp, long n, const long *values) {
+  int64_t staged[CHUNK];
+  write_block_size(fp, (uint64_t)n * sizeof(int64_t));
+  for (long first = 0; first < n; first += CHUNK) {
+    long count = n - first < CHUNK ? n - first : CHUNK;
+    for (long i = 0; i < count; i++) staged[i] = values[first + i];
+    fwrite(staged, sizeof(int64_t), (size_t)count, fp);
+  }
+}
+
+static void write_cells_blocks(FILE *fp, const MicaVtkCells *cells) {
+  write_long_block(fp, cells->offsets[cells->n], cells->conn);
+  write_long_block(fp, cells->n, cells->offsets + 1); /* VTK's offsets are where each cell ends */
+  write_block_size(fp, (uint64_t)cells->n);
+  if (cells->n > 0) fwrite(cells->type, 1, (size_t)cells->n, fp);
+}
+
 /* ---- Public ------------------------------------------------------------------------------------------- */
 
-int mica_vtu_write(const char *path, int dim, long n, const double *x, int nfields, const MicaVtkField *fields) {
+/* cells NULL: one vertex cell per point. */
+static int write_vtu(const char *path, int dim, long n, const double *x, const MicaVtkCells *cells, int nfields,
+                     const MicaVtkField *fields) {
   MICA_CALL(check_vtu_arguments(path, dim, n, x, nfields, fields));
+  if (cells) MICA_CALL(check_cells(n, cells));
   MicaOutFile out;
   MICA_CALL(mica_out_open(path, &out));
-  write_vtu_header(out.fp, n, nfields, fields);
+  write_vtu_header(out.fp, n, cells ? cells->n : n, cells ? cells->offsets[cells->n] : n, nfields, fields);
   for (int f = 0; f < nfields; f++) write_field_block(out.fp, n, &fields[f]);
   write_points_block(out.fp, dim, n, x);
-  write_sequence_block(out.fp, n, 0);
-  write_sequence_block(out.fp, n, 1);
-  write_types_block(out.fp, n);
+  if (cells) {
+    write_cells_blocks(out.fp, cells);
+  } else {
+    write_sequence_block(out.fp, n, 0);
+    write_sequence_block(out.fp, n, 1);
+    write_types_block(out.fp, n);
+  }
   fputs("\n  </AppendedData>\n</VTKFile>\n", out.fp);
   MICA_CALL(mica_out_commit(&out)); /* commit reports write errors and removes the temporary file */
   return MICA_SUCCESS;
+}
+
+int mica_vtu_write(const char *path, int dim, long n, const double *x, int nfields, const MicaVtkField *fields) {
+  return write_vtu(path, dim, n, x, NULL, nfields, fields);
+}
+
+int mica_vtu_write_cells(const char *path, int dim, long n, const double *x, const MicaVtkCells *cells, int nfields,
+                         const MicaVtkField *fields) {
+  MICA_CHECK(cells, MICA_ERR_ARGUMENT, "mica_vtu_write_cells: no cells");
+  return write_vtu(path, dim, n, x, cells, nfields, fields);
 }
 
 /* The shortest of %.15g .. %.17g that reads back as the same double: "0.1", not "0.10000000000000001". */
@@ -161,11 +240,13 @@ static void format_time(double t, char *text, size_t size) {
   }
 }
 
-int mica_pvd_write(const char *path, int nsteps, const double *times, const char *const *files) {
-  MICA_CHECK(path && nsteps >= 0 && (nsteps == 0 || (times && files)), MICA_ERR_ARGUMENT,
+int mica_pvd_write_parts(const char *path, int nsteps, const double *times, int nparts, const char *const *names,
+                         const char *const *files) {
+  MICA_CHECK(path && nsteps >= 0 && nparts >= 1 && (nsteps == 0 || (times && files)), MICA_ERR_ARGUMENT,
              "mica_pvd_write: bad arguments");
   for (int s = 0; s < nsteps; s++) {
-    MICA_CHECK(files[s], MICA_ERR_ARGUMENT, "mica_pvd_write: file of step %d is NULL", s);
+    for (int p = 0; p < nparts; p++)
+      MICA_CHECK(files[s * nparts + p], MICA_ERR_ARGUMENT, "mica_pvd_write: file of step %d, part %d is NULL", s, p);
     MICA_CHECK(isfinite(times[s]), MICA_ERR_NUMERIC, "PVD output: time of step %d is not finite", s);
   }
   MicaOutFile out;
@@ -175,11 +256,23 @@ int mica_pvd_write(const char *path, int nsteps, const double *times, const char
   for (int s = 0; s < nsteps; s++) {
     char time_text[32];
     format_time(times[s], time_text, sizeof time_text);
-    fprintf(out.fp, "    <DataSet timestep=\"%s\" group=\"\" part=\"0\" file=\"", time_text);
-    write_escaped(out.fp, files[s]);
-    fputs("\"/>\n", out.fp);
+    for (int p = 0; p < nparts; p++) {
+      fprintf(out.fp, "    <DataSet timestep=\"%s\" group=\"\" part=\"%d\"", time_text, p);
+      if (names && names[p]) {
+        fputs(" name=\"", out.fp);
+        write_escaped(out.fp, names[p]);
+        fputc('"', out.fp);
+      }
+      fputs(" file=\"", out.fp);
+      write_escaped(out.fp, files[s * nparts + p]);
+      fputs("\"/>\n", out.fp);
+    }
   }
   fputs("  </Collection>\n</VTKFile>\n", out.fp);
   MICA_CALL(mica_out_commit(&out));
   return MICA_SUCCESS;
+}
+
+int mica_pvd_write(const char *path, int nsteps, const double *times, const char *const *files) {
+  return mica_pvd_write_parts(path, nsteps, times, 1, NULL, files);
 }

@@ -52,6 +52,7 @@ static int classical_stress(const MicaFieldModel *m, int dim, const double *q, d
 
 const MicaFieldModelOps mica_field_classical = {
     "classical", 1, 1, 0, classical_ncomp, classical_components, classical_tractions, classical_eval, classical_stress,
+    NULL,
 };
 
 int mica_field_classical_set(MicaFieldModel *m, const MicaModelOps *classical, const MicaMaterial *material) {

@@ -123,9 +123,17 @@ static int micromorph_stress(const MicaFieldModel *m, int dim, const double *q, 
   return mica_model_stress_strain(m->classical, &m->material, dim, F, sigma, strain);
 }
 
+/* Output: χ = F (the plane embedding F₃ in 2-D). */
+static int micromorph_chi(const MicaFieldModel *m, int dim, const double *q, double *chi) {
+  (void)m;
+  for (int a = 0; a < 3; a++)
+    for (int J = 0; J < 3; J++) chi[a * 3 + J] = (a == J) + (a < dim && J < dim ? q[dim + a * dim + J] : 0);
+  return MICA_SUCCESS;
+}
+
 const MicaFieldModelOps mica_field_micromorph = {
     "micromorph", 2, 1, 0, micromorph_ncomp, micromorph_components, micromorph_tractions, micromorph_eval,
-    micromorph_stress,
+    micromorph_stress, micromorph_chi,
 };
 
 int mica_micromorph_init_(MicaFieldModel *m, const MicaFieldModelOps *ops, int dim, const MicaModelOps *micro_energy,

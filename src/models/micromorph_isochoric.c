@@ -242,9 +242,19 @@ static int isochoric_stress(const MicaFieldModel *m, int dim, const double *q, d
   return mica_model_stress_strain(m->classical, &m->material, dim, F, sigma, strain);
 }
 
+/* Output: χ = J^(−1/3) F₃ (in 2-D of the plane embedding, so χ_33 = J^(−1/3)); MICA_ERR_NUMERIC if det F ≤ 0. */
+static int isochoric_chi(const MicaFieldModel *m, int dim, const double *q, double *chi) {
+  Macro mc;
+  (void)m;
+  MICA_CALL(macro_from_q(dim, q, &mc));
+  for (int a = 0; a < 3; a++)
+    for (int J = 0; J < 3; J++) chi[a * 3 + J] = mc.j * (a < dim && J < dim ? mc.F[a * dim + J] : a == J);
+  return MICA_SUCCESS;
+}
+
 const MicaFieldModelOps mica_field_micromorph_isochoric = {
     "micromorph-isochoric", 2, 1, 0, isochoric_ncomp, isochoric_components, isochoric_tractions, isochoric_eval,
-    isochoric_stress,
+    isochoric_stress, isochoric_chi,
 };
 
 int mica_micromorph_isochoric_set(MicaFieldModel *m, int dim, const MicaModelOps *micro_energy,

@@ -271,6 +271,15 @@ static int rotation_stress(const MicaFieldModel *m, int dim, const double *q, do
   return mica_model_stress_strain(m->classical, &m->material, dim, F, sigma, strain);
 }
 
+/* Output: χ = R(Φ). */
+static int rotation_chi(const MicaFieldModel *m, int dim, const double *q, double *chi) {
+  State st;
+  (void)m;
+  state_from_q(dim, q, 0, &st);
+  memcpy(chi, st.rot.R, sizeof st.rot.R);
+  return MICA_SUCCESS;
+}
+
 const MicaFieldModelOps mica_field_micromorph_rotation = {
     .name = "micromorph-rotation",
     .order = 1,
@@ -281,6 +290,7 @@ const MicaFieldModelOps mica_field_micromorph_rotation = {
     .traction_names = mica_rotation_model_tractions_,
     .eval = rotation_eval,
     .stress = rotation_stress,
+    .micro_deformation = rotation_chi,
 };
 
 int mica_micromorph_rotation_set(MicaFieldModel *m, int dim, const MicaModelOps *micro_energy,

@@ -119,7 +119,7 @@ static int sg_stress(const MicaFieldModel *m, int dim, const double *q, double *
 }
 
 const MicaFieldModelOps mica_field_strain_gradient = {
-    "strain-gradient", 2, 0, 0, sg_ncomp, sg_components, sg_tractions, sg_eval, sg_stress,
+    "strain-gradient", 2, 0, 0, sg_ncomp, sg_components, sg_tractions, sg_eval, sg_stress, NULL,
 };
 
 int mica_strain_gradient_set(MicaFieldModel *m, const MicaMaterial *material, double l, int couple_stress) {

@@ -166,25 +166,29 @@ static int newton_step(Newton *nw, int step, double t, double *u) {
   }
 }
 
+/* Load factors are exact fractions k / den, den = steps · 2^cuts, so the last is 1 (a sum of increments 1/steps
+ * ends at 0.9999999999999999, and the outputs would say so). k and den are integers held exactly in doubles while
+ * den ≤ 2^53, so no cut goes beyond that (a step of 1e-16 of the load would not be a step anyway). */
 static int run_steps(Newton *nw, double *u, int (*on_step)(void *, int, double, const double *), void *ctx) {
   const long n = nw->s->ndof;
-  double t = 0, dt = 1.0 / nw->opt->steps;
+  double k = 0, den = nw->opt->steps, t = 0;
   int step = 0;
   /* a linear problem's tangent does not depend on the load: a smaller step cannot cure a failed solve */
   const int may_cut = !mica_solid_linear(nw->s);
-  while (t < 1.0 - 1e-12) {
-    const double target = fmin(1.0, t + dt);
+  while (k < den) {
+    const double target = (k + 1) / den;
     memcpy(nw->saved, u, sizeof(double) * (size_t)n);
     int ierr = newton_step(nw, step + 1, target, u);
-    if (ierr == MICA_ERR_NUMERIC && may_cut && nw->stats->cuts < nw->opt->max_cuts) {
+    if (ierr == MICA_ERR_NUMERIC && may_cut && nw->stats->cuts < nw->opt->max_cuts && den <= 0x1p52) {
       if (nw->opt->verbose) printf("  cut back: %s\n", mica_error_message());
       mica_error_clear();
       memcpy(u, nw->saved, sizeof(double) * (size_t)n);
-      dt *= 0.5;
+      k *= 2, den *= 2; /* the same t, half the step */
       nw->stats->cuts++;
       continue;
     }
     if (ierr) return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+    k += 1;
     t = target;
     step++;
     nw->stats->steps_done = step;

@@ -456,6 +456,7 @@ struct RunReuse {
   MicaApprox approx;
   MicaSolid *solid;             /* the last solid built on them: it lends its shape caches to the next */
   MicaShapeCache *at_particles; /* the output's shape functions at the particles */
+  MicaShapeCache *at_mesh;      /* and at the output mesh's points */
 };
 
 static int reuse_key(const MicaDeck *deck, char **key) {
@@ -473,6 +474,7 @@ static int reuse_key(const MicaDeck *deck, char **key) {
 static void reuse_clear(RunReuse *reuse) {
   mica_solid_destroy(&reuse->solid);
   mica_shape_cache_destroy(&reuse->at_particles);
+  mica_shape_cache_destroy(&reuse->at_mesh);
   mls_destroy(&reuse->mls);
   mica_fe_destroy(&reuse->fe);
   mica_discretization_destroy(&reuse->disc);
@@ -496,6 +498,7 @@ static int take_or_build_geometry(const MicaDeck *deck, RunProblem *rp, RunReuse
     free(key);
     rp->disc = reuse->disc, rp->mls = reuse->mls, rp->fe = reuse->fe, rp->approx = reuse->approx;
     rp->at_particles = reuse->at_particles, reuse->at_particles = NULL;
+    rp->at_mesh = reuse->at_mesh, reuse->at_mesh = NULL;
     rp->reused_geometry = 1;
     return MICA_SUCCESS;
   }
@@ -540,9 +543,11 @@ void run_problem_free(RunProblem *rp) {
   }
   if (reuse && !reuse->at_particles && !rp->owns_geometry)
     reuse->at_particles = rp->at_particles, rp->at_particles = NULL;
+  if (reuse && !reuse->at_mesh && !rp->owns_geometry) reuse->at_mesh = rp->at_mesh, rp->at_mesh = NULL;
   mica_solid_destroy(&rp->solid);
   mica_distribution_destroy(&rp->dist);
   mica_shape_cache_destroy(&rp->at_particles);
+  mica_shape_cache_destroy(&rp->at_mesh);
   if (rp->owns_geometry) {
     mls_destroy(&rp->mls);
     mica_fe_destroy(&rp->fe);
@@ -704,6 +709,23 @@ static int add_memory_per_dof(const RunProblem *rp, const RunTotals *c, const Mi
   return MICA_SUCCESS;
 }
 
+/* output.vtu and output.mesh. A deck that asks for mesh files (output.mesh = true) with output.vtu = false would
+ * get none and is refused; output.mesh = false agrees with it (sweep and study points turn output.vtu off by
+ * themselves, and a deck that turns the mesh off must still run there). */
+static int read_vtu(const MicaDeck *deck, const RunProblem *rp, RunOutput *out) {
+  MICA_CALL(mica_deck_bool(deck, "output.vtu", &out->vtu));
+  MICA_CALL(mica_deck_bool(deck, "output.mesh", &out->mesh));
+  char where[256];
+  mica_deck_where(deck, "output.mesh", where, sizeof where);
+  const int given = !strstr(where, " (default)"); /* in the deck or a --set, not the schema's default */
+  MICA_CHECK(out->vtu || !out->mesh || !given, MICA_ERR_INPUT,
+             "%s: output.mesh = true writes the fields on the cells with the VTU files, but output.vtu = false writes "
+             "none; remove output.mesh or set output.vtu = true", where);
+  MICA_CHECK(!out->mesh || rp->disc->mesh, MICA_ERR_ARGUMENT, "output.mesh: the discretization has no cells");
+  out->mesh = out->mesh && out->vtu;
+  return MICA_SUCCESS;
+}
+
 int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summary, RunReuse *reuse) {
   RunProblem rp;
   MicaNewtonOptions nopt;
@@ -722,7 +744,7 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(read_newton(deck, rp.solid, &nopt));
   memset(&out, 0, sizeof out);
   out.rp = &rp, out.outdir = outdir;
-  MICA_CALL_CLEANUP(mica_deck_bool(deck, "output.vtu", &out.vtu));
+  MICA_CALL_CLEANUP(read_vtu(deck, &rp, &out));
   MICA_CALL_CLEANUP(MICA_CALLOC(u, rp.solid->ndof));
   const double start = mica_wtime();
   MICA_CALL_CLEANUP(mica_newton_solve(rp.solid, &nopt, u, run_output_step, &out, &stats));
@@ -777,8 +799,8 @@ const MicaCommand mica_command_run = {
     "solve a solid: EFG with MLS, background-cell quadrature, weak boundary conditions, Newton",
     "Builds the body, particles and background cells, the MLS approximation, the model and the boundary\n"
     "conditions of the deck, and solves with Newton's method over load steps (CHOLMOD or UMFPACK). Writes\n"
-    "fields per load step (VTU + PVD, at the particles) and summary.json: counts, per-phase times, Newton\n"
-    "iterations, error norms when an exact solution is given, and every probe.",
+    "fields per load step (VTU + PVD, at the particles and on the cells) and summary.json: counts, per-phase\n"
+    "times, Newton iterations, error norms when an exact solution is given, and every probe.",
     mica_run_schema,
     run_solve,
 };

@@ -29,6 +29,7 @@ typedef struct RunProblem {
   int has_exact, ncomp;
   int axisymmetric;             /* geometry.axisymmetric: a 2-D (r, z) section, 3-D model, cylindrical components */
   MicaShapeCache *at_particles; /* shape functions at the particles, for output (built on first use) */
+  MicaShapeCache *at_mesh;      /* and at the points of the output mesh (disc->mesh) */
   MicaDistribution *dist;       /* MPI: the partition and this rank's points (NULL: serial) */
   const char *integration;      /* quadrature.mode: "gauss", "nodal" or "scni" */
   MicaShapeCache *at_gauss;     /* nodal and scni: MLS shape functions at the background Gauss points, where the
@@ -103,14 +104,17 @@ int run_read_krylov(const MicaDeck *deck, MicaNewtonOptions *opt);
 int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson *summary);
 int run_peak_memory(MicaJson *summary);
 
-/* Output: per-step VTU files and the PVD collection, error norms, probes, summary members. */
+/* Output: per-step VTU files (particles, and the mesh) and the PVD collection, error norms, probes, summary
+ * members. */
 typedef struct RunOutput {
   RunProblem *rp;
   const char *outdir;
   int vtu;
+  int mesh;           /* output.mesh: also the fields on the cells, mesh_NNNN.vtu */
   int nsteps;
   double times[1024];
   char files[1024][32];
+  char mesh_files[1024][32];
   double time_output; /* seconds writing fields per step, error norms and probes (profiles) */
 } RunOutput;
 

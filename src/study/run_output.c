@@ -1,12 +1,14 @@
-/* Outputs of `mica run`: fields at the particles per load step (VTU + PVD), relative error norms against
- * an exact solution, and probes. The particle parameters are not the displacements (MLS does not
+/* Outputs of `mica run`: fields per load step at the particles and on the cells (VTU + PVD), relative error
+ * norms against an exact solution, and probes. The particle parameters are not the displacements (MLS does not
  * interpolate): every field is the approximation evaluated at the particles, through the approximation's
- * ops (finite elements: the nodal values, gradients averaged over the elements around the node). */
+ * ops (finite elements: the nodal values, gradients averaged over the elements around the node), and at the
+ * points of the output mesh (disc->mesh) through the ops call a probe makes, so a vertex value is a probe's. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "mica/cosserat.h"
 #include "mica/files.h"
 #include "mica/timer.h"
 #include "mica/vtk.h"
@@ -49,9 +51,10 @@ static void to_model_layout(const RunProblem *rp, const double *x, const double 
     q[ncomp + c * mdim + 0] = q2[ncomp + c * dim + 0];
     q[ncomp + c * mdim + 2] = q2[ncomp + c * dim + 1];
   }
-  for (int first = 0; first < ncomp; first += 3) {
-    q[ncomp + first * mdim + 1] = -q2[first + 1] / x[0];
-    q[ncomp + (first + 1) * mdim + 1] = q2[first] / x[0];
+  for (int first = 0; first < ncomp; first += 3) { /* on the axis v_r = v_θ = 0 and v/r tends to ∂v/∂r */
+    const double r = x[0];
+    q[ncomp + first * mdim + 1] = r > 0 ? -q2[first + 1] / r : -q2[ncomp + (first + 1) * dim];
+    q[ncomp + (first + 1) * mdim + 1] = r > 0 ? q2[first] / r : q2[ncomp + first * dim];
   }
 }
 
@@ -67,25 +70,32 @@ static void exact_at(const RunProblem *rp, const double *x, double *q) {
   to_model_layout(rp, x, q2, q);
 }
 
-/* ---- fields at the particles ---------------------------------------------------------------------------- */
+/* ---- fields at points: the particles and the vertices of the output mesh ------------------------------- */
 
 typedef struct {
-  double *disp, *rotation, *strain, *stress, *couple, *mises, *error;
-} ParticleFields;
+  double *disp, *rotation, *strain, *stress, *couple, *micro, *mises, *error;
+} PointFields;
 
-static void fields_free(ParticleFields *f) {
-  free(f->disp), free(f->rotation), free(f->strain), free(f->stress), free(f->couple), free(f->mises), free(f->error);
+static void fields_free(PointFields *f) {
+  free(f->disp), free(f->rotation), free(f->strain), free(f->stress), free(f->couple), free(f->micro), free(f->mises);
+  free(f->error);
 }
 
-static int fields_alloc(const RunProblem *rp, long n, ParticleFields *f) {
+/* The Cosserat models report a couple stress; the micromorph kinds' stress op leaves it 0 (their double stress
+ * is not reported), and a field of zeros would claim otherwise. */
+static int reports_couple_stress(const RunProblem *rp) {
+  const MicaFieldModelOps *ops = rp->solid->opt.field.ops;
+  return ops == &mica_field_cosserat || ops == &mica_field_cosserat_finite;
+}
+
+static int fields_alloc(const RunProblem *rp, long n, PointFields *f) {
   MICA_CALL(MICA_CALLOC(f->disp, n * 3));
   MICA_CALL(MICA_CALLOC(f->strain, n * 9));
   MICA_CALL(MICA_CALLOC(f->stress, n * 9));
   MICA_CALL(MICA_CALLOC(f->mises, n));
-  if (rp->solid->ncomp > rp->solid->model_dim) {
-    MICA_CALL(MICA_CALLOC(f->rotation, n * 3));
-    MICA_CALL(MICA_CALLOC(f->couple, n * 9));
-  }
+  if (rp->solid->ncomp > rp->solid->model_dim) MICA_CALL(MICA_CALLOC(f->rotation, n * 3));
+  if (reports_couple_stress(rp)) MICA_CALL(MICA_CALLOC(f->couple, n * 9));
+  if (rp->solid->opt.field.ops->micro_deformation) MICA_CALL(MICA_CALLOC(f->micro, n * 9));
   if (rp->has_exact) MICA_CALL(MICA_CALLOC(f->error, n * 3));
   return MICA_SUCCESS;
 }
@@ -102,74 +112,152 @@ static void to_file_frame(const RunProblem *rp, const double *v, int n, double *
         out[a * 3 + b] = rp->axisymmetric ? v[section[a] * 3 + section[b]] : v[a * 3 + b];
 }
 
-static int fields_compute(RunProblem *rp, const double *u, ParticleFields *f) {
+/* The fields at point i of cache c (at x), into slot i of f: what a probe at x reports, in the file frame. */
+static int fields_at(RunProblem *rp, const MicaShapeCache *c, long i, const double *x, const double *u,
+                     PointFields *f) {
   const MicaSolid *s = rp->solid;
-  const int dim = rp->disc->dim, mdim = s->model_dim, ncomp = s->ncomp;
-  const long n = rp->disc->nparticles;
-  const int order = s->opt.field.ops->order >= 2 ? 2 : 1;
-  if (rp->at_particles && rp->at_particles->order != order) /* kept from a run of another model */
-    mica_shape_cache_destroy(&rp->at_particles);
-  if (!rp->at_particles) MICA_CALL(rp->approx.ops->particles(rp->approx.ctx, order, &rp->at_particles));
-  MICA_CALL(fields_alloc(rp, n, f));
+  const int mdim = s->model_dim, ncomp = s->ncomp;
   double q[128], qe[128], couple[9], v[3], sigma[9], strain[9];
-  for (long i = 0; i < n; i++) {
-    mica_solid_kinematics(s, rp->at_particles, i, u, q);
-    for (int a = 0; a < 3; a++) v[a] = a < mdim ? q[a] : 0;
-    to_file_frame(rp, v, 3, f->disp + i * 3);
-    if (f->rotation) { /* 2-D: φ_z is the only micro-rotation */
-      for (int a = 0; a < 3; a++) v[a] = 0;
-      for (int c = mdim; c < ncomp; c++) v[ncomp - mdim == 1 ? 2 : c - mdim] = q[c];
-      to_file_frame(rp, v, 3, f->rotation + i * 3);
-    }
-    MICA_CALL(stresses(rp, q, sigma, couple, strain));
-    to_file_frame(rp, sigma, 9, f->stress + i * 9);
-    to_file_frame(rp, strain, 9, f->strain + i * 9);
-    if (f->couple) to_file_frame(rp, couple, 9, f->couple + i * 9);
-    f->mises[i] = von_mises(sigma);
-    if (rp->has_exact) {
-      exact_at(rp, rp->disc->x + i * dim, qe);
-      for (int a = 0; a < 3; a++) v[a] = a < mdim ? q[a] - qe[a] : 0;
-      to_file_frame(rp, v, 3, f->error + i * 3);
-    }
+  mica_solid_kinematics(s, c, i, u, q);
+  for (int a = 0; a < 3; a++) v[a] = a < mdim ? q[a] : 0;
+  to_file_frame(rp, v, 3, f->disp + i * 3);
+  if (f->rotation) { /* 2-D: φ_z is the only micro-rotation */
+    for (int a = 0; a < 3; a++) v[a] = 0;
+    for (int k = mdim; k < ncomp; k++) v[ncomp - mdim == 1 ? 2 : k - mdim] = q[k];
+    to_file_frame(rp, v, 3, f->rotation + i * 3);
+  }
+  MICA_CALL(stresses(rp, q, sigma, couple, strain));
+  to_file_frame(rp, sigma, 9, f->stress + i * 9);
+  to_file_frame(rp, strain, 9, f->strain + i * 9);
+  if (f->couple) to_file_frame(rp, couple, 9, f->couple + i * 9);
+  if (f->micro) {
+    double chi[9];
+    MICA_CALL(s->opt.field.ops->micro_deformation(&s->opt.field, mdim, q, chi));
+    to_file_frame(rp, chi, 9, f->micro + i * 9);
+  }
+  f->mises[i] = von_mises(sigma);
+  if (rp->has_exact) {
+    exact_at(rp, x, qe);
+    for (int a = 0; a < 3; a++) v[a] = a < mdim ? q[a] - qe[a] : 0;
+    to_file_frame(rp, v, 3, f->error + i * 3);
   }
   return MICA_SUCCESS;
+}
+
+static int fields_compute(RunProblem *rp, const MicaShapeCache *c, const double *x, const double *u, PointFields *f) {
+  const int dim = rp->disc->dim;
+  MICA_CALL(fields_alloc(rp, c->npoints, f));
+  for (long i = 0; i < c->npoints; i++) MICA_CALL(fields_at(rp, c, i, x + i * dim, u, f));
+  return MICA_SUCCESS;
+}
+
+/* The derivative order of the output caches: the model's, as for probes. A cache kept from a run of another
+ * model (a sweep reusing the geometry) is rebuilt. */
+static int output_order(const RunProblem *rp) { return rp->solid->opt.field.ops->order >= 2 ? 2 : 1; }
+
+static int particle_cache(RunProblem *rp) {
+  if (rp->at_particles && rp->at_particles->order != output_order(rp)) mica_shape_cache_destroy(&rp->at_particles);
+  if (!rp->at_particles) MICA_CALL(rp->approx.ops->particles(rp->approx.ctx, output_order(rp), &rp->at_particles));
+  return MICA_SUCCESS;
+}
+
+/* The shape functions at the mesh's points through the same ops call as a probe's (the approximation finds the
+ * cell), so a vertex value is the probe's value there. */
+static int mesh_cache(RunProblem *rp) {
+  const MicaCellMesh *mesh = rp->disc->mesh;
+  if (rp->at_mesh && rp->at_mesh->order != output_order(rp)) mica_shape_cache_destroy(&rp->at_mesh);
+  if (!rp->at_mesh)
+    MICA_CALL(rp->approx.ops->points(rp->approx.ctx, mesh->npoints, mesh->x, NULL, output_order(rp),
+                                     "output at mesh point", &rp->at_mesh));
+  return MICA_SUCCESS;
+}
+
+/* Component names: the deck's axes, or for an axisymmetric section its frame (r, z, θ). */
+static const char *const vector_xyz[] = {"x", "y", "z"}, *const vector_rzt[] = {"r", "z", "theta"};
+static const char *const tensor_xyz[] = {"xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"};
+static const char *const tensor_rzt[] = {"rr",     "rz",     "rtheta", "zr",        "zz",
+                                         "ztheta", "thetar", "thetaz", "thetatheta"};
+
+static int field_list(const RunProblem *rp, const PointFields *f, MicaVtkField *fields) {
+  const char *const *vector = rp->axisymmetric ? vector_rzt : vector_xyz;
+  const char *const *tensor = rp->axisymmetric ? tensor_rzt : tensor_xyz;
+  int nf = 0;
+  fields[nf++] = (MicaVtkField){"displacement", 3, f->disp, vector};
+  if (f->rotation) fields[nf++] = (MicaVtkField){"microrotation", 3, f->rotation, vector};
+  if (rp->solid->opt.field.classical) fields[nf++] = (MicaVtkField){"strain", 9, f->strain, tensor};
+  fields[nf++] = (MicaVtkField){"stress", 9, f->stress, tensor};
+  if (f->couple) fields[nf++] = (MicaVtkField){"couple_stress", 9, f->couple, tensor};
+  if (f->micro) fields[nf++] = (MicaVtkField){"micro_deformation", 9, f->micro, tensor};
+  fields[nf++] = (MicaVtkField){"von_mises", 1, f->mises, NULL};
+  if (f->error) fields[nf++] = (MicaVtkField){"error", 3, f->error, vector};
+  return nf;
+}
+
+/* step_NNNN.vtu: the fields at the particles, each a vertex cell. */
+static int write_particles(RunOutput *out, int step, const double *u) {
+  RunProblem *rp = out->rp;
+  PointFields f = {0};
+  MicaVtkField fields[9];
+  char *path = NULL;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(particle_cache(rp));
+  MICA_CALL_CLEANUP(fields_compute(rp, rp->at_particles, rp->disc->x, u, &f));
+  snprintf(out->files[out->nsteps], sizeof out->files[0], "step_%04d.vtu", step);
+  MICA_CALL_CLEANUP(mica_path_join(out->outdir, out->files[out->nsteps], &path));
+  MICA_CALL_CLEANUP(mica_vtu_write(path, rp->disc->dim, rp->disc->nparticles, rp->disc->x, field_list(rp, &f, fields),
+                                   fields));
+cleanup:
+  free(path);
+  fields_free(&f);
+  return ierr;
+}
+
+/* mesh_NNNN.vtu: the same fields at the points of the cells (disc->mesh). */
+static int write_mesh(RunOutput *out, int step, const double *u) {
+  RunProblem *rp = out->rp;
+  const MicaCellMesh *mesh = rp->disc->mesh;
+  PointFields f = {0};
+  MicaVtkField fields[9];
+  char *path = NULL;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(mesh_cache(rp));
+  MICA_CALL_CLEANUP(fields_compute(rp, rp->at_mesh, mesh->x, u, &f));
+  snprintf(out->mesh_files[out->nsteps], sizeof out->mesh_files[0], "mesh_%04d.vtu", step);
+  MICA_CALL_CLEANUP(mica_path_join(out->outdir, out->mesh_files[out->nsteps], &path));
+  const MicaVtkCells cells = {mesh->ncells, mesh->offsets, mesh->conn, mesh->type};
+  MICA_CALL_CLEANUP(mica_vtu_write_cells(path, mesh->dim, mesh->npoints, mesh->x, &cells, field_list(rp, &f, fields),
+                                         fields));
+cleanup:
+  free(path);
+  fields_free(&f);
+  return ierr;
 }
 
 int run_output_step(void *ctx, int step, double t, const double *u) {
   RunOutput *out = ctx;
   if (!out->vtu || out->nsteps >= 1024 || mica_parallel_rank() != 0) return MICA_SUCCESS; /* MPI: rank 0 writes */
   const double start = mica_wtime();
-  ParticleFields f = {0};
-  char *path = NULL;
-  int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(fields_compute(out->rp, u, &f));
-  snprintf(out->files[out->nsteps], sizeof out->files[0], "step_%04d.vtu", step);
-  MICA_CALL_CLEANUP(mica_path_join(out->outdir, out->files[out->nsteps], &path));
-  MicaVtkField fields[8];
-  int nf = 0;
-  fields[nf++] = (MicaVtkField){"displacement", 3, f.disp};
-  if (f.rotation) fields[nf++] = (MicaVtkField){"microrotation", 3, f.rotation};
-  if (out->rp->solid->opt.field.classical) fields[nf++] = (MicaVtkField){"strain", 9, f.strain};
-  fields[nf++] = (MicaVtkField){"stress", 9, f.stress};
-  if (f.couple) fields[nf++] = (MicaVtkField){"couple_stress", 9, f.couple};
-  fields[nf++] = (MicaVtkField){"von_mises", 1, f.mises};
-  if (f.error) fields[nf++] = (MicaVtkField){"error", 3, f.error};
-  MICA_CALL_CLEANUP(mica_vtu_write(path, out->rp->disc->dim, out->rp->disc->nparticles, out->rp->disc->x, nf, fields));
-  out->times[out->nsteps++] = t;
-cleanup:
-  free(path);
-  fields_free(&f);
+  int ierr = write_particles(out, step, u);
+  if (!ierr && out->mesh) ierr = write_mesh(out, step, u);
+  if (!ierr) out->times[out->nsteps++] = t;
   out->time_output += mica_wtime() - start;
   return ierr;
 }
 
+/* solution.pvd: per step the particles as part 0 and, with output.mesh, the mesh as part 1; ParaView shows the
+ * two as blocks of one data set. */
 int run_output_finish(RunOutput *out) {
   if (!out->vtu || out->nsteps == 0) return MICA_SUCCESS;
-  const char *files[1024];
-  for (int i = 0; i < out->nsteps; i++) files[i] = out->files[i];
+  static const char *const names[2] = {"particles", "mesh"};
+  const char *files[2 * 1024];
+  const int nparts = out->mesh ? 2 : 1;
+  for (int i = 0; i < out->nsteps; i++) {
+    files[i * nparts] = out->files[i];
+    if (out->mesh) files[i * nparts + 1] = out->mesh_files[i];
+  }
   char *path = NULL;
   MICA_CALL(mica_path_join(out->outdir, "solution.pvd", &path));
-  int ierr = mica_pvd_write(path, out->nsteps, out->times, files);
+  int ierr = mica_pvd_write_parts(path, out->nsteps, out->times, nparts, names, files);
   free(path);
   return ierr;
 }

@@ -172,6 +172,8 @@ const MicaDeckKey mica_run_schema[] = {
     {"exact.phir", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric cosserat: exact φ_r"},
     {"exact.phitheta", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric cosserat: exact φ_θ"},
     {"output.vtu", MICA_KEY_BOOL, "true", NOLIMIT, NULL, 0, 0, "write particles' fields per load step (VTU + PVD)"},
+    {"output.mesh", MICA_KEY_BOOL, "true", NOLIMIT, NULL, 0, 0,
+     "with output.vtu: also the fields on the cells (mesh_NNNN.vtu, part 1 of solution.pvd)"},
     {"output.monitor", MICA_KEY_BOOL, "true", NOLIMIT, NULL, 0, 0, "print one line per Newton iteration"},
     {"output.probes", MICA_KEY_LIST, NULL, NOLIMIT, NULL, 0, 0,
      "values reported in summary.json: ( { name = \"tip_uy\"; point = [\"L\", \"0\"]; field = \"uy\"; }, ... )"},

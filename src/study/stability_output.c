@@ -183,9 +183,9 @@ int stability_write_mode(RunProblem *rp, const double *u, const char *outdir, co
   for (long i = 0; i < n * 3; i++) disp[i] *= scale, rot[i] *= scale;
   MicaVtkField fields[3];
   int nf = 0;
-  fields[nf++] = (MicaVtkField){"displacement", 3, disp};
-  if (ncomp > mdim) fields[nf++] = (MicaVtkField){"microrotation", 3, rot};
-  fields[nf++] = (MicaVtkField){"eigenvalue", 1, lam};
+  fields[nf++] = (MicaVtkField){"displacement", 3, disp, NULL};
+  if (ncomp > mdim) fields[nf++] = (MicaVtkField){"microrotation", 3, rot, NULL};
+  fields[nf++] = (MicaVtkField){"eigenvalue", 1, lam, NULL};
   MICA_CALL_CLEANUP(mica_path_join(outdir, name, &path));
   MICA_CALL_CLEANUP(mica_vtu_write(path, rp->disc->dim, n, rp->disc->x, nf, fields));
 cleanup:

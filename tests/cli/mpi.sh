@@ -102,8 +102,8 @@ compare "$work/timo" "$work/timo_1" 1e-13 tip_uy
 
 # files written once, by rank 0: the fields, no staging directory left, no scratch directory of other ranks
 prun 3 "$work/files" input/timoshenko.cfg --set output.vtu=true
-[ -f "$work/files/step_0001.vtu" ] && [ -f "$work/files/solution.pvd" ] && [ -f "$work/files/summary.json" ] \
-  || fail "-np 3: result files missing"
+[ -f "$work/files/step_0001.vtu" ] && [ -f "$work/files/mesh_0001.vtu" ] && [ -f "$work/files/solution.pvd" ] \
+  && [ -f "$work/files/summary.json" ] || fail "-np 3: result files missing"
 [ -z "$(ls -A "$work/files" | grep staging)" ] || fail "a staging directory was left behind"
 [ -z "$(ls -A "$work/tmp" | grep mica-rank)" ] || fail "scratch directories of ranks 1, 2 left in TMPDIR: $(ls "$work/tmp")"
 [ "$(grep -c '^results in' "$work/files.log")" -eq 1 ] || fail "the log is not written once: $(cat "$work/files.log")"

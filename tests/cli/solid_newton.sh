@@ -26,7 +26,11 @@ grep -q "cut back" "$work/cut.log" || fail "no step was cut back"
 within "$(json_value tip_uy "$work/cut/summary.json")" "$ref" 1e-6 "cut-back run, tip"
 steps=$(json_value load_steps "$work/cut/summary.json")
 [ "$(ls "$work/cut"/step_*.vtu | wc -l)" = "$steps" ] || fail "expected $steps VTU files"
-[ "$(grep -c '<DataSet' "$work/cut/solution.pvd")" = "$steps" ] || fail "the PVD does not list $steps steps"
-ok "VTU per load step and PVD ($steps steps)"
+[ "$(ls "$work/cut"/mesh_*.vtu | wc -l)" = "$steps" ] || fail "expected $steps mesh VTU files"
+for part in 0 1; do
+  [ "$(grep -c "part=\"$part\"" "$work/cut/solution.pvd")" = "$steps" ] || fail "the PVD does not list $steps steps of part $part"
+done
+grep 'part="1"' "$work/cut/solution.pvd" | tail -n 1 | grep -q 'timestep="1"' || fail "the last step after a cut is not at t = 1"
+ok "VTU per load step (particles and mesh) and PVD ($steps steps, the last at t = 1)"
 run_deck "$work/ls" input/cook_neohooke.cfg --set "particles.count=[13,13]" --set solver.line_search=true
 within "$(json_value tip_uy "$work/ls/summary.json")" "$ref" 1e-6 "line search run, tip"

@@ -1,7 +1,9 @@
 /* VTU and PVD output (src/io/vtk.c), checked without VTK: the XML header is parsed by hand, every
  * DataArray's offset must land on its block in the appended section, each block's UInt64 byte count must
  * equal points × components × size, and the bytes must be the data given (2-D points padded with z = 0,
- * vertex cells). Non-finite values are refused and leave no file, temporary or final. */
+ * vertex cells, or given cells: connectivity, end offsets, types). Non-finite values and bad cells are refused
+ * and leave no file, temporary or final. Component names become ComponentName attributes; a PVD lists its
+ * parts per step. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -135,7 +137,8 @@ static void test_vtu_layout(void **state) {
   Scratch *s = *state;
   double x2[2 * NPOINTS], scalar[NPOINTS], vector[3 * NPOINTS], tensor[9 * NPOINTS];
   make_data(x2, scalar, vector, tensor);
-  const MicaVtkField fields[3] = {{"damage", 1, scalar}, {"displacement", 3, vector}, {"stress", 9, tensor}};
+  const MicaVtkField fields[3] = {
+      {"damage", 1, scalar, NULL}, {"displacement", 3, vector, NULL}, {"stress", 9, tensor, NULL}};
   snprintf(s->path, sizeof s->path, "%s/step.vtu", s->dir);
   assert_int_equal(mica_vtu_write(s->path, 2, NPOINTS, x2, 3, fields), MICA_SUCCESS);
   assert_int_equal(count_entries(s->dir), 1); /* no temporary file left */
@@ -220,7 +223,7 @@ static void test_vtu_refuses_non_finite(void **state) {
   double x2[2 * NPOINTS], scalar[NPOINTS], vector[3 * NPOINTS], tensor[9 * NPOINTS];
   make_data(x2, scalar, vector, tensor);
   vector[3 * 4 + 1] = NAN;
-  const MicaVtkField fields[2] = {{"damage", 1, scalar}, {"displacement", 3, vector}};
+  const MicaVtkField fields[2] = {{"damage", 1, scalar, NULL}, {"displacement", 3, vector, NULL}};
   snprintf(s->path, sizeof s->path, "%s/bad.vtu", s->dir);
   assert_int_equal(mica_vtu_write(s->path, 2, NPOINTS, x2, 2, fields), MICA_ERR_NUMERIC);
   assert_non_null(strstr(mica_error_message(), "displacement"));
@@ -254,12 +257,110 @@ static void test_pvd(void **state) {
   mica_error_clear();
 }
 
+/* Two quadrilaterals sharing an edge and a triangle: 7 points, cells of 4, 4, 3 nodes. */
+enum { MESH_POINTS = 7, MESH_CELLS = 3 };
+static const double mesh_x[2 * MESH_POINTS] = {0, 0, 1, 0, 2, 0, 0, 1, 1, 1, 2, 1, 1, 2};
+static const long mesh_offsets[MESH_CELLS + 1] = {0, 4, 8, 11};
+static const long mesh_conn[11] = {0, 1, 4, 3, 1, 2, 5, 4, 3, 4, 6};
+static const unsigned char mesh_types[MESH_CELLS] = {9, 9, 5};
+
+static void test_vtu_cells(void **state) {
+  Scratch *s = *state;
+  double value[MESH_POINTS], vector[3 * MESH_POINTS];
+  for (int i = 0; i < MESH_POINTS; i++) {
+    value[i] = 0.5 * i - 1;
+    for (int c = 0; c < 3; c++) vector[3 * i + c] = i + 0.25 * c;
+  }
+  static const char *const axes[3] = {"r", "z", "theta"};
+  const MicaVtkField fields[2] = {{"von_mises", 1, value, NULL}, {"displacement", 3, vector, axes}};
+  const MicaVtkCells cells = {MESH_CELLS, mesh_offsets, mesh_conn, mesh_types};
+  snprintf(s->path, sizeof s->path, "%s/mesh.vtu", s->dir);
+  assert_int_equal(mica_vtu_write_cells(s->path, 2, MESH_POINTS, mesh_x, &cells, 2, fields), MICA_SUCCESS);
+  assert_int_equal(count_entries(s->dir), 1);
+  long size;
+  char *bytes = read_all(s->path, &size);
+  assert_non_null(strstr(bytes, "NumberOfPoints=\"7\" NumberOfCells=\"3\""));
+  assert_non_null(strstr(bytes, "Name=\"displacement\" NumberOfComponents=\"3\" ComponentName0=\"r\" "
+                                "ComponentName1=\"z\" ComponentName2=\"theta\" format="));
+  assert_null(strstr(bytes, "Name=\"von_mises\" NumberOfComponents=\"1\" ComponentName0"));
+  const char *appended = strstr(bytes, "<AppendedData encoding=\"raw\">");
+  const unsigned char *data = (const unsigned char *)strchr(appended, '_') + 1;
+  ArrayInfo arrays[8];
+  assert_int_equal(parse_arrays(bytes, appended, arrays, 8), 6); /* 2 fields, points, connectivity, offsets, types */
+  const uint64_t expected_bytes[6] = {MESH_POINTS * 8, MESH_POINTS * 24, MESH_POINTS * 24, 11 * 8, MESH_CELLS * 8,
+                                      MESH_CELLS};
+  uint64_t running = 0;
+  for (int k = 0; k < 6; k++) {
+    uint64_t block_bytes;
+    assert_int_equal(arrays[k].offset, running);
+    memcpy(&block_bytes, data + running, sizeof block_bytes);
+    assert_int_equal(block_bytes, expected_bytes[k]);
+    running += 8 + block_bytes;
+  }
+  for (int i = 0; i < 11; i++) { /* connectivity as given */
+    int64_t v;
+    memcpy(&v, data + arrays[3].offset + 8 + 8 * i, sizeof v);
+    assert_int_equal(v, mesh_conn[i]);
+  }
+  for (int c = 0; c < MESH_CELLS; c++) { /* VTK's offsets: where each cell ends */
+    int64_t v;
+    memcpy(&v, data + arrays[4].offset + 8 + 8 * c, sizeof v);
+    assert_int_equal(v, mesh_offsets[c + 1]);
+    assert_int_equal(data[arrays[5].offset + 8 + c], mesh_types[c]);
+  }
+  assert_memory_equal(data + running, "\n  </AppendedData>\n</VTKFile>\n", 30);
+  free(bytes);
+}
+
+static void test_vtu_refuses_bad_cells(void **state) {
+  Scratch *s = *state;
+  double value[MESH_POINTS] = {0};
+  const MicaVtkField fields[1] = {{"v", 1, value, NULL}};
+  long conn[11];
+  unsigned char types[MESH_CELLS];
+  memcpy(conn, mesh_conn, sizeof conn);
+  memcpy(types, mesh_types, sizeof types);
+  const MicaVtkCells cells = {MESH_CELLS, mesh_offsets, conn, types};
+  snprintf(s->path, sizeof s->path, "%s/bad.vtu", s->dir);
+  types[2] = 9; /* a quadrilateral with three nodes */
+  assert_int_equal(mica_vtu_write_cells(s->path, 2, MESH_POINTS, mesh_x, &cells, 1, fields), MICA_ERR_ARGUMENT);
+  assert_non_null(strstr(mica_error_message(), "cell 2 has VTK type 9 and 3 nodes"));
+  types[2] = 77; /* no such type */
+  assert_int_equal(mica_vtu_write_cells(s->path, 2, MESH_POINTS, mesh_x, &cells, 1, fields), MICA_ERR_ARGUMENT);
+  types[2] = 5, conn[10] = MESH_POINTS; /* a point that does not exist */
+  assert_int_equal(mica_vtu_write_cells(s->path, 2, MESH_POINTS, mesh_x, &cells, 1, fields), MICA_ERR_ARGUMENT);
+  assert_non_null(strstr(mica_error_message(), "refers to point 7 of 7"));
+  conn[10] = 6, value[3] = NAN;
+  assert_int_equal(mica_vtu_write_cells(s->path, 2, MESH_POINTS, mesh_x, &cells, 1, fields), MICA_ERR_NUMERIC);
+  assert_int_equal(count_entries(s->dir), 0); /* nothing written by any refusal */
+  mica_error_clear();
+}
+
+static void test_pvd_parts(void **state) {
+  Scratch *s = *state;
+  const double times[2] = {0.5, 1.0};
+  const char *const names[2] = {"particles", "mesh"};
+  const char *const files[4] = {"step_0001.vtu", "mesh_0001.vtu", "step_0002.vtu", "mesh_0002.vtu"};
+  snprintf(s->path, sizeof s->path, "%s/solution.pvd", s->dir);
+  assert_int_equal(mica_pvd_write_parts(s->path, 2, times, 2, names, files), MICA_SUCCESS);
+  long size;
+  char *text = read_all(s->path, &size);
+  const char *first = strstr(text, "<DataSet timestep=\"0.5\" group=\"\" part=\"0\" name=\"particles\" file=\"step_0001.vtu\"/>\n"
+                                   "    <DataSet timestep=\"0.5\" group=\"\" part=\"1\" name=\"mesh\" file=\"mesh_0001.vtu\"/>");
+  assert_non_null(first);
+  assert_non_null(strstr(first, "<DataSet timestep=\"1\" group=\"\" part=\"1\" name=\"mesh\" file=\"mesh_0002.vtu\"/>"));
+  free(text);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test_setup_teardown(test_vtu_layout, scratch_setup, scratch_teardown),
       cmocka_unit_test_setup_teardown(test_vtu_3d_and_empty, scratch_setup, scratch_teardown),
       cmocka_unit_test_setup_teardown(test_vtu_refuses_non_finite, scratch_setup, scratch_teardown),
       cmocka_unit_test_setup_teardown(test_pvd, scratch_setup, scratch_teardown),
+      cmocka_unit_test_setup_teardown(test_vtu_cells, scratch_setup, scratch_teardown),
+      cmocka_unit_test_setup_teardown(test_vtu_refuses_bad_cells, scratch_setup, scratch_teardown),
+      cmocka_unit_test_setup_teardown(test_pvd_parts, scratch_setup, scratch_teardown),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
