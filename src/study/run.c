@@ -1,4 +1,4 @@
-/* `mica run`: solve a solid-mechanics deck (design.md §1 pipeline: deck → discretization → MLS → cache →
+/* `mica run`: solve a solid-mechanics deck (docs/architecture.md, the pipeline: deck → discretization → MLS → cache →
  * assembly → Newton → output); `mica check`: build everything but the solve and print the cost. */
 #include <libgen.h>
 #include <math.h>

@@ -1,5 +1,5 @@
 /* The deck of `mica run`, `mica check`, `mica sweep` and `mica study`: every setting, its type, default, range and
- * meaning (design.md §8; docs/input.md is generated from `mica help run`). A run deck may carry a `sweep`
+ * meaning (docs/input.md is generated from `mica help run`). A run deck may carry a `sweep`
  * group: `mica run` and `mica check` solve or size the deck as it stands and leave the group alone,
  * `mica sweep` runs it over the group's values; likewise the `study` group and `mica study`. One schema, so
  * one deck serves all four. */

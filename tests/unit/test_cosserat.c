@@ -667,7 +667,7 @@ static void test_glide_layer(void **state) {
 
 /* ---- conversions ---- */
 
-/* benchmarks.md: G = 1000, ν = 0.3, N = 0.93, l = a/1.063 with a = 1 (2-D). Expected values by hand:
+/* Kaloni & Ariman's example (docs/verification.md): G = 1000, ν = 0.3, N = 0.93, l = a/1.063 with a = 1 (2-D). Expected values by hand:
  * κ = 2000 · 0.8649 / 0.1351, μ = 1000 − κ/2, λ = 600/0.4 = 1500, γ = 4000/1.063². */
 static void test_plate_example_constants(void **state) {
   (void)state;
@@ -690,7 +690,7 @@ static void test_plate_example_constants(void **state) {
   assert_null(m.classical);
 }
 
-/* Lakes' human compact bone (benchmarks.md; ν is not given there, 0.3 is used): G = 3500 MPa, l_t = 0.22 mm,
+/* Lakes' human compact bone (Lakes 1995; ν is not given there, 0.3 is used): G = 3500 MPa, l_t = 0.22 mm,
  * l_b = 0.44 mm, Ψ = 1.5, N = 0.62. γ = 4 G l_b² = 2710.4, β = 2 G l_t² − γ = 338.8 − 2710.4 = −2371.6,
  * α = 338.8 (1 − 1.5)/1.5 = −112.933..., κ = 7000 · 0.3844 / 0.6156. Ψ = 1.5 is the edge: 3α + β + γ = 0. */
 static void test_bone_constants(void **state) {
