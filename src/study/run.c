@@ -1,5 +1,5 @@
-/* `mica run`: solve a solid-mechanics deck (docs/architecture.md, the pipeline: deck → discretization → MLS → cache →
- * assembly → Newton → output); `mica check`: build everything but the solve and print the cost. */
+/* `mica run`: solve a solid-mechanics deck (the pipeline of docs/architecture.md: deck → discretization → MLS →
+ * cache → assembly → Newton → output); `mica check`: build everything but the solve and print the cost. */
 #include <libgen.h>
 #include <math.h>
 #include <stdio.h>

@@ -388,7 +388,7 @@ static int check_probe_point(const RunProblem *rp, MicaBody *body, int i) {
   MICA_CALL(mica_deck_bool(rp->deck, path, &extrapolate));
   mica_deck_where(rp->deck, path, where, sizeof where);
   if (!strcmp(field, "energy")) {
-    MICA_CHECK(strstr(where, " (default)"), MICA_ERR_INPUT, /* given in the deck or by --set */
+    MICA_CHECK(!extrapolate, MICA_ERR_INPUT,
                "%s: probe '%s': extrapolate is for a probe at a point; field = \"energy\" has none (remove it)", where,
                name);
     return MICA_SUCCESS;

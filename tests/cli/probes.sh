@@ -59,7 +59,7 @@ expect_failure 2 "outside the body, the elements of input/meshes/plate_hole.msh"
 
 # extrapolate is refused where it cannot act: on the energy probe (no point) and with finite elements
 expect_failure 2 "probe 'U': extrapolate is for a probe at a point" -- "$MICA" check input/timoshenko.cfg -o "$work/x" \
-  --set 'output.probes=( { name = "U"; field = "energy"; extrapolate = false; } )'
+  --set 'output.probes=( { name = "U"; field = "energy"; extrapolate = true; } )'
 expect_failure 2 "finite elements (problem.method = \"fe\") have no values outside their elements" -- \
   "$MICA" check $D/beam_outside.cfg -o "$work/x" --set problem.method=fe --set mls.order=1 \
   --set 'output.probes.[1].extrapolate=true'
