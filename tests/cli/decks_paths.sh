@@ -4,17 +4,17 @@
 #    setting names (geometry.mesh, sweep.experiments.[].file, relative to the deck) exists inside the
 #    repository; every repository path a comment names (a token with a "/" ending in .cfg, .md, .c, .h, .sh,
 #    .py, .msh, .geo, .csv) exists, relative to the repository or to the deck;
-#  - the docs (docs/, README.md, the examples' and tests' READMEs and notes) and src/ and include/ (messages
-#    and comments): no such path or file name.
+#  - the docs (docs/, README.md, the examples' READMEs and notes), src/ and include/ (messages and comments),
+#    the tests and the Makefile: no such path or file name.
 source "$(dirname "$0")/common.bash"
 root=$(pwd -P)
 
 # paths and names of files that only exist outside the repository
 outside='(\.\./)+shared/|(^|[^A-Za-z0-9_./-])shared/(reference|design|seeds|hooks)|benchmarks\.md|design\.md|peers\.md|/work/|/home/|/root/|seed[s]?/[0-9]'
-found=$(grep -rnEI "$outside" input examples tests/decks bench docs README.md src include tests/meshes/README.md 2>/dev/null \
-  | grep -v '^bench/results/' || true)
+found=$(grep -rnEI "$outside" input examples bench docs README.md src include tests Makefile 2>/dev/null \
+  | grep -v '^bench/results/\|^tests/cli/decks_paths.sh:' || true)
 [ -z "$found" ] || fail "text that points outside the repository:"$'\n'"$found"
-ok "no deck, doc, source file or message names ../shared, design.md, benchmarks.md, /work, /home or /root"
+ok "no deck, doc, source file, message or test names ../shared, design.md, benchmarks.md, /work, /home or /root"
 
 inside() { case "$1" in "$root"/*) return 0 ;; *) return 1 ;; esac; }
 decks=$(find input examples tests/decks bench -name '*.cfg' | sort)
