@@ -1,4 +1,4 @@
-/* The small-strain Cosserat (micropolar) field model of Eringen (design.md §4, docs/theory.md §Cosserat).
+/* The small-strain Cosserat (micropolar) field model of Eringen (docs/theory.md §Cosserat).
  *
  * Unknowns: 3-D u and φ (ncomp = 6: ux, uy, uz, phix, phiy, phiz); 2-D plane strain u_1, u_2, φ_3 (ncomp = 3:
  * ux, uy, phiz). With e the permutation symbol and the fields' derivatives written ,k:

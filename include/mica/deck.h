@@ -1,5 +1,5 @@
 /* Decks: libconfig files checked strictly against a schema, with --set overrides, parameters and
- * expressions (design.md §8, docs/input.md).
+ * expressions (docs/input.md).
  *
  * Every problem with a deck is a MICA_ERR_INPUT error whose message starts with "deck.cfg:LINE: " (or
  * "--set path=value: " for an override) and says what to do. Numeric settings may be numbers or string

@@ -1,5 +1,5 @@
-/* Symmetric eigenproblems for stability studies (design.md §6: "small dense eigenproblems with LAPACK; larger
- * ones by shift-invert with the sparse factorization"; docs/theory.md §stability).
+/* Symmetric eigenproblems for stability studies (small dense eigenproblems with LAPACK, larger
+ * ones by shift-invert with the sparse factorization; docs/theory.md §stability).
  *
  * Dense: LAPACK dsyevr (all eigenvalues, optionally all eigenvectors) and dsygvd (A x = λ B x, B symmetric
  * positive definite). Sparse: the eigenvalues nearest a shift σ of a symmetric MicaSparse by shift-invert

@@ -192,4 +192,21 @@ int mica_discretization_find_set(const MicaDiscretization *disc, const char *nam
 /* The names of the sets, comma-separated, for error messages ("left, right, bottom, top"). */
 void mica_discretization_set_names(const MicaDiscretization *disc, char *buf, int size);
 
+/* ---- Inside the body (src/geom/inside.c) ------------------------------------------------------------- */
+
+/* The body of a shape specification, for asking whether a point lies in it: a built-in shape by its exact
+ * geometry, a Gmsh mesh by its volume elements (it reads the file). Points within MICA_BODY_TOLERANCE × the
+ * diagonal of the body's bounding box of it count as inside, so points on the boundary do. */
+#define MICA_BODY_TOLERANCE 1e-8
+typedef struct MicaBody MicaBody;
+int mica_body_create(const MicaShapeSpec *shape, MicaBody **body);
+int mica_body_destroy(MicaBody **body);
+int mica_body_dim(const MicaBody *body);
+/* 1 if x (dim coordinates) lies in the body or within the tolerance of it, else 0. */
+int mica_body_contains(const MicaBody *body, const double *x);
+/* The bounding box (entries past dim are 0). */
+void mica_body_bounds(const MicaBody *body, double lower[3], double upper[3]);
+/* "the box", "the quarter plate with a hole of radius 1", "the elements of plate.msh", ... for messages. */
+void mica_body_describe(const MicaBody *body, char *buf, int size);
+
 #endif

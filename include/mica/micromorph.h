@@ -1,4 +1,4 @@
-/* The gradient micromorph kinds beyond χ = F (design.md §4; docs/theory.md §micromorph). Every macro point X
+/* The gradient micromorph kinds beyond χ = F (docs/theory.md §micromorph). Every macro point X
  * carries a micro box S (sizes[K] along axis K; 0: no extent), a micro point sits at x̂(X, Y) = x(X) + χ(X) Y,
  * its deformation gradient is F̂ = ∂x̂/∂X, i.e. F̂_aK = F_aK + (∂_K χ_aJ) Y_J, and
  *   W(X) = (1/|S|) ∫_S ψ(F̂(Y)) dY        (Gauss points in Y; ψ a classical kernel: linear, svk, neohooke, ...).

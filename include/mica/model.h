@@ -1,4 +1,4 @@
-/* Continuum models (ops table, design.md §4): a point kernel that, given the deformation gradient F at a
+/* Continuum models (an ops table; docs/theory.md §Continuum models): a point kernel that, given the deformation gradient F at a
  * quadrature point, returns the strain-energy density W, the first Piola–Kirchhoff stress P = ∂W/∂F and
  * the tangent A = ∂P/∂F. The assembly is the same for every model:
  *   R_Ia = ∫ P_aJ N_I,J dV − f_ext,     K_IaKb = ∫ N_I,J A_aJbL N_K,L dV     (total Lagrangian)

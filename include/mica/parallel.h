@@ -1,4 +1,4 @@
-/* Parallel runs with MPI and METIS (design.md §7; docs/architecture.md §parallel).
+/* Parallel runs with MPI and METIS (docs/architecture.md §parallel).
  *
  * Under `mpirun -np P` (P > 1) every rank reads the deck and builds the particles, the background cells
  * and the MLS approximation (replicated: O(particles) memory each). METIS partitions the particle graph

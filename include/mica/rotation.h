@@ -1,4 +1,4 @@
-/* Finite rotations by a rotation vector Φ (design.md §4; docs/theory.md §finite rotations).
+/* Finite rotations by a rotation vector Φ (docs/theory.md §finite rotations).
  *
  * With θ = |Φ| and Φ̂ = skew Φ (Φ̂ v = Φ × v):
  *   R(Φ) = exp(Φ̂) = I + a(θ) Φ̂ + b(θ) Φ̂²,          a = sin θ / θ,  b = (1 − cos θ) / θ²,

@@ -1,5 +1,5 @@
 /* The solid-mechanics problem: discretization, MLS shape-function cache, model, boundary conditions,
- * assembly and Newton's method (design.md §3-§6; docs/theory.md §solids).
+ * assembly and Newton's method (docs/theory.md §solids).
  *
  * Total Lagrangian: shape functions and their gradients are computed once per quadrature point and cached
  * (MicaShapeCache); the unknowns are the particle parameters u_I (not the displacements at the particles:

@@ -1,4 +1,4 @@
-/* Sparse matrices and their direct solvers (design.md §6).
+/* Sparse matrices and their direct solvers (docs/theory.md §Sparse matrices).
  *
  * The pattern is built once from "cliques": sets of nodes coupled all to all (the particles supporting a
  * quadrature point, plus any multiplier nodes at that point), each node carrying ndof unknowns. Building

@@ -1,5 +1,5 @@
 /* The shape-function cache of a total-Lagrangian analysis: N, ∇N and, for second-gradient models, ∇∇N of
- * the supporting particles at every quadrature point, computed once (design.md §3). Stored in CSR form so
+ * the supporting particles at every quadrature point, computed once (docs/architecture.md). Stored in CSR form so
  * that assembly streams through it. */
 #include <stdlib.h>
 #include <string.h>

@@ -1,5 +1,5 @@
 /* The solid problem: shape-function caches, multiplier nodes, local spacing at boundary points, and the
- * sparsity pattern, built once (design.md §3, §6). Assembly is in assemble.c. */
+ * sparsity pattern, built once (docs/architecture.md). Assembly is in assemble.c. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

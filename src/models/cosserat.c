@@ -326,7 +326,7 @@ static int check_technical_lengths(int dim, double l_t, double l_b, double psi) 
   return MICA_SUCCESS;
 }
 
-/* Lakes' technical constants → Eringen's (design.md §4). */
+/* Lakes' technical constants → Eringen's (docs/theory.md §Cosserat, "Constants"). */
 static Constants from_technical(int dim, double G, double nu, double N, double l_t, double l_b, double psi) {
   Constants c;
   c.kappa = 2.0 * G * N * N / (1.0 - N * N);

@@ -1,4 +1,4 @@
-/* The gradient micromorph continuum with χ = F (design.md §4; docs/theory.md §micromorph).
+/* The gradient micromorph continuum with χ = F (docs/theory.md §micromorph).
  *
  * Every macro point X carries a micro-continuum S: a line, rectangle or box with sizes l_i along chosen axes
  * (its dimension 0-3 is the number of axes). A micro point sits at x̂(X, Y) = x(X) + χ(X) Y with χ = F, so its

@@ -1,4 +1,4 @@
-/* The gradient micromorph continuum with χ = J^(−1/3) F (design.md §4; docs/theory.md §micromorph, "χ = J^(−1/3) F").
+/* The gradient micromorph continuum with χ = J^(−1/3) F (docs/theory.md §micromorph, "χ = J^(−1/3) F").
  *
  * The micro placement x̂ = x + χ Y follows the macro orientation and shear but not the macro volume change. Its
  * deformation gradient F̂ = ∂x̂/∂X is

@@ -1,4 +1,4 @@
-/* The gradient micromorph continuum with χ = R(Φ): a generalized Cosserat continuum (design.md §4; docs/theory.md
+/* The gradient micromorph continuum with χ = R(Φ): a generalized Cosserat continuum (docs/theory.md
  * §micromorph, "χ = R(Φ)").
  *
  * Unknowns u and an independent rotation vector Φ (2-D: ux, uy, phiz; 3-D: ux..uz, phix..phiz), order 1. The micro

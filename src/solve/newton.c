@@ -1,5 +1,5 @@
 /* Newton–Raphson with load steps, automatic step cut-back and optional backtracking line search
- * (design.md §6). One monitor line per iteration: step, load factor, iteration, |R|, |Δu|, and the
+ * (docs/theory.md §solids). One monitor line per iteration: step, load factor, iteration, |R|, |Δu|, and the
  * convergence rate log(|R_i|/|R_i−1|) / log(|R_i−1|/|R_i−2|), which tends to 2 when Newton is quadratic.
  * The tangent's pattern is fixed, so the linear solver's symbolic analysis is done once and reused.
  *

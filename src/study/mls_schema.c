@@ -1,5 +1,5 @@
 /* The deck of `mica mls`: every setting, its type, default, range and meaning (docs/input.md is generated
- * from this table by `mica help mls`). Names follow the shared vocabulary of design.md §8. */
+ * from this table by `mica help mls`). Names follow those of the run decks (docs/input.md). */
 #include "mls_study.h"
 
 #define NOLIMIT 1.0, 0.0 /* min > max: no range check */

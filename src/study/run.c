@@ -1,5 +1,5 @@
-/* `mica run`: solve a solid-mechanics deck (design.md §1 pipeline: deck → discretization → MLS → cache →
- * assembly → Newton → output); `mica check`: build everything but the solve and print the cost. */
+/* `mica run`: solve a solid-mechanics deck (the pipeline of docs/architecture.md: deck → discretization → MLS →
+ * cache → assembly → Newton → output); `mica check`: build everything but the solve and print the cost. */
 #include <libgen.h>
 #include <math.h>
 #include <stdio.h>
@@ -442,6 +442,13 @@ int run_error_discretization(const RunProblem *rp, MicaDiscretization **disc) {
   return ierr;
 }
 
+int run_body_create(const MicaDeck *deck, MicaBody **body) {
+  MicaShapeSpec shape;
+  char mesh[1024];
+  MICA_CALL(read_shape(deck, &shape, mesh, sizeof mesh));
+  return mica_body_create(&shape, body);
+}
+
 /* ---- reuse between runs ---------------------------------------------------------------------------------- */
 
 /* What the discretization and the MLS approximation depend on: the deck file (Gmsh paths are relative to
@@ -736,6 +743,7 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   memset(&stats, 0, sizeof stats);
   MICA_CALL_CLEANUP(run_problem_build_reusing(deck, &rp, reuse));
   MICA_CALL_CLEANUP(run_quadrature_fields_check(deck, &rp));
+  MICA_CALL_CLEANUP(run_check_probes(&rp));
   RunTotals totals;
   MICA_CALL_CLEANUP(count_totals(&rp, &totals));
   print_counts(&rp, &totals);
@@ -780,6 +788,7 @@ static int run_check(const MicaDeck *deck, const char *outdir, MicaJson *summary
   RunProblem rp;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(run_problem_build(deck, &rp));
+  MICA_CALL_CLEANUP(run_check_probes(&rp));
   RunTotals totals;
   MICA_CALL_CLEANUP(count_totals(&rp, &totals));
   print_counts(&rp, &totals);

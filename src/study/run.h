@@ -75,6 +75,8 @@ int run_problem_build(const MicaDeck *deck, RunProblem *rp);
 /* quadrature.error_order > 0: the deck's body, particles and cells with that many Gauss points per direction
  * (revolved if axisymmetric), whose volume points the error norms use; NULL when the key is 0. */
 int run_error_discretization(const RunProblem *rp, MicaDiscretization **disc);
+/* The deck's body (the shape of geometry.*, or its Gmsh mesh), for asking whether a point lies in it. */
+int run_body_create(const MicaDeck *deck, MicaBody **body);
 int run_problem_build_reusing(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse);
 void run_problem_free(RunProblem *rp);
 
@@ -124,6 +126,10 @@ int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary);
 /* The relative errors run_error_norms reports (L2 of the values, H1 seminorm, energy), without writing them. */
 int run_error_values(RunProblem *rp, const double *u, double *rel_l2, double *rel_h1, double *rel_energy);
 int run_probes(RunProblem *rp, const double *u, MicaJson *summary);
+/* Before the solve: every point probe lies in the body (within MICA_BODY_TOLERANCE of its size, so points on
+ * the boundary do) unless it says extrapolate = true; otherwise MICA_ERR_INPUT with the probe's deck line and
+ * the body's bounds. */
+int run_check_probes(const RunProblem *rp);
 /* The points the error norms use, their shape functions and weights: quadrature.error_order's own points
  * (whole = 1: every rank holds all of them), else the solve's volume points (under nodal integration the
  * background Gauss points; under MPI this rank's). */

@@ -380,22 +380,31 @@ static int strain_energy(const RunProblem *rp, const double *u, double *energy) 
   return ierr;
 }
 
+/* Probe i's point (dim coordinates) and where the deck gives it ("deck.cfg:LINE"). */
+static int probe_point(const RunProblem *rp, int i, const char *name, double point[3], char *where, size_t size) {
+  char path[96];
+  int n = 0;
+  snprintf(path, sizeof path, "output.probes.[%d].point", i);
+  mica_deck_where(rp->deck, path, where, size);
+  if (!mica_deck_has(rp->deck, path)) {
+    snprintf(path, sizeof path, "output.probes.[%d]", i);
+    mica_deck_where(rp->deck, path, where, size);
+    MICA_ERROR(MICA_ERR_INPUT, "%s: probe '%s' needs a point (only field = \"energy\" has none)", where, name);
+  }
+  point[0] = point[1] = point[2] = 0;
+  MICA_CALL(mica_deck_floats(rp->deck, path, point, 3, &n));
+  MICA_CHECK(n == rp->disc->dim, MICA_ERR_INPUT, "%s: probe '%s' needs a point with %d coordinates", where, name,
+             rp->disc->dim);
+  return MICA_SUCCESS;
+}
+
 /* The raw value of a point probe: the field at the deck's point. */
 static int probe_at_point(RunProblem *rp, int i, const char *name, const char *field, const double *u, double *raw) {
   const MicaSolid *s = rp->solid;
   const int dim = rp->disc->dim;
-  char path[96], where[256];
-  double point[3] = {0, 0, 0};
-  int n = 0;
-  snprintf(path, sizeof path, "output.probes.[%d].point", i);
-  mica_deck_where(rp->deck, path, where, sizeof where);
-  if (!mica_deck_has(rp->deck, path)) {
-    snprintf(path, sizeof path, "output.probes.[%d]", i);
-    mica_deck_where(rp->deck, path, where, sizeof where);
-    MICA_ERROR(MICA_ERR_INPUT, "%s: probe '%s' needs a point (only field = \"energy\" has none)", where, name);
-  }
-  MICA_CALL(mica_deck_floats(rp->deck, path, point, 3, &n));
-  MICA_CHECK(n == dim, MICA_ERR_INPUT, "%s: probe '%s' needs a point with %d coordinates", where, name, dim);
+  char where[256];
+  double point[3];
+  MICA_CALL(probe_point(rp, i, name, point, where, sizeof where));
   MICA_CHECK(probe_field_exists(rp, field), MICA_ERR_INPUT,
              "%s: probe '%s' asks for %s, which this model in %d-D%s does not have", where, name, field, dim,
              rp->axisymmetric ? " (axisymmetric: axes r, t, z)" : "");
@@ -441,6 +450,65 @@ static int probe_one(RunProblem *rp, int i, const double *u, MicaJson *summary) 
   MICA_CALL(mica_json_number(summary, name, value));
   printf("probe %s = %.10g\n", name, value);
   return MICA_SUCCESS;
+}
+
+/* "x in [0, 48], y in [-6, 6]" */
+static void bounds_text(const MicaBody *body, char *buf, size_t size) {
+  double lo[3], hi[3];
+  size_t len = 0;
+  mica_body_bounds(body, lo, hi);
+  buf[0] = '\0';
+  for (int d = 0; d < mica_body_dim(body) && len < size; d++)
+    len += (size_t)snprintf(buf + len, size - len, "%s%c in [%g, %g]", d ? ", " : "", "xyz"[d], lo[d], hi[d]);
+}
+
+/* Probe i's point lies in the body (within MICA_BODY_TOLERANCE of its size), or the probe allows
+ * extrapolation; extrapolate on a probe without a point, or with finite elements, is refused. */
+static int check_probe_point(const RunProblem *rp, MicaBody *body, int i) {
+  const char *name, *field;
+  char path[96], where[256];
+  int extrapolate;
+  snprintf(path, sizeof path, "output.probes.[%d].name", i);
+  MICA_CALL(mica_deck_string(rp->deck, path, &name));
+  snprintf(path, sizeof path, "output.probes.[%d].field", i);
+  MICA_CALL(mica_deck_string(rp->deck, path, &field));
+  snprintf(path, sizeof path, "output.probes.[%d].extrapolate", i);
+  MICA_CALL(mica_deck_bool(rp->deck, path, &extrapolate));
+  mica_deck_where(rp->deck, path, where, sizeof where);
+  if (!strcmp(field, "energy")) {
+    MICA_CHECK(!extrapolate, MICA_ERR_INPUT,
+               "%s: probe '%s': extrapolate is for a probe at a point; field = \"energy\" has none (remove it)", where,
+               name);
+    return MICA_SUCCESS;
+  }
+  MICA_CHECK(!(extrapolate && rp->fe), MICA_ERR_INPUT,
+             "%s: probe '%s': extrapolate = true needs the MLS approximation; finite elements (problem.method = "
+             "\"fe\") have no values outside their elements", where, name);
+  double point[3];
+  MICA_CALL(probe_point(rp, i, name, point, where, sizeof where));
+  if (extrapolate || mica_body_contains(body, point)) return MICA_SUCCESS;
+  char at[96], shape[600], bounds[256];
+  if (rp->disc->dim == 3)
+    snprintf(at, sizeof at, "(%g, %g, %g)", point[0], point[1], point[2]);
+  else
+    snprintf(at, sizeof at, "(%g, %g)", point[0], point[1]);
+  mica_body_describe(body, shape, sizeof shape);
+  bounds_text(body, bounds, sizeof bounds);
+  MICA_ERROR(MICA_ERR_INPUT,
+             "%s: probe '%s' at %s lies outside the body, %s (bounds %s); move it inside or onto the boundary, or "
+             "set extrapolate = true in the probe to report the approximation's value there anyway",
+             where, name, at, shape, bounds);
+}
+
+int run_check_probes(const RunProblem *rp) {
+  const int count = mica_deck_list_length(rp->deck, "output.probes");
+  if (count == 0) return MICA_SUCCESS;
+  MicaBody *body = NULL;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL(run_body_create(rp->deck, &body));
+  for (int i = 0; i < count && !ierr; i++) ierr = check_probe_point(rp, body, i);
+  mica_body_destroy(&body);
+  return ierr;
 }
 
 int run_probes(RunProblem *rp, const double *u, MicaJson *summary) {

@@ -1,5 +1,5 @@
 /* The deck of `mica run`, `mica check`, `mica sweep` and `mica study`: every setting, its type, default, range and
- * meaning (design.md §8; docs/input.md is generated from `mica help run`). A run deck may carry a `sweep`
+ * meaning (docs/input.md is generated from `mica help run`). A run deck may carry a `sweep`
  * group: `mica run` and `mica check` solve or size the deck as it stands and leave the group alone,
  * `mica sweep` runs it over the group's values; likewise the `study` group and `mica study`. One schema, so
  * one deck serves all four. */
@@ -178,7 +178,10 @@ const MicaDeckKey mica_run_schema[] = {
     {"output.probes", MICA_KEY_LIST, NULL, NOLIMIT, NULL, 0, 0,
      "values reported in summary.json: ( { name = \"tip_uy\"; point = [\"L\", \"0\"]; field = \"uy\"; }, ... )"},
     {"output.probes.[].name", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, 0, "key in summary.json"},
-    {"output.probes.[].point", MICA_KEY_FLOATS, NULL, NOLIMIT, NULL, 2, 3, "where (inside the body; not for energy)"},
+    {"output.probes.[].point", MICA_KEY_FLOATS, NULL, NOLIMIT, NULL, 2, 3,
+     "where: in the body or on its boundary (else an error, unless extrapolate); not for energy"},
+    {"output.probes.[].extrapolate", MICA_KEY_BOOL, "false", NOLIMIT, NULL, 0, 0,
+     "allow a point outside the body: report the MLS approximation's value there (not with finite elements)"},
     {"output.probes.[].field", MICA_KEY_CHOICE, NULL, NOLIMIT,
      "ux|uy|uz|phix|phiy|phiz|exx|eyy|ezz|exy|eyz|exz|sxx|syy|szz|sxy|syx|syz|szy|sxz|szx|mxx|myy|mzz|mxy|myx|myz|mzy|mxz|mzx|mises|"
      "ur|utheta|phir|phitheta|srr|stt|srt|str|srz|szr|stz|szt|mrr|mtt|mrt|mtr|mrz|mzr|mtz|mzt|energy",

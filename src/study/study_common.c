@@ -10,7 +10,7 @@
 #include "mica/files.h"
 #include "study_common.h"
 
-/* The mls.* settings (design.md §8): basis, order, weight, support, radius or dilation, search. */
+/* The mls.* settings (docs/input.md): basis, order, weight, support, radius or dilation, search. */
 int mica_study_mls_options(const MicaDeck *deck, int dim, MlsOptions *opt) {
   const char *name;
   mls_options_default(opt);

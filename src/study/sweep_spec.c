@@ -1,5 +1,5 @@
 /* `mica sweep`: reading the `sweep` group and checking it against the run deck before anything is solved
- * (design.md §8: a deck is checked completely first). Every swept value is tried once by loading the deck
+ * (docs/input.md: a deck is checked completely first). Every swept value is tried once by loading the deck
  * with it as an override, so a value the run deck would refuse (an unknown path, a value out of range, a
  * word that is no choice) stops the sweep with the deck layer's own message, prefixed with the sweep
  * entry's line. */

@@ -27,7 +27,7 @@ sed -e 's/model = "cosserat"; G = "G"; nu = "nu"; N = "N"; l_t = "l_t"; l_b = "l
 run_deck "$out/classical" "$out/classical_torsion.cfg"
 within "$(json_value rigidity_ratio "$out/classical/summary.json")" 1.0 1e-8 "classical axisymmetric torsion: torque / (G J tau)"
 
-# Cosserat bone torsion against Gauthier & Jahsman (constants of benchmarks.md).
+# Cosserat bone torsion against Gauthier & Jahsman (Lakes' constants, docs/verification.md §References).
 cc -O2 tests/reference/gauthier_jahsman.c -lm -o "$out/gauthier_jahsman" || fail "cannot build the reference program"
 for d in 0.2 1 2 10; do
   run_deck "$out/bone_$d" input/bone_torsion.cfg --set parameters.diameter=$d

@@ -1,4 +1,4 @@
-# Cosserat plate with a hole against Kaloni & Ariman (benchmarks.md): the SCF within 1 % over a/l from 0.5
+# Cosserat plate with a hole against Kaloni & Ariman (docs/verification.md §References): the SCF within 1 % over a/l from 0.5
 # to 8 for N = 0.5 and 0.93, rising with a/l; and the classical limit 3 as N → 0. The reference values come
 # from tests/reference/kaloni_ariman.c (Bessel functions by quadrature; it reproduces the benchmark's
 # example 2.1351). Under the sanitizers (SAN=1) a subset runs: the numbers are checked by the normal run.
@@ -11,7 +11,7 @@ source "$(dirname "$0")/common.bash"
 work="$OUT_DIR/cosserat_hole"
 rm -rf "$work" && mkdir -p "$work"
 cc -O2 tests/reference/kaloni_ariman.c -lm -o "$work/kaloni_ariman" || fail "cannot build the reference program"
-within "$("$work/kaloni_ariman" 0.3 0.93 1.063)" 2.1351 1e-4 "reference program: benchmarks.md's example"
+within "$("$work/kaloni_ariman" 0.3 0.93 1.063)" 2.1351 1e-4 "reference program: Kaloni & Ariman's example"
 
 ratios="0.5 1 2 4 8"; couplings="0.5 0.93"
 [ "${SAN:-}" = 1 ] && { ratios="0.5 8"; couplings="0.93"; }

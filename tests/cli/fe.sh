@@ -7,7 +7,7 @@
 #    measured: the nodal superconvergence of Q2 lifts it on these meshes), energy in [1.9, 2.1]; tip deflection
 #    at k = 16 within 0.3 % (Q1) and 1e-5 (Q2) of 0.0089;
 #  - Cook's membrane, Neo-Hooke, Q2 at 4, 8, 16 elements per edge: increasing, and within 0.005 mm of the
-#    independent Q2 program's 13.681, 13.751, 13.767 (tests/reference/cook_q2_neohooke.c; benchmarks.md's
+#    independent Q2 program's 13.681, 13.751, 13.767 (tests/reference/cook_q2_neohooke.c; the quoted
 #    14.33 is wrong for these parameters, docs/verification.md);
 #  - 3-D tension of a jittered cube with hex8 and hex27: the exact linear field, L2 ≤ 1e-12;
 #  - refusals (exit 2 with the deck line): irregular layout, mls.order 3, even count with Q2, cells that are
@@ -104,5 +104,5 @@ expect_failure 2 "strain_gradient.cfg:6: a gradient model needs second derivativ
 expect_failure 2 "vci.cfg:6: quadrature.vci corrects MLS gradients" -- "$MICA" run $decks/vci.cfg -o "$work/bad"
 expect_failure 2 "lagrange_q1.cfg:6: bc.method = \"lagrange\" with Q1 elements" -- \
   "$MICA" run $decks/lagrange_q1.cfg -o "$work/bad"
-expect_failure 2 "plate_hole_gmsh.cfg:6: problem.method = \"fe\" puts its elements between the particles" -- \
+expect_failure 2 "plate_hole_gmsh.cfg:9: problem.method = \"fe\" puts its elements between the particles" -- \
   "$MICA" run input/plate_hole_gmsh.cfg -o "$work/bad" --set problem.method=fe

@@ -36,6 +36,11 @@ within "$(json_value phi_top "$s")" 3.626860407847 1e-4 "rotation kind, glide la
 within "$(json_value ux_top "$s")" -1.65731741465 1e-4 "rotation kind, glide layer: u_x/B at y = 1"
 within "$(json_value phi_mid "$s")" 1.1752011936438014 1e-4 "rotation kind, glide layer: phi_z/B at y = 0.5"
 within "$(json_value ux_mid "$s")" -0.32584837256 1e-4 "rotation kind, glide layer: u_x/B at y = 0.5"
+# unequal curvature moduli: l follows beta + gamma, and so does the exact solution (w = sqrt(3) at 0.3 + 1.3)
+run_deck "$work/glide_unequal" input/micromorph_glide.cfg --set parameters.beta=0.3 --set parameters.gamma=1.3
+s="$work/glide_unequal/summary.json"
+within "$(json_value phi_top "$s")" 2.737656233858164 1e-4 "rotation kind, glide layer, beta != gamma: phi_z/B at y = 1"
+within "$(json_value ux_top "$s")" -1.326458160563948 1e-4 "rotation kind, glide layer, beta != gamma: u_x/B at y = 1"
 for micro in svk neohooke; do
   run_deck "$work/newton_$micro" input/micromorph_glide.cfg --set parameters.B=0.02 --set material.micro_model=$micro
   order=$(newton_order "$work/newton_$micro/summary.json")

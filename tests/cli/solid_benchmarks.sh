@@ -3,7 +3,7 @@
 #  - Cook's membrane, linear (plane stress, E = 1, ν = 1/3, F = 1): within 0.5 % of 25.18 and Neo-Hooke
 #    (plane strain, μ = 0.4225, ν = 0.3, F = 1, 10 steps): within 0.02 mm of 13.772 — both references are
 #    from independent Q2 finite-element programs (tests/reference/cook_q2_*.c), extrapolated; the values in
-#    benchmarks.md (23.96, 14.33) disagree with both mica and those programs: see docs/verification.md;
+#    values first quoted (23.96, 14.33) disagree with both mica and those programs: see docs/verification.md;
 #  - elastica k = 1 and 2: v/L and u/L within 0.5 % of the inextensible elastica;
 #  - manufactured solution: L2 and energy rates (linear: ≥ 1.9, ≥ 0.95; quadratic: ≥ 2.8, ≥ 1.9);
 #  - 3-D tension: the exact linear field to 1e-5.

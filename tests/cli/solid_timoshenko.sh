@@ -1,4 +1,4 @@
-# Timoshenko cantilever (benchmarks.md): convergence rates over four refinements for linear and quadratic
+# Timoshenko cantilever (docs/verification.md §References): convergence rates over four refinements for linear and quadratic
 # bases with each boundary method (least-squares slopes of the relative L2 and energy errors against 1/h;
 # thresholds from issue 3), and the tip deflection within 0.1 % of 0.0089 on the shipped deck.
 source "$(dirname "$0")/common.bash"

@@ -1,5 +1,5 @@
 /* Gauthier & Jahsman's torsion rigidity ratio of a Cosserat cylinder of radius r with a free lateral surface
- * (benchmarks.md), an independent reference for the bone-torsion test: no mica code is used.
+ * (docs/verification.md §References), an independent reference for the bone-torsion test: no mica code is used.
  *   Ω = 1 + 6 (l_t/r)² (1 − 4Ψχ/3)/(1 − Ψχ),   χ = I₁(pr)/(pr I₀(pr)),   p² = 2ΨN²/((1 − N²) l_t²).
  * Usage: gauthier_jahsman N l_t psi r   → prints Ω.
  * The modified Bessel functions come from their power series, whose terms are all positive, so the sums are

@@ -1,5 +1,6 @@
 /* Kaloni & Ariman's stress concentration factor at a circular hole in an infinite Cosserat plate under
- * uniaxial tension (benchmarks.md): c = l/N, F = 8 (1 − ν) N² / (4 + (a/c)² + 2 (a/c) K0(a/c)/K1(a/c)),
+ * uniaxial tension (docs/verification.md §References):
+ * c = l/N, F = 8 (1 − ν) N² / (4 + (a/c)² + 2 (a/c) K0(a/c)/K1(a/c)),
  * SCF = (3 + F)/(1 + F). The modified Bessel functions come from K_n(x) = ∫_0^∞ exp(−x cosh t) cosh(n t) dt
  * by composite Simpson on [0, T] with exp(−x cosh T) < 1e-300.
  * Usage: kaloni_ariman NU N A_OVER_L   (prints the SCF) */

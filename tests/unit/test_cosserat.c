@@ -13,8 +13,8 @@
  * - Limits: κ = 0 (N = 0) gives the classical σ of mica_model_linear for any φ; κ > 0 with φ = ½ curl u
  *   (the state that γ → 0 forces) gives it too, and in general σ − σ_classical = κ skew ε.
  * - stress() is consistent with s (σ_kl = ∂W/∂u_l,k, m_kl = ∂W/∂φ_l,k) and plane strain σ_33 = λ tr ε.
- * - The glide layer's exact solution (benchmarks.md) satisfies Eringen's balance laws with this kernel's
- *   stresses, and its values at y = 1.
+ * - The glide layer's exact solution (docs/theory.md), for equal and unequal curvature moduli, satisfies
+ *   Eringen's balance laws with this kernel's stresses, and its values at y = 1.
  * - Conversions: the plate-with-a-hole example, Lakes' bone constants (ν is not given there: 0.3 used),
  *   technical → Eringen → technical by Lakes' definitions, the classical part (E, ν, G, bulk modulus).
  * - Input errors name the parameter and leave the model untouched.
@@ -595,13 +595,16 @@ static void test_stress_matches_s(void **state) {
   }
 }
 
-/* ---- the glide layer (benchmarks.md) ---- */
+/* ---- the glide layer (docs/theory.md §Cosserat, "The glide layer") ---- */
 
 /* Forest's σ = λ tr e I + 2μ sym e + 2μ_c skew e with λ = 1, μ = 2, μ_c = 3 is Eringen's with λ = 1,
- * μ = 2 − 3 = −1, κ = 2μ_c = 6 (the sym part carries 2μ + κ, the skew part κ), and the curvature moduli
- * β = γ = 0.6 of m = 2β κ give the 2-D modulus γ = 1.2 (then w² = κ(2μ + κ)/(γ(μ + κ)) = 4). */
-static void glide_q(double y, double *q) {
-  const double B = 1.0, w = 2.0, muF = 2.0, muc = 3.0;
+ * μ = 2 − 3 = −1, κ = 2μ_c = 6 (the sym part carries 2μ + κ, the skew part κ), and his curvature moduli
+ * β, γ of m = 2β sym k + 2γ skew k give the 2-D modulus γ_2D = β + γ (1.2 for β = γ = 0.6). The exact solution
+ * holds for any γ_2D > 0 with w² = κ(2μ + κ)/(γ_2D (μ + κ)) = 24/(5 γ_2D) (w = 2 at 1.2). */
+static double glide_w(double gamma2d) { return sqrt(24.0 / (5.0 * gamma2d)); }
+
+static void glide_q(double gamma2d, double y, double *q) {
+  const double B = 1.0, w = glide_w(gamma2d), muF = 2.0, muc = 3.0;
   memset(q, 0, 9 * sizeof *q);
   q[0] = 2.0 * muc * B / (w * (muF + muc)) * (1.0 - cosh(w * y)); /* u_x */
   q[2] = B * sinh(w * y);                                         /* φ_z */
@@ -609,10 +612,31 @@ static void glide_q(double y, double *q) {
   q[grad(2, 3, 2, 1)] = B * w * cosh(w * y);                        /* φ_z,y */
 }
 
-static void glide_stresses(const MicaFieldModel *m, double y, double sigma[9], double couple[9]) {
+static void glide_stresses(const MicaFieldModel *m, double gamma2d, double y, double sigma[9], double couple[9]) {
   double q[9];
-  glide_q(y, q);
+  glide_q(gamma2d, y, q);
   if (m->ops->stress(m, 2, q, sigma, couple)) fail_with_error("stress");
+}
+
+/* Eringen's balance laws for fields of y only, σ_yl,y = 0 and m_yz,y + e_3mn σ_mn = m_yz,y + σ_xy − σ_yx = 0, by
+ * central differences of the kernel's stresses (h = 1e-5: error ≈ h² |m'''| ≈ 1e-9), and σ_yx = 0 (no shear
+ * traction on y = const); returns the worst residual / 20 (|σ| ≤ 17.4 at w = 2). */
+static double glide_balance(double gamma2d) {
+  MicaFieldModel m;
+  if (mica_cosserat_set_eringen(&m, 2, 1.0, -1.0, 6.0, 0.0, 0.0, gamma2d)) fail_with_error("glide constants");
+  const double h = 1e-5;
+  double worst = 0.0;
+  for (int i = 0; i <= 10; i++) {
+    double y = 0.1 * i, sp[9], cp[9], sm[9], cm[9], s0[9], c0[9];
+    glide_stresses(&m, gamma2d, y + h, sp, cp);
+    glide_stresses(&m, gamma2d, y - h, sm, cm);
+    glide_stresses(&m, gamma2d, y, s0, c0);
+    double force_x = (sp[3] - sm[3]) / (2 * h), force_y = (sp[4] - sm[4]) / (2 * h);
+    double moment = (cp[5] - cm[5]) / (2 * h) + s0[1] - s0[3];
+    worst = fmax(worst, fmax(fmax(fabs(force_x), fabs(force_y)), fabs(moment)) / 20.0);
+    assert_true(fabs(s0[3]) <= 1e-11);
+  }
+  return worst;
 }
 
 static void test_glide_layer(void **state) {
@@ -620,38 +644,30 @@ static void test_glide_layer(void **state) {
   MicaFieldModel m;
   if (mica_cosserat_set_eringen(&m, 2, 1.0, -1.0, 6.0, 0.0, 0.0, 1.2)) fail_with_error("glide constants");
   double sigma[9], couple[9], q[9];
-  glide_q(1.0, q);
+  assert_float_equal(glide_w(1.2), 2.0, 1e-15);
+  glide_q(1.2, 1.0, q);
   assert_float_equal(q[2], 3.626860407847, 1e-11);
   assert_float_equal(q[0], -1.65731741465, 1e-10);
-  glide_stresses(&m, 1.0, sigma, couple);
-  /* on y = 1 (n = e_y): t_x = σ_yx = 0 and the couple traction m_z = m_yz = 2Bβw cosh w; the shear stress
-   * the benchmark quotes, −4μμ_c/(μ + μ_c) B sinh w, is σ_xy here (the face normal to x) */
+  glide_stresses(&m, 1.2, 1.0, sigma, couple);
+  /* on y = 1 (n = e_y): t_x = σ_yx = 0 and the couple traction m_z = m_yz = (β + γ) B w cosh w; the shear stress
+   * Forest quotes, −4μμ_c/(μ + μ_c) B sinh w, is σ_xy here (the face normal to x) */
   print_message("glide layer at y = 1: σ_yx = %.6g, σ_xy = %.10g, m_yz = %.10g\n", sigma[3], sigma[1], couple[5]);
   assert_true(fabs(sigma[3]) <= 1e-12);
   assert_float_equal(sigma[1], -4.0 * 2.0 * 3.0 / 5.0 * sinh(2.0), 1e-12);
   assert_float_equal(sigma[1], -17.40893, 1e-5);
   assert_float_equal(couple[5], 9.02927, 1e-5);
-  /* Eringen's balance laws, fields of y only: σ_yl,y = 0 and m_yz,y + e_3mn σ_mn = m_yz,y + σ_xy − σ_yx = 0,
-   * by central differences (h = 1e-5: error ≈ h² |m'''| ≈ 1e-9) */
-  const double h = 1e-5;
-  double worst = 0.0;
-  for (int i = 0; i <= 10; i++) {
-    double y = 0.1 * i, sp[9], cp[9], sm[9], cm[9], s0[9], c0[9];
-    glide_stresses(&m, y + h, sp, cp);
-    glide_stresses(&m, y - h, sm, cm);
-    glide_stresses(&m, y, s0, c0);
-    double force_x = (sp[3] - sm[3]) / (2 * h), force_y = (sp[4] - sm[4]) / (2 * h);
-    double moment = (cp[5] - cm[5]) / (2 * h) + s0[1] - s0[3];
-    double err = fmax(fmax(fabs(force_x), fabs(force_y)), fabs(moment)) / 20.0; /* |σ| ≤ 17.4 */
-    assert_true(err <= 1e-8);
-    worst = fmax(worst, err);
-  }
-  print_message("glide layer: worst balance-law residual / 20: %.3g\n", worst);
+  /* the balance laws for β = γ = 0.6 (γ_2D = 1.2) and for β = 0.3, γ = 1.3 (γ_2D = 1.6, w = √3): the solution is
+   * exact for unequal moduli too, with w from their sum */
+  const double worst_equal = glide_balance(1.2), worst_unequal = glide_balance(1.6);
+  assert_true(worst_equal <= 1e-8);
+  assert_true(worst_unequal <= 1e-8);
+  print_message("glide layer: worst balance-law residual / 20: %.3g (β = γ), %.3g (β ≠ γ)\n", worst_equal,
+                worst_unequal);
 }
 
 /* ---- conversions ---- */
 
-/* benchmarks.md: G = 1000, ν = 0.3, N = 0.93, l = a/1.063 with a = 1 (2-D). Expected values by hand:
+/* Kaloni & Ariman's example (docs/verification.md): G = 1000, ν = 0.3, N = 0.93, l = a/1.063 with a = 1 (2-D). Expected values by hand:
  * κ = 2000 · 0.8649 / 0.1351, μ = 1000 − κ/2, λ = 600/0.4 = 1500, γ = 4000/1.063². */
 static void test_plate_example_constants(void **state) {
   (void)state;
@@ -674,7 +690,7 @@ static void test_plate_example_constants(void **state) {
   assert_null(m.classical);
 }
 
-/* Lakes' human compact bone (benchmarks.md; ν is not given there, 0.3 is used): G = 3500 MPa, l_t = 0.22 mm,
+/* Lakes' human compact bone (Lakes 1995; ν is not given there, 0.3 is used): G = 3500 MPa, l_t = 0.22 mm,
  * l_b = 0.44 mm, Ψ = 1.5, N = 0.62. γ = 4 G l_b² = 2710.4, β = 2 G l_t² − γ = 338.8 − 2710.4 = −2371.6,
  * α = 338.8 (1 − 1.5)/1.5 = −112.933..., κ = 7000 · 0.3844 / 0.6156. Ψ = 1.5 is the edge: 3α + β + γ = 0. */
 static void test_bone_constants(void **state) {
