@@ -169,14 +169,14 @@ install_git_make() {
 }
 
 clone_repo() {
-  git -C "$repo" bundle create --quiet "$root/root/mica.bundle" HEAD &&
-    in_root git -c advice.detachedHead=false clone -q /root/mica.bundle /root/mica &&
-    rm -f "$root/root/mica.bundle" && in_root git -C /root/mica log --oneline -1
+  git -C "$repo" bundle create --quiet "$root/usr/src/mica.bundle" HEAD &&
+    in_root git -c advice.detachedHead=false clone -q /usr/src/mica.bundle /usr/src/mica &&
+    rm -f "$root/usr/src/mica.bundle" && in_root git -C /usr/src/mica log --oneline -1
 }
 
 # The commands of the README's first ```sh block, comments stripped: each must be `make TARGET`.
 readme_commands() {
-  awk '/^```sh$/ { f = 1; next } f && /^```/ { exit } f' "$root/root/mica/README.md" |
+  awk '/^```sh$/ { f = 1; next } f && /^```/ { exit } f' "$root/usr/src/mica/README.md" |
     sed 's/#.*//; s/^ *//; s/ *$//' | sed '/^$/d'
 }
 
@@ -192,10 +192,10 @@ for c in "${commands[@]}"; do
   [[ $c =~ ^make\ [a-z][a-z-]*$ ]] || { say "README command '$c' is not 'make TARGET'; not run"; finish FAIL; }
 done
 for c in "${commands[@]}"; do
-  step "$c" in_root bash -c "cd /root/mica && $c" || finish FAIL
+  step "$c" in_root bash -c "cd /usr/src/mica && $c" || finish FAIL
 done
 # A test that skips because the machine lacks something (mpirun cannot start) is a missing dependency here.
-skipped=$(grep -l '### SKIPPED' "$root"/root/mica/build/test-out/*.log 2>/dev/null | xargs -r -n1 basename)
+skipped=$(grep -l '### SKIPPED' "$root"/usr/src/mica/build/test-out/*.log 2>/dev/null | xargs -r -n1 basename)
 if [ -n "$skipped" ]; then
   names+=("tests that skipped"); results+=("FAIL"); times+=(0)
   say "skipped on the fresh machine: $(echo $skipped)"; finish FAIL
