@@ -9,7 +9,7 @@
 # Normal builds go to bin/ lib/ build/; sanitizer builds to build-san/ so both can coexist.
 
 DEB_PKGS := libsuitesparse-dev liblapacke-dev libopenblas-dev libopenmpi-dev openmpi-bin libmetis-dev \
-            libconfig-dev libcmocka-dev gnuplot-nox libmatheval-dev python3
+            libconfig-dev libcmocka-dev gnuplot-nox libmatheval-dev libgmsh-dev python3
 
 CC := mpicc
 CSTD := -std=c11 -D_POSIX_C_SOURCE=200809L

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "mica/timer.h"
 #include "run.h"
@@ -40,6 +41,20 @@ static int mesh_path(const MicaDeck *deck, char *buf, size_t size) {
   snprintf(deck_path, sizeof deck_path, "%s", mica_deck_path(deck));
   snprintf(buf, size, "%s/%s", dirname(deck_path), name);
   return MICA_SUCCESS;
+}
+
+/* geometry.mesh_size_factor scales the sizes Gmsh meshes a .geo with; for anything else it would do nothing. */
+static int read_size_factor(const MicaDeck *deck, MicaShapeSpec *shape) {
+  if (!mica_deck_has(deck, "geometry.mesh_size_factor")) return MICA_SUCCESS;
+  const char *p = shape->mesh_path;
+  const size_t n = p ? strlen(p) : 0;
+  char where[256];
+  mica_deck_where(deck, "geometry.mesh_size_factor", where, sizeof where);
+  MICA_CHECK(n > 4 && !strcasecmp(p + n - 4, ".geo"), MICA_ERR_INPUT,
+             "%s: geometry.mesh_size_factor scales the mesh of a .geo that mica meshes; %s", where,
+             p ? "geometry.mesh names a mesh file, which is meshed already (re-mesh it: gmsh -clscale)"
+               : "this shape is not a Gmsh geometry");
+  return mica_deck_float(deck, "geometry.mesh_size_factor", &shape->mesh_size_factor);
 }
 
 static int read_shape(const MicaDeck *deck, MicaShapeSpec *shape, char *mesh, size_t mesh_size) {
@@ -94,7 +109,7 @@ static int read_shape(const MicaDeck *deck, MicaShapeSpec *shape, char *mesh, si
     MICA_CALL(mesh_path(deck, mesh, mesh_size));
     shape->mesh_path = mesh;
   }
-  return MICA_SUCCESS;
+  return read_size_factor(deck, shape);
 }
 
 static int read_layout(const MicaDeck *deck, int dim, int gmsh, MicaLayoutSpec *layout, MicaCellSpec *cells) {
