@@ -157,7 +157,18 @@ static int find_set(const MicaDeck *deck, const MicaDiscretization *disc, const 
   *set = mica_discretization_find_set(disc, name);
   if (*set >= 0) return MICA_SUCCESS;
   char where[256], names[512];
+  const char *shape;
   mica_deck_where(deck, path, where, sizeof where);
+  MICA_CALL(mica_deck_string(deck, "geometry.shape", &shape));
+  if (disc->nsets == 0 && !strcmp(shape, "gmsh")) {
+    const char *mesh, *kind = disc->dim == 2 ? "Curve" : "Surface";
+    MICA_CALL(mica_deck_string(deck, "geometry.mesh", &mesh));
+    MICA_ERROR(MICA_ERR_INPUT,
+               "%s: there is no boundary set '%s': the mesh %s has no physical groups of dimension %d, and boundary "
+               "conditions name them. Add one to the .geo, e.g. Physical %s(\"%s\") = {4}; for %s 4 (or in Gmsh's "
+               "window: Geometry > Physical groups > Add), and mesh again",
+               where, name, mesh, disc->dim - 1, kind, name, disc->dim == 2 ? "curve" : "surface");
+  }
   mica_discretization_set_names(disc, names, sizeof names);
   MICA_ERROR(MICA_ERR_INPUT, "%s: there is no boundary set '%s'; this body has: %s", where, name, names);
 }
