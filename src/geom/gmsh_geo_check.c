@@ -24,7 +24,7 @@
 
 #include "gmsh_reader.h"
 
-enum { DEPTH_MAX = 16, STRING_MAX = 1023, WORD_MAX = 64, PATH_MAX_ = 1024 };
+enum { DEPTH_MAX = 16, STRING_MAX = 1023, WORD_MAX = 64, FILE_NAME_MAX = 1024 };
 
 typedef enum { TOK_END, TOK_WORD, TOK_STRING, TOK_PUNCT } TokenKind;
 
@@ -126,8 +126,8 @@ static int check_file(const char *path, int depth);
 static int check_named(const Script *s, const char *word, const Token *name, long line, int depth) {
   static const char *const data[] = {"step", "stp", "iges", "igs", "brep", "brp", "stl", "msh", NULL};
   static const char *const scripts[] = {"geo", "geo_unrolled", "pos", NULL};
-  char file[PATH_MAX_], quoted[PATH_MAX_ + 4];
-  if (name->len >= PATH_MAX_ - 1) return fail(s, line, word, " names a file with a too long name", "");
+  char file[FILE_NAME_MAX], quoted[FILE_NAME_MAX + 4];
+  if (name->len >= FILE_NAME_MAX - 1) return fail(s, line, word, " names a file with a too long name", "");
   const char *slash = strrchr(s->path, '/');
   const int dir = name->text[0] == '/' || !slash ? 0 : (int)(slash - s->path + 1); /* Gmsh: relative to this file */
   snprintf(file, sizeof file, "%.*s%.*s", dir, s->path, (int)name->len, name->text);
@@ -145,7 +145,7 @@ static int check_named(const Script *s, const char *word, const Token *name, lon
     return fail(s, line, word, quoted, ": the includes nest deeper than 16 files (does a file include itself?)");
   FILE *f = fopen(file, "rb");
   if (!f) {
-    char why[PATH_MAX_ + 128];
+    char why[FILE_NAME_MAX + 128];
     snprintf(why, sizeof why, ": mica cannot open %s to check it: %s", file, strerror(errno));
     return fail(s, line, word, quoted, why);
   }

@@ -22,7 +22,9 @@
  *     node in an element, a node tag outside the header's range, not a mesh at all, a missing file; binary:
  *     truncated inside $Nodes and $Elements, the byte-order integer of the other byte order or damaged, data
  *     size 4, a binary 2.2 file; .geo: Gmsh's syntax error with its file:LINE, no surface, second order, a
- *     physical curve but no physical surface (Gmsh would save no 2-D element).
+ *     physical curve but no physical surface (Gmsh would save no 2-D element). The .geo after the syntax
+ *     error is read cleanly: with General.AbortOnError = 2 Gmsh's parser kept the broken file's input and
+ *     every later .geo of the process failed with "line 0: syntax error".
  *   - a .geo that would run a shell command, run a program, end the process or write files is refused with
  *     file:LINE before Gmsh runs it (SystemCall "touch pwned" creates no file), also inside an Included file;
  *     the same words in comments, strings, option names and variables are not refused.
