@@ -11,7 +11,7 @@
 # `sudo bash tests/fresh_machine.sh` checks that make run and make test work on a fresh minimal Debian 12.
 
 DEB_PKGS := libsuitesparse-dev liblapacke-dev libopenblas-dev libopenmpi-dev openmpi-bin libmetis-dev \
-            libconfig-dev libcmocka-dev gnuplot-nox libmatheval-dev python3
+            libconfig-dev libcmocka-dev gnuplot-nox libmatheval-dev libgmsh-dev python3
 
 # The C compiler: mpicc and the tests' reference programs run gcc, which libopenmpi-dev does not pull in
 # (only gcc-12, without the gcc command).

@@ -30,7 +30,8 @@ typedef enum {
   MICA_SHAPE_PLATE_HOLE = 2, /* 2-D quarter plate [0,bx]×[0,by] minus the disk of radius a at the origin */
   MICA_SHAPE_ANNULUS = 3,    /* 2-D annulus sector: r_inner ≤ r ≤ r_outer, theta0 ≤ θ ≤ theta1 (radians) */
   MICA_SHAPE_CYLINDER = 4,   /* 3-D cylinder: radius, axis along z from 0 to height */
-  MICA_SHAPE_GMSH = 5        /* a Gmsh .msh 4.1 ASCII mesh (2-D triangles/quads or 3-D tets/hexes) */
+  MICA_SHAPE_GMSH = 5        /* a Gmsh mesh (2-D triangles/quads or 3-D tets/hexes): a .msh file (4.1 ASCII or
+                                binary, 2.2 ASCII) or a .geo that the Gmsh library meshes */
 } MicaShapeKind;
 
 typedef struct MicaShapeSpec {
@@ -41,7 +42,8 @@ typedef struct MicaShapeSpec {
   double hole_radius, plate_size[2]; /* plate_hole: a, (bx, by) */
   double r_inner, r_outer, theta0, theta1; /* annulus */
   double radius, height;   /* cylinder */
-  const char *mesh_path;   /* gmsh */
+  const char *mesh_path;   /* gmsh: .msh, or .geo */
+  double mesh_size_factor; /* gmsh .geo: multiplies its Mesh.MeshSizeFactor; 0 = as the .geo says */
 } MicaShapeSpec;
 
 typedef enum {

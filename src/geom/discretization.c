@@ -48,7 +48,7 @@ static int create_from_mesh(const MicaShapeSpec *shape, const MicaCellSpec *cell
   int ierr = MICA_SUCCESS;
   GmshMesh mesh;
   MICA_CHECK(shape->mesh_path && shape->mesh_path[0], MICA_ERR_INPUT, "gmsh: no mesh file given");
-  MICA_CALL(gmsh_read(shape->mesh_path, &mesh));
+  MICA_CALL(gmsh_read(shape->mesh_path, shape->mesh_size_factor, &mesh));
   MICA_CALL_CLEANUP(geom_mesh_discretize(&mesh, cells->order, boundary_order(cells), disc));
   MICA_CALL_CLEANUP(geom_mesh_cells(&mesh, disc->dim, &disc->mesh));
 cleanup:

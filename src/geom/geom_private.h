@@ -108,7 +108,8 @@ typedef struct {
   int dim, tag;
 } GmshPhysical;
 
-/* A .msh 4.1 file as read: nodes, elements with their entity and source line, physical groups. */
+/* A mesh as read from a .msh file (4.1 ASCII or binary, 2.2 ASCII) or made from a .geo by the Gmsh library:
+ * nodes, elements with their entity and source line, physical groups. */
 typedef struct {
   char path[512];
   long nnodes;
@@ -118,7 +119,7 @@ typedef struct {
   int *entity_dim;
   int *entity_tag;
   long *tag;        /* the element tag in the file */
-  long *line;       /* the line of the element in the file */
+  long *line;       /* the line of the element in the file (0: meshed from a .geo, no line) */
   long *node_start; /* [nelements + 1]: offsets into node */
   long *node;       /* node indices (0-based into x) */
   int nphysicals;
@@ -130,8 +131,18 @@ typedef struct {
   int *entity_phys[4];
 } GmshMesh;
 
-int gmsh_read(const char *path, GmshMesh *mesh);
+/* Reads a .msh file, or meshes a .geo (a name ending in .geo) with the Gmsh library: size_factor > 0
+ * multiplies its Mesh.MeshSizeFactor (0: as the .geo says; must be 0 for a .msh file). */
+int gmsh_read(const char *path, double size_factor, GmshMesh *mesh);
+/* The .geo path (gmsh_geo.c): checks the script (gmsh_geo_check), loads the library, meshes in the .geo's
+ * dimension and copies nodes, elements and physical groups into mesh as a .msh file of it would hold them. */
+int gmsh_geo_mesh(const char *path, double size_factor, GmshMesh *mesh);
+/* Refuses a .geo (or a file it includes or merges) that would run a program, end the process or write
+ * files: MICA_ERR_INPUT "file:LINE: ..." (gmsh_geo_check.c). */
+int gmsh_geo_check(const char *path);
 void gmsh_free(GmshMesh *mesh);
+/* "file:LINE" of element e, or "file (as meshed by Gmsh)" for a .geo, for messages. */
+void gmsh_where(const GmshMesh *mesh, long e, char *out, size_t size);
 /* Number of nodes and dimension of a supported element type (0 nodes: unsupported). */
 int gmsh_element_nodes(int type);
 int gmsh_element_dim(int type);

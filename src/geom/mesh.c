@@ -227,9 +227,12 @@ static int mesh_volume(const GmshMesh *mesh, int dim, Rule rules[TYPE_MAX], Mica
       double x[3], tang[9], N[NODES_MAX];
       element_map(mesh, e, &rule->r[g * 3], x, tang, N);
       const double det = fabs(volume_det(dim, tang));
-      if (!(det > tiny))
-        MICA_ERROR(MICA_ERR_INPUT, "%s:%ld: element %ld is degenerate (zero %s)", mesh->path, mesh->line[e],
-                   mesh->tag[e], dim == 2 ? "area" : "volume");
+      if (!(det > tiny)) {
+        char where[600];
+        gmsh_where(mesh, e, where, sizeof where);
+        MICA_ERROR(MICA_ERR_INPUT, "%s: element %ld is degenerate (zero %s)", where, mesh->tag[e],
+                   dim == 2 ? "area" : "volume");
+      }
       for (int d = 0; d < dim; d++) disc->qx[q * dim + d] = x[d];
       disc->qw[q] = rule->w[g] * det;
       disc->volume += disc->qw[q];
@@ -332,9 +335,12 @@ static int normal_sign(const MeshContext *ctx, const char *set, long e, double *
   const int n = gmsh_element_nodes(mesh->type[e]);
   const FaceKey key = make_key(&mesh->node[mesh->node_start[e]], n, -1);
   const FaceKey *hit = bsearch(&key, ctx->faces, (size_t)ctx->nfaces, sizeof key, compare_face);
-  if (!hit)
-    MICA_ERROR(MICA_ERR_INPUT, "%s:%ld: element %ld of boundary set '%s' is not a side of any %d-D element",
-               mesh->path, mesh->line[e], mesh->tag[e], set, ctx->dim);
+  if (!hit) {
+    char where[600];
+    gmsh_where(mesh, e, where, sizeof where);
+    MICA_ERROR(MICA_ERR_INPUT, "%s: element %ld of boundary set '%s' is not a side of any %d-D element", where,
+               mesh->tag[e], set, ctx->dim);
+  }
   const double center[3] = {1.0 / 3.0, 1.0 / 3.0, 0.0}, square_center[3] = {0.5, 0.5, 0.0};
   double x[3], tang[9], N[NODES_MAX], nrm[3], c[3];
   element_map(mesh, e, mesh->type[e] == GMSH_TRI3 ? center : square_center, x, tang, N);
@@ -374,9 +380,12 @@ static int element_points(const MeshContext *ctx, long e, long k, MicaBoundarySe
     element_map(mesh, e, &rule->r[g * 3], x, tang, N);
     face_normal(dim, tang, nrm);
     const double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-    if (!(len > 0))
-      MICA_ERROR(MICA_ERR_INPUT, "%s:%ld: boundary element %ld of set '%s' is degenerate", mesh->path,
-                 mesh->line[e], mesh->tag[e], set->name);
+    if (!(len > 0)) {
+      char where[600];
+      gmsh_where(mesh, e, where, sizeof where);
+      MICA_ERROR(MICA_ERR_INPUT, "%s: boundary element %ld of set '%s' is degenerate", where, mesh->tag[e],
+                 set->name);
+    }
     for (int d = 0; d < dim; d++) {
       set->x[*q * dim + d] = x[d];
       set->normal[*q * dim + d] = sign * nrm[d] / len;
@@ -395,11 +404,13 @@ static int count_set(const MeshContext *ctx, int phys, const char *name, long *n
   for (long e = 0; e < mesh->nelements; e++) {
     if (!in_set(ctx, e, phys)) continue;
     const int n = gmsh_element_nodes(mesh->type[e]);
-    if (*size && n != *size)
+    if (*size && n != *size) {
+      char where[600];
+      gmsh_where(mesh, e, where, sizeof where);
       MICA_ERROR(MICA_ERR_INPUT,
-                 "%s:%ld: boundary set '%s' mixes triangles and quadrangles, which mica does not "
-                 "support in one set",
-                 mesh->path, mesh->line[e], name);
+                 "%s: boundary set '%s' mixes triangles and quadrangles, which mica does not support in one set",
+                 where, name);
+    }
     *size = n;
     (*nelem)++;
     *npts += ctx->rules[mesh->type[e]].n;
@@ -527,13 +538,24 @@ static int make_rules(const GmshMesh *mesh, int dim, int order, int boundary_ord
   return MICA_SUCCESS;
 }
 
+/* Does any entity belong to a physical group? */
+static int has_groups(const GmshMesh *mesh) {
+  for (int d = 0; d < 4; d++)
+    if (mesh->entity_phys_start[d] && mesh->entity_phys_start[d][mesh->nentities[d]] > 0) return 1;
+  return 0;
+}
+
 int geom_mesh_discretize(const GmshMesh *mesh, int order, int boundary_order, MicaDiscretization *disc) {
   int ierr = MICA_SUCCESS;
   Rule rules[TYPE_MAX] = {{0}};
   FaceKey *faces = NULL;
   long nfaces = 0;
   const int dim = mesh_dimension(mesh);
-  MICA_CHECK(dim >= 2, MICA_ERR_INPUT, "%s: the mesh has no 2-D or 3-D elements", mesh->path);
+  MICA_CHECK(dim >= 2, MICA_ERR_INPUT, "%s: the mesh has no 2-D or 3-D elements%s", mesh->path,
+             has_groups(mesh) ? ": with physical groups defined, Gmsh keeps only the elements of physical groups; "
+                                "add one that holds the body, e.g. Physical Surface(\"body\") = {1}; (3-D: Physical "
+                                "Volume)"
+                              : "");
   disc->dim = dim;
   MICA_CALL_CLEANUP(make_rules(mesh, dim, order, boundary_order, rules));
   MICA_CALL_CLEANUP(mesh_particles(mesh, dim, disc));

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "mica/timer.h"
 #include "run.h"
@@ -40,6 +41,20 @@ static int mesh_path(const MicaDeck *deck, char *buf, size_t size) {
   snprintf(deck_path, sizeof deck_path, "%s", mica_deck_path(deck));
   snprintf(buf, size, "%s/%s", dirname(deck_path), name);
   return MICA_SUCCESS;
+}
+
+/* geometry.mesh_size_factor scales the sizes Gmsh meshes a .geo with; for anything else it would do nothing. */
+static int read_size_factor(const MicaDeck *deck, MicaShapeSpec *shape) {
+  if (!mica_deck_has(deck, "geometry.mesh_size_factor")) return MICA_SUCCESS;
+  const char *p = shape->mesh_path;
+  const size_t n = p ? strlen(p) : 0;
+  char where[256];
+  mica_deck_where(deck, "geometry.mesh_size_factor", where, sizeof where);
+  MICA_CHECK(n > 4 && !strcasecmp(p + n - 4, ".geo"), MICA_ERR_INPUT,
+             "%s: geometry.mesh_size_factor scales the mesh of a .geo that mica meshes; %s", where,
+             p ? "geometry.mesh names a mesh file, which is meshed already (re-mesh it: gmsh -clscale)"
+               : "this shape is not a Gmsh geometry");
+  return mica_deck_float(deck, "geometry.mesh_size_factor", &shape->mesh_size_factor);
 }
 
 static int read_shape(const MicaDeck *deck, MicaShapeSpec *shape, char *mesh, size_t mesh_size) {
@@ -94,7 +109,7 @@ static int read_shape(const MicaDeck *deck, MicaShapeSpec *shape, char *mesh, si
     MICA_CALL(mesh_path(deck, mesh, mesh_size));
     shape->mesh_path = mesh;
   }
-  return MICA_SUCCESS;
+  return read_size_factor(deck, shape);
 }
 
 static int read_layout(const MicaDeck *deck, int dim, int gmsh, MicaLayoutSpec *layout, MicaCellSpec *cells) {
@@ -142,7 +157,18 @@ static int find_set(const MicaDeck *deck, const MicaDiscretization *disc, const 
   *set = mica_discretization_find_set(disc, name);
   if (*set >= 0) return MICA_SUCCESS;
   char where[256], names[512];
+  const char *shape;
   mica_deck_where(deck, path, where, sizeof where);
+  MICA_CALL(mica_deck_string(deck, "geometry.shape", &shape));
+  if (disc->nsets == 0 && !strcmp(shape, "gmsh")) {
+    const char *mesh, *kind = disc->dim == 2 ? "Curve" : "Surface";
+    MICA_CALL(mica_deck_string(deck, "geometry.mesh", &mesh));
+    MICA_ERROR(MICA_ERR_INPUT,
+               "%s: there is no boundary set '%s': the mesh %s has no physical groups of dimension %d, and boundary "
+               "conditions name them. Add one to the .geo, e.g. Physical %s(\"%s\") = {4}; for %s 4 (or in Gmsh's "
+               "window: Geometry > Physical groups > Add), and mesh again",
+               where, name, mesh, disc->dim - 1, kind, name, disc->dim == 2 ? "curve" : "surface");
+  }
   mica_discretization_set_names(disc, names, sizeof names);
   MICA_ERROR(MICA_ERR_INPUT, "%s: there is no boundary set '%s'; this body has: %s", where, name, names);
 }

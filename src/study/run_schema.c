@@ -31,7 +31,10 @@ const MicaDeckKey mica_run_schema[] = {
     {"geometry.radius", MICA_KEY_FLOAT, NULL, 1e-12, 1e12, NULL, 0, 0, "cylinder: radius (axis along z)"},
     {"geometry.height", MICA_KEY_FLOAT, NULL, 1e-12, 1e12, NULL, 0, 0, "cylinder: height"},
     {"geometry.mesh", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, 0,
-     "gmsh: a .msh 4.1 ASCII file, relative to the deck's directory"},
+     "gmsh: a Gmsh mesh, .msh 4.1 (ASCII or binary) or 2.2 (ASCII), or a .geo that mica meshes with the Gmsh "
+     "library in its own dimension; relative to the deck's directory"},
+    {"geometry.mesh_size_factor", MICA_KEY_FLOAT, NULL, 1e-3, 1e3, NULL, 0, 0,
+     "gmsh with a .geo: multiplies its element sizes (Gmsh's Mesh.MeshSizeFactor, gmsh -clscale)"},
     {"geometry.axisymmetric", MICA_KEY_BOOL, "false", NOLIMIT, NULL, 0, 0,
      "2-D only: the section in x = r ≥ 0, y = z is revolved about the y axis; unknowns ur, utheta, uz (+ phir, "
      "phitheta, phiz), torsion included"},

@@ -1,4 +1,4 @@
-/* Unit tests of the Gmsh reader and mesh discretization (src/geom/gmsh.c, src/geom/mesh.c), on the shipped
+/* Unit tests of the Gmsh reader and mesh discretization (src/geom/gmsh*.c, src/geom/mesh.c), on the shipped
  * meshes (input/meshes) and the test meshes (tests/meshes, see its README.md). Run from the repository root.
  *
  *   - plate_hole.msh (triangles): dimension 2, sets hole, left, bottom, right, top in tag order; the area
@@ -9,21 +9,42 @@
  *   - cube.msh (tetrahedra), box_hex.msh (hexahedra), square_quads.msh (quadrangles): volume/area, every
  *     set's area/length, normals, divergence theorem, element sizes, vertex counts, lambda_N interpolating
  *     the points from the vertices exactly (linear elements).
+ *   - the same mesh in every form gives the same discretization (particles, volume points and weights, sets
+ *     with their points, weights, normals and elements, in the same order): 4.1 ASCII, 2.2 ASCII, 4.1 binary
+ *     and the .geo meshed by the Gmsh library, for the square, the plate with a hole, the hexahedral box (and
+ *     the OpenCASCADE cube, .msh and .geo). Binary files and the library hold Gmsh's doubles exactly: equal
+ *     bit for bit; ASCII files print 16 digits: within 1e-14 of the largest value of each array (measured:
+ *     2.2 and 4.1 ASCII bit for bit alike, ASCII against binary at most 3.1e-15). A 2.2 file
+ *     lists an element once per physical group: the copies are merged (square_groups). geometry.mesh_size_factor
+ *     2 on plate_hole.geo equals `gmsh -2 -clscale 2` (plate_hole_clscale2.msh), bit for bit.
  *   - errors, each MICA_ERR_INPUT naming file:LINE: truncated file (inside a section, and between sections:
- *     a missing $Elements), version 2.2, binary, second-order elements, an undefined node in an element, a
- *     node tag outside the header's range, not a mesh at all, a missing file.
+ *     a missing $Elements), version 4.0, second-order elements (with the remedy gmsh -order 1), an undefined
+ *     node in an element, a node tag outside the header's range, not a mesh at all, a missing file; binary:
+ *     truncated inside $Nodes and $Elements, the byte-order integer of the other byte order or damaged, data
+ *     size 4, a binary 2.2 file; .geo: Gmsh's syntax error with its file:LINE, no surface, second order, a
+ *     physical curve but no physical surface (Gmsh would save no 2-D element). The .geo after the syntax
+ *     error is read cleanly: with General.AbortOnError = 2 Gmsh's parser kept the broken file's input and
+ *     every later .geo of the process failed with "line 0: syntax error".
+ *   - a .geo that would run a shell command, run a program, end the process or write files is refused with
+ *     file:LINE before Gmsh runs it (SystemCall "touch pwned" creates no file), also inside an Included file;
+ *     the same words in comments, strings, option names and variables are not refused.
+ *   - 3000 random byte changes of a binary, a 2.2 and a 4.1 ASCII file each either load or fail with
+ *     MICA_ERR_INPUT (under `make test SAN=1`: without an out-of-bounds access or a leak).
  */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <cmocka.h>
 
 #include "mica/geom.h"
+#include "mica/random.h"
 
 #define PI 3.14159265358979323846
 
@@ -34,13 +55,17 @@ static void check_ok(int ierr) {
   }
 }
 
-static MicaDiscretization *load(const char *path, int order, int boundary_order) {
-  const MicaShapeSpec shape = {.kind = MICA_SHAPE_GMSH, .mesh_path = path};
+static MicaDiscretization *load_scaled(const char *path, double size_factor, int order, int boundary_order) {
+  const MicaShapeSpec shape = {.kind = MICA_SHAPE_GMSH, .mesh_path = path, .mesh_size_factor = size_factor};
   const MicaLayoutSpec layout = {0};
   const MicaCellSpec cells = {.order = order, .boundary_order = boundary_order};
   MicaDiscretization *disc = NULL;
   check_ok(mica_discretization_create(&shape, &layout, &cells, &disc));
   return disc;
+}
+
+static MicaDiscretization *load(const char *path, int order, int boundary_order) {
+  return load_scaled(path, 0, order, boundary_order);
 }
 
 static void load_fails(const char *path, const char *where, const char *what) {
@@ -248,16 +273,209 @@ static void test_quad_mesh(void **state) {
   mica_discretization_destroy(&disc);
 }
 
+/* ---- every form of a mesh gives the same discretization ---- */
+
+static double worst; /* the largest relative difference seen in assert_close */
+
+/* |a − b| ≤ rtol max |a| for n values; rtol = 0: bit for bit. */
+static void assert_close(const double *a, const double *b, long n, double rtol, const char *what) {
+  double scale = 0;
+  for (long i = 0; i < n; i++) scale = fmax(scale, fabs(a[i]));
+  for (long i = 0; i < n; i++) {
+    worst = fmax(worst, fabs(a[i] - b[i]) / scale);
+    if (!(fabs(a[i] - b[i]) <= rtol * scale) && !(rtol == 0 && a[i] == b[i])) {
+      print_error("%s[%ld]: %.17g against %.17g (tolerance %g relative to %g)\n", what, i, a[i], b[i], rtol, scale);
+      fail();
+    }
+  }
+}
+
+static void assert_same_set(const MicaBoundarySet *a, const MicaBoundarySet *b, int dim, double tol) {
+  assert_string_equal(a->name, b->name);
+  assert_int_equal(a->n, b->n);
+  assert_int_equal(a->nelements, b->nelements);
+  assert_int_equal(a->element_size, b->element_size);
+  assert_int_equal(a->nvertices, b->nvertices);
+  assert_close(a->x, b->x, a->n * dim, tol, "set x");
+  assert_close(a->w, b->w, a->n, tol, "set w");
+  assert_close(a->normal, b->normal, a->n * dim, tol, "set normal");
+  assert_close(a->vertex_x, b->vertex_x, a->nvertices * dim, tol, "set vertex_x");
+  assert_memory_equal(a->element_vertices, b->element_vertices,
+                      sizeof(long) * (size_t)(a->nelements * a->element_size));
+  assert_memory_equal(a->element, b->element, sizeof(long) * (size_t)a->n);
+}
+
+/* b (another file, or the .geo) against the reference a, in the same order. */
+static void assert_same(const MicaDiscretization *a, const MicaDiscretization *b, double tol) {
+  const int dim = a->dim;
+  assert_int_equal(a->dim, b->dim);
+  assert_int_equal(a->nparticles, b->nparticles);
+  assert_int_equal(a->ncells, b->ncells);
+  assert_int_equal(a->nquad, b->nquad);
+  assert_int_equal(a->nsets, b->nsets);
+  assert_int_equal(a->boundary_uncovered, b->boundary_uncovered);
+  assert_close(a->x, b->x, a->nparticles * dim, tol, "particles");
+  assert_close(a->qx, b->qx, a->nquad * dim, tol, "qx");
+  assert_close(a->qw, b->qw, a->nquad, tol, "qw");
+  assert_close(&a->volume, &b->volume, 1, tol, "volume");
+  for (int s = 0; s < a->nsets; s++) assert_same_set(&a->sets[s], &b->sets[s], dim, tol);
+}
+
+/* forms[0] is the 4.1 ASCII reference; exact[i]: form i holds Gmsh's doubles (binary, .geo) */
+static void check_forms(const char *const *forms, const int *exact, int n) {
+  MicaDiscretization *ref = load(forms[0], 2, 2), *first_exact = NULL;
+  for (int i = 1; i < n; i++) {
+    MicaDiscretization *d = load(forms[i], 2, 2);
+    worst = 0;
+    assert_same(ref, d, 1e-14);
+    print_message("%s against %s: largest relative difference %.2g\n", forms[i], forms[0], worst);
+    if (exact[i] && first_exact) assert_same(first_exact, d, 0);
+    if (exact[i] && !first_exact)
+      first_exact = d;
+    else
+      mica_discretization_destroy(&d);
+  }
+  mica_discretization_destroy(&first_exact);
+  mica_discretization_destroy(&ref);
+}
+
+static void test_forms_agree(void **state) {
+  (void)state;
+  const int exact[4] = {0, 0, 1, 1};
+  check_forms((const char *[]){"tests/meshes/square_quads.msh", "tests/meshes/square_v22.msh",
+                               "tests/meshes/square_binary.msh", "tests/meshes/square_quads.geo"},
+              exact, 4);
+  check_forms((const char *[]){"input/meshes/plate_hole.msh", "tests/meshes/plate_hole_v22.msh",
+                               "tests/meshes/plate_hole_binary.msh", "input/meshes/plate_hole.geo"},
+              exact, 4);
+  check_forms((const char *[]){"tests/meshes/box_hex.msh", "tests/meshes/box_hex_v22.msh",
+                               "tests/meshes/box_hex_binary.msh", "tests/meshes/box_hex.geo"},
+              exact, 4);
+  check_forms((const char *[]){"input/meshes/cube.msh", "input/meshes/cube.geo"}, (const int[]){0, 1}, 2);
+}
+
+static void test_groups_merged(void **state) {
+  (void)state;
+  MicaDiscretization *ref = load("tests/meshes/square_groups.msh", 2, 2);
+  MicaDiscretization *v22 = load("tests/meshes/square_groups_v22.msh", 2, 2);
+  assert_same(ref, v22, 1e-15);
+  assert_int_equal(v22->ncells, 16);
+  assert_rel(v22->volume, 1.0, 1e-13, "area (one copy of each quadrangle)");
+  char names[128];
+  mica_discretization_set_names(v22, names, sizeof names);
+  assert_string_equal(names, "bottom, right, top, left, sides");
+  assert_rel(set_measure(set_named(v22, "sides")), 2.0, 1e-13, "sides = left + right");
+  assert_rel(set_measure(set_named(v22, "left")), 1.0, 1e-13, "left");
+  mica_discretization_destroy(&v22);
+  mica_discretization_destroy(&ref);
+}
+
+static void test_size_factor(void **state) {
+  (void)state;
+  MicaDiscretization *cli = load("tests/meshes/plate_hole_clscale2.msh", 2, 2);
+  MicaDiscretization *geo = load_scaled("input/meshes/plate_hole.geo", 2.0, 2, 2);
+  MicaDiscretization *fine = load("input/meshes/plate_hole.msh", 2, 2);
+  assert_same(cli, geo, 1e-14);
+  assert_int_equal(geo->nparticles, 119);
+  assert_true(geo->nparticles < fine->nparticles / 2);
+  mica_discretization_destroy(&cli);
+  mica_discretization_destroy(&geo);
+  mica_discretization_destroy(&fine);
+}
+
+/* ---- files written for a test, in a fresh directory ---- */
+
+typedef struct {
+  char dir[64];
+  char path[256];
+} Scratch;
+
+static const char *scratch_write(Scratch *s, const char *name, const void *data, size_t n) {
+  snprintf(s->path, sizeof s->path, "%s/%s", s->dir, name);
+  FILE *f = fopen(s->path, "wb");
+  assert_non_null(f);
+  assert_int_equal(fwrite(data, 1, n, f), n);
+  fclose(f);
+  return s->path;
+}
+
+static const char *scratch_text(Scratch *s, const char *name, const char *text) {
+  return scratch_write(s, name, text, strlen(text));
+}
+
+static char *slurp(const char *path, size_t *n) {
+  FILE *f = fopen(path, "rb");
+  assert_non_null(f);
+  fseek(f, 0, SEEK_END);
+  *n = (size_t)ftell(f);
+  rewind(f);
+  char *buf = malloc(*n + 1);
+  assert_int_equal(fread(buf, 1, *n, f), *n);
+  fclose(f);
+  return buf;
+}
+
+/* The first `text` in buf[0, n), which may hold NUL bytes. */
+static const char *find(const char *buf, size_t n, const char *text) {
+  const size_t k = strlen(text);
+  for (size_t i = 0; i + k <= n; i++)
+    if (!memcmp(buf + i, text, k)) return buf + i;
+  return NULL;
+}
+
+static void scratch_open(Scratch *s) {
+  snprintf(s->dir, sizeof s->dir, "/tmp/mica_test_gmsh_XXXXXX");
+  assert_non_null(mkdtemp(s->dir));
+}
+
+static void scratch_close(Scratch *s) {
+  char cmd[128]; /* the test's own directory under /tmp, made by mkdtemp */
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", s->dir);
+  assert_int_equal(system(cmd), 0);
+}
+
 /* ---- errors ---- */
+
+/* Binary files changed for the test: truncated, the byte-order integer swapped or wrong, data size 4. */
+static void test_binary_errors(void **state) {
+  (void)state;
+  Scratch s;
+  size_t n;
+  scratch_open(&s);
+  char *bin = slurp("tests/meshes/square_binary.msh", &n);
+  const char *nodes = find(bin, n, "\n$Nodes\n"), *elements = find(bin, n, "\n$Elements\n");
+  assert_non_null(nodes);
+  assert_non_null(elements);
+  load_fails(scratch_write(&s, "cut_nodes.msh", bin, (size_t)(nodes - bin) + 300), ":", "truncated");
+  load_fails(scratch_write(&s, "cut_nodes.msh", bin, (size_t)(nodes - bin) + 300), "while reading a node",
+             "$Nodes");
+  load_fails(scratch_write(&s, "cut_elements.msh", bin, (size_t)(elements - bin) + 100), "$Elements",
+             "truncated");
+  load_fails(scratch_write(&s, "cut_header.msh", bin, 22), "cut_header.msh:3:", "byte-order integer");
+  char *copy = malloc(n);
+  memcpy(copy, bin, n);
+  const unsigned char big[4] = {0, 0, 0, 1}, junk[4] = {7, 0, 0, 0};
+  memcpy(copy + 20, big, 4);
+  load_fails(scratch_write(&s, "big_endian.msh", copy, n), "big_endian.msh:3:", "other byte order");
+  memcpy(copy + 20, junk, 4);
+  load_fails(scratch_write(&s, "junk.msh", copy, n), "junk.msh:3:", "found 0x00000007");
+  memcpy(copy, bin, n);
+  copy[18] = '4';
+  load_fails(scratch_write(&s, "size4.msh", copy, n), "size4.msh:2:", "data size 4");
+  load_fails(scratch_text(&s, "bin22.msh", "$MeshFormat\n2.2 1 8\n"), "bin22.msh:2:", "binary 2.2");
+  load_fails(scratch_text(&s, "v40.msh", "$MeshFormat\n4.0 0 8\n$EndMeshFormat\n"), "v40.msh:2:", "version 4.0");
+  free(copy);
+  free(bin);
+  scratch_close(&s);
+}
 
 static void test_errors(void **state) {
   (void)state;
   load_fails("tests/meshes/plate_hole_truncated.msh",
              "tests/meshes/plate_hole_truncated.msh:1000:", "truncated");
   load_fails("tests/meshes/plate_hole_truncated.msh", ":1000:", "$Elements");
-  load_fails("tests/meshes/square_v22.msh", "square_v22.msh:2:", "version 2.2");
-  load_fails("tests/meshes/square_binary.msh", "square_binary.msh:2:", "binary");
   load_fails("tests/meshes/square_tri6.msh", "square_tri6.msh:109:", "element type 8");
+  load_fails("tests/meshes/square_tri6.msh", "square_tri6.msh:109:", "gmsh -order 1");
   load_fails("tests/meshes/square_bad_node.msh", "square_bad_node.msh:90:", "node 99");
   load_fails("tests/meshes/square_node_range.msh",
              "square_node_range.msh:27:", "node tag 26 is out of range");
@@ -267,11 +485,164 @@ static void test_errors(void **state) {
   load_fails("tests/meshes/README.md", "README.md:1:", "$MeshFormat");
 }
 
+/* ---- .geo files ---- */
+
+static const char *SQUARE = "Point(1) = {0, 0, 0, 0.5}; Point(2) = {1, 0, 0, 0.5}; Point(3) = {1, 1, 0, 0.5};\n"
+                            "Point(4) = {0, 1, 0, 0.5}; Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4};\n"
+                            "Line(4) = {4, 1}; Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n"
+                            "Physical Curve(\"left\") = {4}; Physical Surface(\"square\") = {1};\n";
+
+/* A .geo made of the square and `extra` at line 5; checks the error and that nothing ran. */
+static void geo_refused(Scratch *s, const char *extra, const char *where, const char *what) {
+  char text[2048], pwned[300];
+  snprintf(text, sizeof text, "%s%s\n", SQUARE, extra);
+  load_fails(scratch_text(s, "refused.geo", text), where, what);
+  snprintf(pwned, sizeof pwned, "%s/pwned", s->dir);
+  assert_int_equal(access(pwned, F_OK), -1);
+  assert_int_equal(access("pwned", F_OK), -1);
+}
+
+static void test_geo_refused(void **state) {
+  (void)state;
+  Scratch s;
+  scratch_open(&s);
+  char touch[512];
+  snprintf(touch, sizeof touch, "SystemCall \"touch %s/pwned\";", s.dir);
+  geo_refused(&s, touch, "refused.geo:5:", "SystemCall runs a shell command");
+  geo_refused(&s, "SystemCall \"touch pwned\";", "refused.geo:5:", "SystemCall runs a shell command");
+  geo_refused(&s, "System StrCat(\"touch \", \"pwned\");", "refused.geo:5:", "System runs a shell command");
+  geo_refused(&s, "\n\nNonBlockingSystemCall 'touch pwned';", "refused.geo:7:", "shell command");
+  geo_refused(&s, "OnelabRun(\"x\", \"touch pwned\");", "refused.geo:5:", "OnelabRun runs a program");
+  geo_refused(&s, "If (1)\n  Exit;\nEndIf", "refused.geo:6:", "Exit would end mica");
+  geo_refused(&s, "Printf(\"%g\", 1) > \"pwned\";", "refused.geo:5:", "Printf into a file");
+  geo_refused(&s, "Printf(\"%g\", (1 + 2)) >> 'pwned';", "refused.geo:5:", "Printf into a file");
+  geo_refused(&s, "Save \"pwned.msh\";", "refused.geo:5:", "Save writes files");
+  geo_refused(&s, "Print Sprintf(\"pwned%g.png\", 1);", "refused.geo:5:", "Print writes files");
+  geo_refused(&s, "CreateDir \"pwned\";", "refused.geo:5:", "CreateDir writes files");
+  geo_refused(&s, "Plugin(Skin).Run;", "refused.geo:5:", "Gmsh plugin");
+  geo_refused(&s, "Include StrCat(\"a\", \".geo\");", "refused.geo:5:", "plain string");
+  geo_refused(&s, "Merge \"solver.py\";", "refused.geo:5:", "Merge 'solver.py'");
+  geo_refused(&s, "Merge \"model.pro\";", "refused.geo:5:", "Merge 'model.pro'");
+  geo_refused(&s, "Include \"missing.geo\";", "refused.geo:5:", "cannot open");
+  scratch_text(&s, "inner.geo", "// an included file\nx = 1;\nSystemCall \"touch pwned\";\n");
+  geo_refused(&s, "Include \"inner.geo\";", "inner.geo:3:", "SystemCall runs a shell command");
+  scratch_text(&s, "loop.geo", "Include \"loop.geo\";\n");
+  geo_refused(&s, "Include \"loop.geo\";", "loop.geo:1:", "deeper than 16");
+  char nul[1024];
+  const int len = snprintf(nul, sizeof nul, "%s// a comment\n", SQUARE);
+  nul[len - 3] = '\0';
+  load_fails(scratch_write(&s, "nul.geo", nul, (size_t)len), "nul.geo:5:", "NUL byte");
+  char *big = malloc(4096);
+  snprintf(big, 4096, "%sx = \"%01100d\";\n", SQUARE, 0);
+  load_fails(scratch_text(&s, "long.geo", big), "long.geo:5:", "longer than 1023");
+  free(big);
+  scratch_close(&s);
+}
+
+/* The same words where they are no command: comments, strings, options, variables. */
+static void test_geo_words_allowed(void **state) {
+  (void)state;
+  Scratch s;
+  scratch_open(&s);
+  char text[2048];
+  snprintf(text, sizeof text,
+           "// SystemCall \"touch pwned\"; Exit;\n/* Save \"x\"; Plugin(Skin).Run; */\n%s"
+           "Print.Width = 640; System = 2; y = System + 1; s = \"SystemCall 'x'; Exit;\";\n"
+           "Printf(\"no file: %%g\", y);\nMesh.Algorithm = 6;\n",
+           SQUARE);
+  MicaDiscretization *d = load(scratch_text(&s, "allowed.geo", text), 2, 2);
+  assert_rel(d->volume, 1.0, 1e-13, "area");
+  assert_int_equal(d->nsets, 1);
+  mica_discretization_destroy(&d);
+  scratch_text(&s, "inner.geo", "h = 0.5; // included\n");
+  snprintf(text, sizeof text, "Include \"inner.geo\";\n%s", SQUARE);
+  d = load(scratch_text(&s, "include.geo", text), 2, 2);
+  assert_rel(d->volume, 1.0, 1e-13, "area");
+  mica_discretization_destroy(&d);
+  assert_int_equal(access("pwned", F_OK), -1);
+  scratch_close(&s);
+}
+
+static void test_geo_errors(void **state) {
+  (void)state;
+  Scratch s;
+  scratch_open(&s);
+  char text[2048];
+  load_fails(scratch_text(&s, "syntax.geo", "Point(1) = {0, 0, 0};\nPoint(2) = {1, 0, 0}\nLine(1) = {1, 2};\n"),
+             "syntax.geo:3:", "syntax error");
+  load_fails(scratch_text(&s, "points.geo", "Point(1) = {0, 0, 0};\n"), "points.geo", "no surface or volume");
+  snprintf(text, sizeof text, "%sMesh.ElementOrder = 2;\n", SQUARE);
+  load_fails(scratch_text(&s, "order2.geo", text), "order2.geo", "gmsh -order 1");
+  load_fails(scratch_text(&s, "curves.geo",
+                          "Point(1) = {0, 0, 0, 0.5}; Point(2) = {1, 0, 0, 0.5}; Point(3) = {0, 1, 0, 0.5};\n"
+                          "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 1}; Curve Loop(1) = {1, 2, 3};\n"
+                          "Plane Surface(1) = {1}; Physical Curve(\"base\") = {1};\n"),
+             "curves.geo", "Physical Surface");
+  load_fails("tests/meshes/no_such.geo", "no_such.geo", "cannot open");
+  scratch_close(&s);
+}
+
+/* ---- damaged files: each loads or fails as bad input, never worse ---- */
+
+static void mutate_and_load(const char *path, int rounds, uint64_t seed) {
+  Scratch s;
+  size_t n;
+  scratch_open(&s);
+  char *orig = slurp(path, &n), *buf = malloc(n);
+  MicaRandom rng = mica_random_seed(seed);
+  int loaded = 0, refused = 0;
+  for (int r = 0; r < rounds; r++) {
+    memcpy(buf, orig, n);
+    const int changes = 1 + (int)(mica_random_next(&rng) % 4);
+    size_t len = n;
+    for (int c = 0; c < changes; c++) {
+      const size_t at = (size_t)(mica_random_next(&rng) % n);
+      const uint64_t kind = mica_random_next(&rng) % 8;
+      static const char picks[] = "0 \n\t$-9.e\"\0\377";
+      buf[at] = kind < 5 ? (char)mica_random_next(&rng) : picks[mica_random_next(&rng) % (sizeof picks - 1)];
+      if (kind == 7) len = at + 1; /* and cut the file there */
+    }
+    const MicaShapeSpec shape = {.kind = MICA_SHAPE_GMSH, .mesh_path = scratch_write(&s, "fuzz.msh", buf, len)};
+    const MicaLayoutSpec layout = {0};
+    const MicaCellSpec cells = {.order = 2};
+    MicaDiscretization *disc = NULL;
+    const int ierr = mica_discretization_create(&shape, &layout, &cells, &disc);
+    if (ierr == MICA_SUCCESS) {
+      assert_true(isfinite(disc->volume));
+      mica_discretization_destroy(&disc);
+      loaded++;
+    } else {
+      if (ierr != MICA_ERR_INPUT) {
+        print_error("round %d: error %d: %s\n", r, ierr, mica_error_message());
+        fail();
+      }
+      mica_error_clear();
+      refused++;
+    }
+  }
+  print_message("%s: %d damaged copies loaded, %d refused\n", path, loaded, refused);
+  assert_true(refused > rounds / 10);
+  free(buf);
+  free(orig);
+  scratch_close(&s);
+}
+
+static void test_damaged_files(void **state) {
+  (void)state;
+  mutate_and_load("tests/meshes/square_binary.msh", 3000, 1);
+  mutate_and_load("tests/meshes/square_v22.msh", 3000, 2);
+  mutate_and_load("tests/meshes/square_quads.msh", 3000, 3);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_plate_hole_mesh), cmocka_unit_test(test_cube_mesh),
       cmocka_unit_test(test_hex_mesh),        cmocka_unit_test(test_quad_mesh),
-      cmocka_unit_test(test_errors),
+      cmocka_unit_test(test_forms_agree),     cmocka_unit_test(test_groups_merged),
+      cmocka_unit_test(test_size_factor),     cmocka_unit_test(test_errors),
+      cmocka_unit_test(test_binary_errors),   cmocka_unit_test(test_geo_refused),
+      cmocka_unit_test(test_geo_words_allowed), cmocka_unit_test(test_geo_errors),
+      cmocka_unit_test(test_damaged_files),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
