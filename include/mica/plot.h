@@ -12,11 +12,15 @@
  * the message when gnuplot is missing. */
 int mica_gnuplot(const char *dir, const char *script, const char *switch_off);
 
-/* A label (variant name, choice, legend) made safe for a quoted gnuplot string: quotes, backslashes,
- * backquotes (gnuplot runs `...` in double quotes as a shell command) and control characters (a line break
- * would start a new command) become spaces; out holds at most size − 1 characters. */
-void mica_gnuplot_label(const char *in, char *out, size_t size);
-/* The same for an identifier shown as words: "a_over_l" -> "a over l". */
+/* Text (a deck string: title, variant, choice or probe name, label) as a single-quoted gnuplot string,
+ * quotes included: the one way text enters a chart script, so that it is printed as written and never run
+ * (gnuplot 5.4 expands no backquote, @macro or backslash inside single quotes; a quote is doubled; control
+ * characters, which would end the command, become spaces). Every chart's terminal is `noenhanced`, so
+ * ^ _ @ & ~ { } \ print as themselves. Truncated to size bytes between characters. */
+void mica_gnuplot_quote(const char *in, char *out, size_t size);
+/* The same text as a double-quoted field of a gnuplot data file (read by `with labels`): \" and \\. */
+void mica_gnuplot_datum(const char *in, char *out, size_t size);
+/* An identifier shown as words, not quoted: "a_over_l" -> "a over l". */
 void mica_gnuplot_words(const char *in, char *out, size_t size);
 
 /* Series styles, one palette for every chart (docs/input.md §Charts): Okabe & Ito's seven colours that stay

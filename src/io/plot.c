@@ -29,16 +29,42 @@ int mica_gnuplot(const char *dir, const char *script, const char *switch_off) {
   return MICA_SUCCESS;
 }
 
-static int unsafe(char c) { return c == '"' || c == '\\' || c == '\'' || c == '`' || (unsigned char)c < 0x20 || c == 0x7f; }
-
-void mica_gnuplot_label(const char *in, char *out, size_t size) {
-  size_t j = 0;
-  for (size_t i = 0; in[i] && j + 1 < size; i++) out[j++] = unsafe(in[i]) ? ' ' : in[i];
+/* in, between the quotes q: each character of special preceded by esc, every control character a space (a
+ * line break ends a gnuplot command, and a comment); truncated to size between characters, never inside a
+ * UTF-8 sequence or an escape pair, so the closing quote is always the one written here. */
+static void quoted(const char *in, char q, const char *special, char esc, char *out, size_t size) {
+  if (size < 3) {
+    if (size) out[0] = '\0';
+    return;
+  }
+  const size_t room = size - 2; /* the closing quote and the NUL */
+  size_t j = 0, start = 1;       /* start: where the last character began in out */
+  out[j++] = q;
+  for (const char *c = in; *c; c++) {
+    const int continuation = ((unsigned char)*c & 0xC0) == 0x80;
+    const char ch = (unsigned char)*c < 0x20 || *c == 0x7f ? ' ' : *c;
+    const int escaped = strchr(special, ch) != NULL;
+    if (j + 1 + escaped > room) {
+      if (continuation) j = start; /* drop the partial character */
+      break;
+    }
+    if (!continuation) start = j;
+    if (escaped) out[j++] = esc;
+    out[j++] = ch;
+  }
+  out[j++] = q;
   out[j] = '\0';
 }
 
+/* gnuplot 5.4 reads '...' literally: no backquote (shell) substitution, no @macro expansion, no backslash
+ * escapes; the one special character is the quote, written twice. */
+void mica_gnuplot_quote(const char *in, char *out, size_t size) { quoted(in, '\'', "'", '\'', out, size); }
+
+/* gnuplot 5.4's data files read "..." with \" for a quote and \\ for a backslash. */
+void mica_gnuplot_datum(const char *in, char *out, size_t size) { quoted(in, '"', "\"\\", '\\', out, size); }
+
 void mica_gnuplot_words(const char *in, char *out, size_t size) {
-  mica_gnuplot_label(in, out, size);
+  snprintf(out, size, "%s", in);
   for (char *c = out; *c; c++)
     if (*c == '_') *c = ' ';
 }

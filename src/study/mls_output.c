@@ -49,7 +49,9 @@ static int write_chart_data(const MlsVariantResult *results, int nvariants, cons
   for (int v = 0; v < nvariants; v++) {
     const MlsVariantResult *r = &results[v];
     const MlsErrors *e = &r->line_err;
-    fprintf(out.fp, "# variant \"%s\": position along the axis, relative errors of f, df, ddf\n", r->name);
+    char name[160];
+    mica_gnuplot_datum(r->name, name, sizeof name); /* one line */
+    fprintf(out.fp, "# variant %s: position along the axis, relative errors of f, df, ddf\n", name);
     for (long i = 0; i < r->nline; i++) {
       const MlsSample *s = &r->line[i];
       fprintf(out.fp, "%.10g %.6e %.6e %.6e\n", s->x[r->axis], relative(s->fh, s->f, e->scale_f),
@@ -64,31 +66,32 @@ cleanup:
 }
 
 static void write_panel(FILE *fp, int nvariants, int column, const char *ylabel, const MlsVariantResult *r) {
-  fprintf(fp, "set ylabel '%s'\nplot ", ylabel);
+  char text[160];
+  mica_gnuplot_quote(ylabel, text, sizeof text);
+  fprintf(fp, "set ylabel %s\nplot ", text);
   for (int v = 0; v < nvariants; v++) {
-    char name[160];
-    mica_gnuplot_label(r[v].name, name, sizeof name);
+    mica_gnuplot_quote(r[v].name, text, sizeof text);
     char series[96];
     mica_gnuplot_line(v, series, sizeof series);
-    fprintf(fp, "%s'mls_line.dat' index %d using 1:($%d > 0 ? $%d : 1/0) with lines lw 1.5 %s title '%s'",
-            v ? ", " : "", v, column, column, series, name);
+    fprintf(fp, "%s'mls_line.dat' index %d using 1:($%d > 0 ? $%d : 1/0) with lines lw 1.5 %s title %s",
+            v ? ", " : "", v, column, column, series, text);
   }
   fprintf(fp, "\n");
 }
 
 static int write_chart_script(const MlsVariantResult *r, int nvariants, const char *title, const char *outdir) {
-  char safe_title[256];
+  char safe_title[512];
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   const char axis = (char)('x' + r[0].axis);
-  mica_gnuplot_label(title && title[0] ? title : "MLS approximation error along the sample line", safe_title,
-               sizeof safe_title);
+  mica_gnuplot_quote(title && title[0] ? title : "MLS approximation error along the sample line", safe_title,
+                     sizeof safe_title);
   MICA_CALL_CLEANUP(mica_out_open_in(outdir, "mls_chart.gp", &out));
   FILE *fp = out.fp;
   for (int pass = 0; pass < 2; pass++) {
     if (pass == 0) fprintf(fp, "set terminal pngcairo size 900,1100 noenhanced\nset output 'mls_error.png'\n");
     else fprintf(fp, "set terminal svg size 900,1100 noenhanced\nset output 'mls_error.svg'\n");
-    fprintf(fp, "set multiplot layout 3,1 title '%s'\nset logscale y\nset format y '%%.0e'\nset grid\n"
+    fprintf(fp, "set multiplot layout 3,1 title %s\nset logscale y\nset format y '%%.0e'\nset grid\n"
                 "set key outside right top\nset xlabel 'position %c along the sample line'\n", safe_title, axis);
     char label[64];
     write_panel(fp, nvariants, 2, "relative error of f", r);

@@ -181,6 +181,8 @@ cleanup:
   if (ierr) mica_error_prefix("stability patch test of degree %d", degree);
   free(u);
   mica_solid_destroy(&patch.solid);
+  mica_shape_cache_destroy(&patch.at_gauss);         /* made by run_error_points under nodal and scni */
+  mica_discretization_destroy(&patch.error_disc);    /* and with quadrature.error_order */
   for (int c = 0; c < MICA_MAX_COMP; c++) {
     mica_function_destroy(&patch.exact[c]);
     for (int J = 0; J < 3; J++) mica_function_destroy(&patch.exact_grad[c][J]);

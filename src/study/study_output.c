@@ -125,8 +125,10 @@ static int write_points(const StudySpec *spec, const StudyRow *rows, const char 
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_out_open_in(outdir, "study_points.dat", &out));
-  fprintf(out.fp, "# time (s), %s error, dofs; one block per combination of all choices but %s\n", spec->error_name,
-          spec->choices[spec->nchoices - 1].path);
+  char error[256], path[256]; /* in data-file quotes: one comment line */
+  mica_gnuplot_datum(spec->error_name, error, sizeof error);
+  mica_gnuplot_datum(spec->choices[spec->nchoices - 1].path, path, sizeof path);
+  fprintf(out.fp, "# time (s), %s error, dofs; one block per combination of all choices but %s\n", error, path);
   for (long k = 0; k < cv->n; k++) {
     for (long p = 0; p < spec->ncombinations; p++)
       if (same_curve(spec, rows, p, cv->first[k]) && plotted(&rows[p])) {
@@ -147,7 +149,9 @@ static int write_front(const StudySpec *spec, const StudyRow *rows, const char *
   int ierr = MICA_SUCCESS;
   *nfront = 0;
   MICA_CALL_CLEANUP(mica_out_open_in(outdir, "study_front.dat", &out));
-  fprintf(out.fp, "# the Pareto front by increasing time: time (s), %s error, dofs, choice\n", spec->error_name);
+  char error[256];
+  mica_gnuplot_datum(spec->error_name, error, sizeof error);
+  fprintf(out.fp, "# the Pareto front by increasing time: time (s), %s error, dofs, choice\n", error);
   double last = -INFINITY;
   for (;;) { /* selection by increasing time */
     long next = -1;
@@ -160,8 +164,8 @@ static int write_front(const StudySpec *spec, const StudyRow *rows, const char *
       if (rows[p].pareto && plotted(&rows[p]) && rows[p].time == last) {
         char text[LABEL_MAX], safe[LABEL_MAX];
         study_choice_text(spec, rows[p].choice, text, sizeof text);
-        mica_gnuplot_label(text, safe, sizeof safe);
-        fprintf(out.fp, "%.10g %.10g %ld \"%s\"\n", rows[p].time, rows[p].error, rows[p].dofs, safe);
+        mica_gnuplot_datum(text, safe, sizeof safe);
+        fprintf(out.fp, "%.10g %.10g %ld %s\n", rows[p].time, rows[p].error, rows[p].dofs, safe);
         ++*nfront;
       }
   }
@@ -202,11 +206,11 @@ static void write_chart(const StudySpec *spec, const StudyRow *rows, const Curve
   for (long k = 0; k < cv->n; k++) {
     if (!cv->npoints[k]) continue;
     curve_label(spec, rows, cv->first[k], label, sizeof label);
-    mica_gnuplot_label(label, safe, sizeof safe);
+    mica_gnuplot_quote(label, safe, sizeof safe);
     char series[96];
     mica_gnuplot_series((int)k, series, sizeof series);
     snprintf(text, sizeof text, "'study_points.dat' index %ld using %s:($2 > 0 ? $2 : 1/0) with linespoints lw 1.2 ps 0.9 %s "
-             "title '%s'", k, x, series, safe);
+             "title %s", k, x, series, safe);
     item(&pl, text);
   }
   if (nfront) {
@@ -219,9 +223,10 @@ static void write_chart(const StudySpec *spec, const StudyRow *rows, const Curve
     item(&pl, text);
   }
   if (fastest >= 0) {
-    mica_gnuplot_label(spec->error_name, safe, sizeof safe);
-    snprintf(text, sizeof text, "'study_fastest.dat' using %s:2 with points pt 7 ps 2.4 lc rgb 'black' title "
-             "'fastest to %s error <= %g'", x, safe, spec->target);
+    snprintf(label, sizeof label, "fastest to %s error <= %g", spec->error_name, spec->target);
+    mica_gnuplot_quote(label, safe, sizeof safe);
+    snprintf(text, sizeof text, "'study_fastest.dat' using %s:2 with points pt 7 ps 2.4 lc rgb 'black' title %s", x,
+             safe);
     item(&pl, text);
   }
   snprintf(text, sizeof text, "%.17g with lines dt 2 lw 1.5 lc rgb 'black' title 'target %g'", spec->target,
@@ -250,18 +255,17 @@ static int key_entries(const StudySpec *spec, const StudyRow *rows, const Curves
 
 static int write_script(const StudySpec *spec, const StudyRow *rows, const Curves *cv, long nfront, long fastest,
                         const char *outdir) {
-  char title[512], error_title[128];
+  char title[512], error_title[128], text[1024], quoted[3][1024];
   const char *deck_title;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_deck_string(spec->deck, "problem.title", &deck_title));
-  mica_gnuplot_label(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);
-  char raw[128];
-  study_error_title(spec, raw, sizeof raw); /* a probe's name is the deck's */
-  mica_gnuplot_label(raw, error_title, sizeof error_title);
+  snprintf(title, sizeof title, "%s", deck_title[0] ? deck_title : mica_deck_name(spec->deck));
+  study_error_title(spec, error_title, sizeof error_title); /* a probe's name is the deck's */
   MICA_CALL_CLEANUP(mica_out_open_in(outdir, "study_chart.gp", &out));
+  mica_gnuplot_quote(error_title, quoted[0], sizeof quoted[0]);
   fprintf(out.fp, "# mica study: %s against time and against dofs (data: study_points.dat, study_front.dat, "
-          "study_fastest.dat)\n", error_title);
+          "study_fastest.dat)\n", quoted[0]);
   for (int chart = 0; chart < 2; chart++)
     for (int pass = 0; pass < 2; pass++) {
       const char *name = chart ? "study_dofs" : "study_time";
@@ -275,9 +279,13 @@ static int write_script(const StudySpec *spec, const StudyRow *rows, const Curve
       /* the target across the whole width (the plotted constant keeps it inside the y range, and in the key) */
       fprintf(out.fp, "set arrow 1 from graph 0, first %.17g to graph 1, first %.17g nohead dt 2 lw 1.5 lc rgb 'black'\n",
               spec->target, spec->target);
-      fprintf(out.fp, "set title '%s: %s against %s'\nset xlabel '%s'\nset ylabel '%s'\nset logscale xy\n"
-              "set format y '%%.0e'\nset grid\nset offsets 0, graph 0.12, graph 0.04, graph 0.04\n", title, error_title,
-              chart ? "dofs" : "time", chart ? "unknowns (degrees of freedom)" : study_time_title(spec), error_title);
+      snprintf(text, sizeof text, "%s: %s against %s", title, error_title, chart ? "dofs" : "time");
+      mica_gnuplot_quote(text, quoted[0], sizeof quoted[0]);
+      mica_gnuplot_quote(chart ? "unknowns (degrees of freedom)" : study_time_title(spec), quoted[1], sizeof quoted[1]);
+      mica_gnuplot_quote(error_title, quoted[2], sizeof quoted[2]);
+      fprintf(out.fp, "set title %s\nset xlabel %s\nset ylabel %s\nset logscale xy\n"
+              "set format y '%%.0e'\nset grid\nset offsets 0, graph 0.12, graph 0.04, graph 0.04\n", quoted[0],
+              quoted[1], quoted[2]);
       mica_gnuplot_key_below(out.fp, entries, columns);
       write_chart(spec, rows, cv, nfront, fastest, chart ? 3 : 1, out.fp);
       fprintf(out.fp, "set output\n");

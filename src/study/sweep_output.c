@@ -264,7 +264,10 @@ static int write_points_file(const SweepSpec *spec, const SweepPoint *pts, const
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(MICA_CALLOC(ch->npoints, ch->curves.n));
   MICA_CALL_CLEANUP(mica_out_open_in(outdir, "sweep_points.dat", &out));
-  fprintf(out.fp, "# x = %s, y = %s; one block per curve\n", spec->axes[spec->x].path, spec->probes[spec->probe]);
+  char x[256], y[256]; /* in data-file quotes: one comment line */
+  mica_gnuplot_datum(spec->axes[spec->x].path, x, sizeof x);
+  mica_gnuplot_datum(spec->probes[spec->probe], y, sizeof y);
+  fprintf(out.fp, "# x = %s, y = %s; one block per curve\n", x, y);
   for (int c = 0; c < ch->curves.n; c++) ch->npoints[c] = write_curve(out.fp, spec, pts, ch->curves.first[c]);
   MICA_CALL_CLEANUP(mica_out_commit(&out));
 cleanup:
@@ -306,7 +309,9 @@ static int write_experiments_file(const SweepSpec *spec, const char *outdir) {
   if (!spec->nexperiments) return MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_out_open_in(outdir, "sweep_experiments.dat", &out));
   for (int e = 0; e < spec->nexperiments; e++) {
-    fprintf(out.fp, "# %s\n", spec->experiments[e].name);
+    char name[256];
+    mica_gnuplot_datum(spec->experiments[e].name, name, sizeof name);
+    fprintf(out.fp, "# %s\n", name);
     for (int i = 0; i < spec->experiments[e].n; i++)
       fprintf(out.fp, "%.17g %.17g\n", spec->experiments[e].x[i], spec->experiments[e].y[i]);
     fprintf(out.fp, "\n\n");
@@ -368,10 +373,10 @@ static void curve_values(const SweepSpec *spec, const SweepPoint *pts, long firs
 /* One plot item, its title made safe for gnuplot; on log axes values that are not positive are left out. */
 static void plot_item(const SweepSpec *spec, Chart *ch, const char *file, int index, const char *style,
                       const char *title) {
-  char safe[512];
-  mica_gnuplot_label(title, safe, sizeof safe);
-  if (strlen(safe) > ch->longest) ch->longest = strlen(safe);
-  fprintf(ch->script, "%s'%s' index %d using %s:%s %s title '%s'", ch->nplots++ ? ", \\\n     " : "", file, index,
+  char safe[1100];
+  mica_gnuplot_quote(title, safe, sizeof safe);
+  if (strlen(title) > ch->longest) ch->longest = strlen(title);
+  fprintf(ch->script, "%s'%s' index %d using %s:%s %s title %s", ch->nplots++ ? ", \\\n     " : "", file, index,
           spec->logx ? "($1 > 0 ? $1 : 1/0)" : "1", spec->logy ? "($2 > 0 ? $2 : 1/0)" : "2", style, safe);
 }
 
@@ -448,7 +453,7 @@ static int x_label(const SweepSpec *spec, char *buf, size_t size) {
   char words[256];
   MICA_CALL(mica_deck_string(spec->deck, "sweep.xlabel", &text));
   if (text[0]) {
-    mica_gnuplot_label(text, buf, size);
+    snprintf(buf, size, "%s", text);
     return MICA_SUCCESS;
   }
   mica_gnuplot_words(axis->label, words, sizeof words);
@@ -460,34 +465,35 @@ static int x_label(const SweepSpec *spec, char *buf, size_t size) {
 /* sweep.ylabel, or the probe's name in words and what it probes: "stiffness ratio (probe of uy)". */
 static int y_label(const SweepSpec *spec, char *buf, size_t size) {
   const char *text, *field = "energy";
-  char path[64], words[256], full[512];
+  char path[64], words[256];
   MICA_CALL(mica_deck_string(spec->deck, "sweep.ylabel", &text));
   if (text[0]) {
-    mica_gnuplot_label(text, buf, size);
+    snprintf(buf, size, "%s", text);
     return MICA_SUCCESS;
   }
   snprintf(path, sizeof path, "output.probes.[%d].field", spec->probe);
   if (mica_deck_has(spec->deck, path)) MICA_CALL(mica_deck_string(spec->deck, path, &field));
   mica_gnuplot_words(spec->probes[spec->probe], words, sizeof words);
-  snprintf(full, sizeof full, "%s (probe of %s)", words, field);
-  mica_gnuplot_label(full, buf, size);
+  snprintf(buf, size, "%s (probe of %s)", words, field);
   return MICA_SUCCESS;
 }
 
 /* ---- the script ---- */
 
 static int write_header(const SweepSpec *spec, Chart *ch, int pass, FILE *fp) {
-  char title[512], xlabel[512], ylabel[512];
+  char text[512], title[1100], xlabel[1100], ylabel[1100];
   const char *deck_title;
   MICA_CALL(mica_deck_string(spec->deck, "problem.title", &deck_title));
-  mica_gnuplot_label(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);
-  MICA_CALL(x_label(spec, xlabel, sizeof xlabel));
-  MICA_CALL(y_label(spec, ylabel, sizeof ylabel));
+  mica_gnuplot_quote(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);
+  MICA_CALL(x_label(spec, text, sizeof text));
+  mica_gnuplot_quote(text, xlabel, sizeof xlabel);
+  MICA_CALL(y_label(spec, text, sizeof text));
+  mica_gnuplot_quote(text, ylabel, sizeof ylabel);
   const int columns = mica_gnuplot_key_columns(900, ch->longest, 3);
   const int rows = mica_gnuplot_key_rows(ch->nplots, columns), height = 560 + 22 * rows;
   fprintf(fp, pass ? "set terminal svg size 900,%d noenhanced\nset output 'sweep.svg'\n"
                    : "set terminal pngcairo size 900,%d noenhanced\nset output 'sweep.png'\n", height);
-  fprintf(fp, "set title '%s'\nset xlabel '%s'\nset ylabel '%s'\nset grid\n%s%s", title, xlabel, ylabel,
+  fprintf(fp, "set title %s\nset xlabel %s\nset ylabel %s\nset grid\n%s%s", title, xlabel, ylabel,
           spec->logx ? "set logscale x\n" : "", spec->logy ? "set logscale y\n" : "");
   mica_gnuplot_key_below(fp, ch->nplots, columns);
   /* every curve, reference and measured point inside the frame, none on the border */
@@ -513,8 +519,11 @@ static int write_script(const SweepSpec *spec, const SweepPoint *pts, const char
     goto cleanup;
   }
   MICA_CALL_CLEANUP(mica_out_open_in(outdir, "sweep_chart.gp", &out));
+  char probe[256], path[256];
+  mica_gnuplot_quote(spec->probes[spec->probe], probe, sizeof probe);
+  mica_gnuplot_quote(spec->axes[spec->x].path, path, sizeof path);
   fprintf(out.fp, "# mica sweep: %s against %s (data: sweep_points.dat, sweep_analytic.dat, sweep_experiments.dat)\n",
-          spec->probes[spec->probe], spec->axes[spec->x].path);
+          probe, path);
   for (int pass = 0; pass < 2; pass++) {
     MICA_CALL_CLEANUP(write_header(spec, ch, pass, out.fp));
     fprintf(out.fp, "plot %sset output\n", items);

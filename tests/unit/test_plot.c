@@ -39,14 +39,29 @@ static void test_series_distinct(void **state) {
 static void test_label_safe(void **state) {
   (void)state;
   char out[128];
-  mica_gnuplot_label("a`touch x`'b\"c\\d\nset output 'e'", out, sizeof out);
-  assert_string_equal(out, "a touch x  b c d set output  e ");
+  /* gnuplot 5.4 single quotes: only the quote is special (doubled); a line break would end the command */
+  mica_gnuplot_quote("a`touch x`'b\"c\\d\nset output 'e' @m $(f) ;!g", out, sizeof out);
+  assert_string_equal(out, "'a`touch x`''b\"c\\d set output ''e'' @m $(f) ;!g'");
+  mica_gnuplot_quote("x_1^2 {a} & ~", out, sizeof out); /* printed as written: the terminals are noenhanced */
+  assert_string_equal(out, "'x_1^2 {a} & ~'");
   mica_gnuplot_words("a_over_l", out, sizeof out);
   assert_string_equal(out, "a over l");
-  mica_gnuplot_label("σ_max/σ_∞", out, sizeof out); /* UTF-8 passes */
-  assert_string_equal(out, "σ_max/σ_∞");
-  mica_gnuplot_label("abcdef", out, 4);
-  assert_string_equal(out, "abc");
+  mica_gnuplot_quote("σ_max/σ_∞", out, sizeof out); /* UTF-8 passes */
+  assert_string_equal(out, "'σ_max/σ_∞'");
+  /* truncation keeps the closing quote its own: never half a '' pair, never half a UTF-8 character */
+  mica_gnuplot_quote("abcdef", out, 6);
+  assert_string_equal(out, "'abc'");
+  mica_gnuplot_quote("ab'cd", out, 6);
+  assert_string_equal(out, "'ab'");
+  mica_gnuplot_quote("a'", out, 6);
+  assert_string_equal(out, "'a'''");
+  mica_gnuplot_quote("aσ", out, 5);
+  assert_string_equal(out, "'a'");
+  mica_gnuplot_quote("anything", out, 2);
+  assert_string_equal(out, "");
+  /* data files: \" and \\ inside double quotes, one line */
+  mica_gnuplot_datum("p\\\"q\nr'", out, sizeof out);
+  assert_string_equal(out, "\"p\\\\\\\"q r'\"");
 }
 
 /* Reads "set Xrange [lo:hi]" from what mica_gnuplot_range wrote. */
