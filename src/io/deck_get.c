@@ -120,16 +120,17 @@ static int refuse_float(const MicaDeck *deck, const MicaDeckKey *key, const conf
 int deck_eval_number(const MicaDeck *deck, const DeckParams *params, const MicaDeckKey *key,
                      const config_setting_t *setting, int integer, double *value) {
   const char *expected = integer ? "an integer" : "a number";
-  char path[DECK_PATH_MAX];
-  deck_setting_path(setting, path, sizeof path);
   int type = config_setting_type(setting);
   if (integer && type == CONFIG_TYPE_FLOAT) return refuse_float(deck, key, setting);
-  if (type == CONFIG_TYPE_STRING)
+  if (type == CONFIG_TYPE_STRING) {
     MICA_CALL(evaluate_string(deck, params, setting, expected, value));
-  else if (deck_is_number(setting))
+  } else if (deck_is_number(setting)) {
     *value = deck_number_value(setting);
-  else
+  } else { /* the path only for the message: naming a list element costs libconfig a search of the list */
+    char path[DECK_PATH_MAX];
+    deck_setting_path(setting, path, sizeof path);
     return DECK_FAIL(deck, setting, "%s must be %s, not %s", path, expected, deck_type_name(setting));
+  }
   if (integer && *value != nearbyint(*value)) {
     char described[DECK_MESSAGE_MAX];
     describe_value(setting, *value, described, sizeof described);

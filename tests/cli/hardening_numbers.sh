@@ -60,3 +60,18 @@ for i in $(seq 300); do args+=(--set mls.order=2); done
   || fail "301 --sets: $(tail -n 3 "$work/many.log")"
 grep -q "order = 1;" "$work/many/resolved.cfg" || fail "301 --sets: the last (mls.order=1) did not win"
 ok "301 --sets taken, the last wins"
+
+# A long probe list (was quadratic: libconfig's config_setting_index per element, a linear search of the
+# JSON members per probe) is read and reported whole: 20000 probes along y = 0, u_y of the last one equals
+# the one-probe run's at the same point. Scaling in docs/performance.md.
+python3 - "$D" "$work/probes.cfg" <<'PY'
+import sys
+src = open(sys.argv[1]).read(); n = 20000
+cut = src.index('output = {')
+probes = ",\n".join('{ name = "p%d"; point = [%r, 0.0]; field = "uy"; }' % (k, 10.0 * (k + 1) / n) for k in range(n))
+open(sys.argv[2], 'w').write(src[:cut] + "output = { probes = (\n" + probes + "\n); };\n")
+PY
+run_deck "$work/probes" "$work/probes.cfg"
+[ "$(grep -c '"p[0-9]*":' "$work/probes/summary.json")" -eq 20000 ] || fail "summary.json lacks some of the 20000 probes"
+run_deck "$work/plain" $D
+within "$(json_value p19999 "$work/probes/summary.json")" "$(tip "$work/plain")" 1e-12 "probe 20000 of 20000 (x = L) = tip_uy"
