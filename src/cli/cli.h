@@ -13,16 +13,15 @@
 enum {
   CLI_WIDTH = 100, /* every help text fits a terminal this many columns wide */
   CLI_USAGE = 2,   /* exit status of a bad command line, as of bad input (docs/input.md) */
-  CLI_STOP = -1,   /* a word handler's "stop here" */
-  MAX_OVERRIDES = 256
+  CLI_STOP = -1    /* a word handler's "stop here" */
 };
 
 typedef struct {
   const MicaCommand *command;
   const char *deck_path;
   const char *outdir; /* NULL: out/<deck name> */
-  const char *overrides[MAX_OVERRIDES];
-  int noverrides;
+  const char **overrides; /* room for one per argument: no --set is ever turned away */
+  int noverrides, room;
   int help, version; /* asked for; the parser stops at either */
 } Invocation;
 

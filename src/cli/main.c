@@ -34,8 +34,8 @@ static int set_output(Invocation *inv, const char *who, const char *value) {
 }
 
 static int add_override(Invocation *inv, const char *who, const char *value) {
-  if (inv->noverrides == MAX_OVERRIDES) {
-    fprintf(stderr, "%s: more than %d --set overrides; put the settings in the deck\n", who, MAX_OVERRIDES);
+  if (inv->noverrides == inv->room) { /* cannot happen: each --set is at least one argument */
+    fprintf(stderr, "%s: more --set overrides than arguments\n", who);
     return CLI_USAGE;
   }
   inv->overrides[inv->noverrides++] = value;
@@ -279,8 +279,16 @@ cleanup:
 
 int main(int argc, char **argv) {
   Invocation inv = {0};
+  if (MICA_MALLOC(inv.overrides, argc)) {
+    mica_error_report("mica");
+    return 1;
+  }
+  inv.room = argc;
   int done, status = parse_arguments(argc, argv, &inv, &done);
-  if (done || status) return status;
+  if (done || status) {
+    free(inv.overrides);
+    return status;
+  }
   /* MPI starts only under a launcher (mpirun sets these): a plain `mica` run is one serial process and
    * pays neither MPI's start-up time nor its one-time allocations. */
   const int launched = getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMIX_RANK") || getenv("PMI_RANK");
@@ -293,5 +301,6 @@ int main(int argc, char **argv) {
   if (ierr && !mica_parallel_error_agreed()) mica_parallel_abort("mica", mica_exit_status(ierr));
   if (ierr && mica_parallel_rank() == 0) mica_error_report("mica");
   if (launched) MPI_Finalize();
+  free(inv.overrides);
   return mica_exit_status(ierr);
 }

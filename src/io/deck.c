@@ -45,17 +45,32 @@ static const char *syntax_hint(const char *libconfig_text) {
   return "";
 }
 
+/* Every setting's origin, from its line of the expanded text back to its file and line. libconfig has no
+ * setter for them; the fields are public. */
+static void restore_origins(config_setting_t *setting, const DeckText *text) {
+  DeckLine origin = deck_text_line(text, (int)setting->line);
+  setting->line = (unsigned)origin.line;
+  setting->file = origin.line ? text->files[origin.file] : NULL;
+  for (int i = 0; config_setting_is_aggregate(setting) && i < config_setting_length(setting); i++)
+    restore_origins(config_setting_get_elem(setting, (unsigned)i), text);
+}
+
 static int read_file(MicaDeck *deck) {
-  FILE *probe = fopen(deck->path, "r");
-  MICA_CHECK(probe, MICA_ERR_INPUT, "cannot read deck '%s': %s", deck->path, strerror(errno));
-  fclose(probe);
-  config_set_include_dir(deck->config, deck->include_dir);
-  if (config_read_file(deck->config, deck->path)) return MICA_SUCCESS;
-  const char *file = config_error_file(deck->config) ? config_error_file(deck->config) : deck->path;
-  if (config_error_type(deck->config) == CONFIG_ERR_FILE_IO)
-    MICA_ERROR(MICA_ERR_INPUT, "cannot read deck '%s'", file);
-  MICA_ERROR(MICA_ERR_INPUT, "%s:%d: %s%s", file, config_error_line(deck->config), config_error_text(deck->config),
-             syntax_hint(config_error_text(deck->config)));
+  DeckText text;
+  MICA_CALL(deck_text_read(deck->path, deck->include_dir, &text));
+  int ierr = MICA_SUCCESS;
+  if (config_read_string(deck->config, text.text)) {
+    restore_origins(config_root_setting(deck->config), &text);
+  } else {
+    DeckLine origin = deck_text_line(&text, config_error_line(deck->config));
+    const char *reason = config_error_text(deck->config);
+    ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_INPUT, "%s:%d: %s%s", text.files[origin.file],
+                          origin.line, reason, syntax_hint(reason));
+  }
+  deck->files = text.files, deck->nfiles = text.nfiles; /* the settings' origins point into them */
+  text.files = NULL, text.nfiles = 0;
+  deck_text_free(&text);
+  return ierr;
 }
 
 /* ---- overrides ---- */
@@ -103,7 +118,11 @@ static int record_override(MicaDeck *deck, const char *text) {
  * starts like a string, array, list or group but does not parse is a mistake, not a word. */
 static int parse_override_value(const char *text, const char *value_text, config_t *scratch,
                                 config_setting_t **value) {
-  MICA_CALL(deck_parse_value(scratch, value_text, value));
+  char *rewritten;
+  MICA_CALL(deck_text_value(text, value_text, &rewritten));
+  int ierr = deck_parse_value(scratch, rewritten, value);
+  free(rewritten);
+  MICA_CALL(ierr);
   if (*value) return MICA_SUCCESS;
   const char *start = value_text + strspn(value_text, " \t");
   if (strchr("[({\"", *start) && *start) {
@@ -277,6 +296,8 @@ int mica_deck_destroy(MicaDeck **deck) {
   free(d->path);
   free(d->name);
   free(d->include_dir);
+  for (int i = 0; i < d->nfiles; i++) free(d->files[i]);
+  free(d->files);
   free(d->list_path);
   MICA_FREE(*deck);
   return MICA_SUCCESS;

@@ -104,10 +104,12 @@ static int evaluate_string(const MicaDeck *deck, const DeckParams *params, const
   return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
 }
 
-/* An integer setting written as 2.0 is refused: the author may have meant a length, not a count. */
-static int refuse_float(const MicaDeck *deck, const config_setting_t *setting) {
+/* An integer setting written as 2.0 is refused: the author may have meant a length, not a count. A
+ * whole number out of range says so first: 200000000000000000000 reaches here as a float (deck_text.c). */
+static int refuse_float(const MicaDeck *deck, const MicaDeckKey *key, const config_setting_t *setting) {
   char path[DECK_PATH_MAX], number[32];
   double value = config_setting_get_float(setting);
+  if (value == nearbyint(value)) MICA_CALL(check_range(deck, key, setting, value));
   deck_setting_path(setting, path, sizeof path);
   deck_format_number(value, number, sizeof number);
   if (value == nearbyint(value) && fabs(value) < 1e15)
@@ -118,20 +120,26 @@ static int refuse_float(const MicaDeck *deck, const config_setting_t *setting) {
 int deck_eval_number(const MicaDeck *deck, const DeckParams *params, const MicaDeckKey *key,
                      const config_setting_t *setting, int integer, double *value) {
   const char *expected = integer ? "an integer" : "a number";
-  char path[DECK_PATH_MAX];
-  deck_setting_path(setting, path, sizeof path);
   int type = config_setting_type(setting);
-  if (integer && type == CONFIG_TYPE_FLOAT) return refuse_float(deck, setting);
-  if (type == CONFIG_TYPE_STRING)
+  if (integer && type == CONFIG_TYPE_FLOAT) return refuse_float(deck, key, setting);
+  if (type == CONFIG_TYPE_STRING) {
     MICA_CALL(evaluate_string(deck, params, setting, expected, value));
-  else if (deck_is_number(setting))
+  } else if (deck_is_number(setting)) {
     *value = deck_number_value(setting);
-  else
+  } else { /* the path only for the message: naming a list element costs libconfig a search of the list */
+    char path[DECK_PATH_MAX];
+    deck_setting_path(setting, path, sizeof path);
     return DECK_FAIL(deck, setting, "%s must be %s, not %s", path, expected, deck_type_name(setting));
+  }
   if (integer && *value != nearbyint(*value)) {
     char described[DECK_MESSAGE_MAX];
     describe_value(setting, *value, described, sizeof described);
     return DECK_FAIL(deck, setting, "%s is not an integer", described);
+  }
+  if (integer && !(fabs(*value) < 0x1p63)) { /* a long holds it */
+    char described[DECK_MESSAGE_MAX];
+    describe_value(setting, *value, described, sizeof described);
+    return DECK_FAIL(deck, setting, "%s does not fit in a 64-bit integer", described);
   }
   MICA_CALL(check_range(deck, key, setting, *value));
   return MICA_SUCCESS;

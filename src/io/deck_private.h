@@ -1,5 +1,6 @@
 /* Internals shared by the deck files: deck.c (loading, overrides, defaults, variants, output),
- * deck_check.c (schema checks), deck_get.c (getters and locations), deck_tree.c (libconfig helpers). */
+ * deck_check.c (schema checks), deck_get.c (getters and locations), deck_tree.c (libconfig helpers),
+ * deck_text.c (the text libconfig parses: includes expanded, integer literals kept whole). */
 #ifndef MICA_DECK_PRIVATE_H
 #define MICA_DECK_PRIVATE_H
 
@@ -23,12 +24,40 @@ typedef struct {
   double *values;
 } DeckParams;
 
+/* ---- deck_text.c: the text libconfig parses ---- */
+
+/* Where a line of the expanded text came from: files[file], line `line`. */
+typedef struct {
+  int file, line;
+} DeckLine;
+
+typedef struct {
+  char *text; /* the deck with its @includes in place and its integers rewritten */
+  size_t length, capacity;
+  DeckLine *lines; /* lines[k]: origin of line k + 1 of text */
+  int nlines, lines_capacity;
+  char **files; /* the deck, then each included file as opened */
+  int nfiles;
+} DeckText;
+
+/* Reads the deck at path, expands its @include lines (relative to include_dir) and rewrites the integer
+ * literals libconfig 1.5 would wrap: past 32 bits they get an L, past 64 bits a ".0" (a real number); a hex
+ * or L literal past 64 bits is an error "file:line: ...". */
+int deck_text_read(const char *path, const char *include_dir, DeckText *text);
+/* The same rewriting for the value of --set `set` (errors say "--set SET: ..."); *rewritten is malloc'd. */
+int deck_text_value(const char *set, const char *value, char **rewritten);
+/* Origin of line `line` (1-based) of the text; {0, 0} if out of range. */
+DeckLine deck_text_line(const DeckText *text, int line);
+void deck_text_free(DeckText *text);
+
 struct MicaDeck {
   config_t *config;           /* owned by the base deck; a variant borrows its base's */
   const MicaDeckKey *schema;
   char *path;                 /* the deck file as given on the command line */
   char *name;                 /* file stem, or the variant's name */
   char *include_dir;          /* the deck's directory, for @include */
+  char **files;               /* base deck: the deck and its included files, named by the settings' origins */
+  int nfiles;
   DeckOverride *overrides;    /* base deck only */
   int noverrides;
   DeckParams params;          /* for a variant: the base's with the element's parameters merged in */

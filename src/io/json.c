@@ -24,6 +24,9 @@ typedef struct JsonNode {
   } value;
   struct JsonNode **items; /* members of an object or elements of an array, in insertion order */
   int nitems, capacity;
+  int *slots; /* an object of many members: open-addressing hash of their keys (item index, -1 empty), so that
+               * adding n members costs n, not n² (a summary holds one per probe) */
+  int nslots; /* 0 or a power of two, more than twice nitems */
   struct JsonNode *parent;
 } JsonNode;
 
@@ -42,6 +45,7 @@ static void node_destroy(JsonNode *node) {
   if (!node) return;
   for (int i = 0; i < node->nitems; i++) node_destroy(node->items[i]);
   free(node->items);
+  free(node->slots);
   if (node->kind == JSON_STRING) free(node->value.string);
   free(node->key);
   free(node);
@@ -92,10 +96,41 @@ static int check_key(const MicaJson *json, const char *key) {
   return MICA_SUCCESS;
 }
 
+enum { HASHED_FROM = 16 }; /* members; a short object is searched in order */
+
+static unsigned hash_key(const char *key) {
+  unsigned h = 2166136261u; /* FNV-1a */
+  for (const unsigned char *c = (const unsigned char *)key; *c; c++) h = (h ^ *c) * 16777619u;
+  return h;
+}
+
+/* The slot of key: the one holding its member, or the empty one where it would go. */
+static int slot_of(const JsonNode *object, const char *key) {
+  const unsigned mask = (unsigned)object->nslots - 1;
+  unsigned slot = hash_key(key) & mask;
+  while (object->slots[slot] >= 0 && strcmp(object->items[object->slots[slot]]->key, key) != 0)
+    slot = (slot + 1) & mask;
+  return (int)slot;
+}
+
 static int find_member(const JsonNode *object, const char *key) {
+  if (object->nslots) return object->slots[slot_of(object, key)];
   for (int i = 0; i < object->nitems; i++)
     if (strcmp(object->items[i]->key, key) == 0) return i;
   return -1;
+}
+
+/* Makes the hash fit nitems + 1 members: rebuilt at twice the size when half full. */
+static int grow_slots(JsonNode *object) {
+  if (object->nitems + 1 < HASHED_FROM || 2 * (object->nitems + 1) < object->nslots) return MICA_SUCCESS;
+  int nslots = object->nslots ? 2 * object->nslots : 4 * HASHED_FROM;
+  int *slots;
+  MICA_CALL(MICA_MALLOC(slots, nslots));
+  free(object->slots);
+  object->slots = slots, object->nslots = nslots;
+  for (int i = 0; i < nslots; i++) slots[i] = -1;
+  for (int i = 0; i < object->nitems; i++) slots[slot_of(object, object->items[i]->key)] = i;
+  return MICA_SUCCESS;
 }
 
 /* Adds node to the open container; in an object, a member with the same key is replaced in place. */
@@ -117,6 +152,14 @@ static int attach(MicaJson *json, JsonNode *node) {
     }
     open->capacity = grown;
   }
+  if (open->kind == JSON_OBJECT) {
+    int ierr = grow_slots(open);
+    if (ierr) {
+      node_destroy(node);
+      return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+    }
+  }
+  if (open->nslots) open->slots[slot_of(open, node->key)] = open->nitems;
   open->items[open->nitems++] = node;
   return MICA_SUCCESS;
 }

@@ -767,6 +767,7 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   double *u = NULL;
   int ierr = MICA_SUCCESS;
   memset(&stats, 0, sizeof stats);
+  memset(&out, 0, sizeof out);
   MICA_CALL_CLEANUP(run_problem_build_reusing(deck, &rp, reuse));
   MICA_CALL_CLEANUP(run_quadrature_fields_check(deck, &rp));
   MICA_CALL_CLEANUP(run_check_probes(&rp));
@@ -776,7 +777,6 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(add_counts(&rp, &totals, summary));
   MICA_CALL_CLEANUP(run_parallel_counts(&rp, summary));
   MICA_CALL_CLEANUP(read_newton(deck, rp.solid, &nopt));
-  memset(&out, 0, sizeof out);
   out.rp = &rp, out.outdir = outdir;
   MICA_CALL_CLEANUP(read_vtu(deck, &rp, &out));
   MICA_CALL_CLEANUP(MICA_CALLOC(u, rp.solid->ndof));
@@ -801,6 +801,7 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
          stats.iterations_total, stats.linear_name);
 cleanup:
   free(u);
+  run_output_free(&out);
   run_problem_free(&rp);
   return ierr;
 }

@@ -113,15 +113,15 @@ typedef struct RunOutput {
   const char *outdir;
   int vtu;
   int mesh;           /* output.mesh: also the fields on the cells, mesh_NNNN.vtu */
-  int nsteps;
-  double times[1024];
-  char files[1024][32];
-  char mesh_files[1024][32];
+  int nsteps, capacity; /* steps written; grown as needed (cut-backs add steps, so no count is known ahead) */
+  int *steps;           /* the load step of each, naming step_NNNN.vtu and mesh_NNNN.vtu */
+  double *times;        /* its load factor */
   double time_output; /* seconds writing fields per step, error norms and probes (profiles) */
 } RunOutput;
 
 int run_output_step(void *ctx, int step, double t, const double *u);
 int run_output_finish(RunOutput *out);
+void run_output_free(RunOutput *out);
 int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary);
 /* The relative errors run_error_norms reports (L2 of the values, H1 seminorm, energy), without writing them. */
 int run_error_values(RunProblem *rp, const double *u, double *rel_l2, double *rel_h1, double *rel_energy);

@@ -202,8 +202,9 @@ static int write_particles(RunOutput *out, int step, const double *u) {
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(particle_cache(rp));
   MICA_CALL_CLEANUP(fields_compute(rp, rp->at_particles, rp->disc->x, u, &f));
-  snprintf(out->files[out->nsteps], sizeof out->files[0], "step_%04d.vtu", step);
-  MICA_CALL_CLEANUP(mica_path_join(out->outdir, out->files[out->nsteps], &path));
+  char name[32];
+  snprintf(name, sizeof name, "step_%04d.vtu", step);
+  MICA_CALL_CLEANUP(mica_path_join(out->outdir, name, &path));
   MICA_CALL_CLEANUP(mica_vtu_write(path, rp->disc->dim, rp->disc->nparticles, rp->disc->x, field_list(rp, &f, fields),
                                    fields));
 cleanup:
@@ -222,8 +223,9 @@ static int write_mesh(RunOutput *out, int step, const double *u) {
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mesh_cache(rp));
   MICA_CALL_CLEANUP(fields_compute(rp, rp->at_mesh, mesh->x, u, &f));
-  snprintf(out->mesh_files[out->nsteps], sizeof out->mesh_files[0], "mesh_%04d.vtu", step);
-  MICA_CALL_CLEANUP(mica_path_join(out->outdir, out->mesh_files[out->nsteps], &path));
+  char name[32];
+  snprintf(name, sizeof name, "mesh_%04d.vtu", step);
+  MICA_CALL_CLEANUP(mica_path_join(out->outdir, name, &path));
   const MicaVtkCells cells = {mesh->ncells, mesh->offsets, mesh->conn, mesh->type};
   MICA_CALL_CLEANUP(mica_vtu_write_cells(path, mesh->dim, mesh->npoints, mesh->x, &cells, field_list(rp, &f, fields),
                                          fields));
@@ -233,13 +235,24 @@ cleanup:
   return ierr;
 }
 
+/* Room for one more step in out->steps and out->times. */
+static int output_grow(RunOutput *out) {
+  if (out->nsteps < out->capacity) return MICA_SUCCESS;
+  const int grown = out->capacity ? 2 * out->capacity : 64;
+  MICA_CALL(MICA_REALLOC(out->steps, grown));
+  MICA_CALL(MICA_REALLOC(out->times, grown));
+  out->capacity = grown;
+  return MICA_SUCCESS;
+}
+
 int run_output_step(void *ctx, int step, double t, const double *u) {
   RunOutput *out = ctx;
-  if (!out->vtu || out->nsteps >= 1024 || mica_parallel_rank() != 0) return MICA_SUCCESS; /* MPI: rank 0 writes */
+  if (!out->vtu || mica_parallel_rank() != 0) return MICA_SUCCESS; /* MPI: rank 0 writes */
   const double start = mica_wtime();
+  MICA_CALL(output_grow(out));
   int ierr = write_particles(out, step, u);
   if (!ierr && out->mesh) ierr = write_mesh(out, step, u);
-  if (!ierr) out->times[out->nsteps++] = t;
+  if (!ierr) out->steps[out->nsteps] = step, out->times[out->nsteps++] = t;
   out->time_output += mica_wtime() - start;
   return ierr;
 }
@@ -249,17 +262,32 @@ int run_output_step(void *ctx, int step, double t, const double *u) {
 int run_output_finish(RunOutput *out) {
   if (!out->vtu || out->nsteps == 0) return MICA_SUCCESS;
   static const char *const names[2] = {"particles", "mesh"};
-  const char *files[2 * 1024];
+  static const char *const patterns[2] = {"step_%04d.vtu", "mesh_%04d.vtu"};
+  enum { NAME_SIZE = 32 };
   const int nparts = out->mesh ? 2 : 1;
-  for (int i = 0; i < out->nsteps; i++) {
-    files[i * nparts] = out->files[i];
-    if (out->mesh) files[i * nparts + 1] = out->mesh_files[i];
+  const size_t nfiles = (size_t)out->nsteps * (size_t)nparts;
+  char *text = NULL, *path = NULL;
+  const char **files = NULL;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(MICA_MALLOC(text, nfiles * NAME_SIZE));
+  MICA_CALL_CLEANUP(MICA_MALLOC(files, nfiles));
+  for (size_t i = 0; i < nfiles; i++) {
+    files[i] = text + i * NAME_SIZE;
+    snprintf(text + i * NAME_SIZE, NAME_SIZE, patterns[i % (size_t)nparts], out->steps[i / (size_t)nparts]);
   }
-  char *path = NULL;
-  MICA_CALL(mica_path_join(out->outdir, "solution.pvd", &path));
-  int ierr = mica_pvd_write_parts(path, out->nsteps, out->times, nparts, names, files);
+  MICA_CALL_CLEANUP(mica_path_join(out->outdir, "solution.pvd", &path));
+  MICA_CALL_CLEANUP(mica_pvd_write_parts(path, out->nsteps, out->times, nparts, names, files));
+cleanup:
   free(path);
+  free(files);
+  free(text);
   return ierr;
+}
+
+void run_output_free(RunOutput *out) {
+  MICA_FREE(out->steps);
+  MICA_FREE(out->times);
+  out->nsteps = out->capacity = 0;
 }
 
 /* ---- error norms ----------------------------------------------------------------------------------------- */

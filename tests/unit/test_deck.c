@@ -441,6 +441,54 @@ static void test_print_schema_narrow(void **state) {
   free(text);
 }
 
+/* ---- integers past 32 bits (libconfig 1.5 alone wraps them; deck_text.c keeps them whole) ---- */
+
+static void test_big_integers_keep_their_value(void **state) {
+  (void)state;
+  MicaDeck *deck = load_ok("tests/decks/big_numbers.cfg", 0, no_overrides);
+  assert_true(read_float(deck, "parameters.E") == 2e20);
+  assert_true(read_float(deck, "parameters.G") == 7e10);
+  assert_true(read_float(deck, "parameters.H") == 4294967296.0);
+  double values[3];
+  int count;
+  assert_int_equal(mica_deck_floats(deck, "geometry.upper", values, 3, &count), MICA_SUCCESS);
+  assert_true(count == 2 && values[0] == 2e20 && values[1] == 7e10);
+  assert_int_equal(mica_deck_floats(deck, "geometry.lower", values, 3, &count), MICA_SUCCESS);
+  assert_true(count == 2 && values[0] == 4294967296.0 && values[1] == -9e9);
+  assert_string_equal(read_string(deck, "output.probes.[0].name"), "4294967301 # not a comment");
+  mica_deck_destroy(&deck);
+}
+
+static void test_big_integers_out_of_range(void **state) {
+  (void)state;
+  expect_input_error("tests/decks/big_count.cfg", 0, no_overrides, "big_count.cfg:4: ",
+                     "particles.count.[1] = 4294967301 is out of range [2, 100000]");
+  expect_input_error("tests/decks/big_order.cfg", 0, no_overrides, "big_order.cfg:4: ",
+                     "mls.order = 4294967298 is out of range [0, 3]");
+  expect_input_error("tests/decks/big_order_real.cfg", 0, no_overrides, "big_order_real.cfg:3: ",
+                     "mls.order = 2e+20 is out of range [0, 3]");
+  expect_input_error("tests/decks/big_long.cfg", 0, no_overrides, "big_long.cfg:3: ",
+                     "99999999999999999999 does not fit in a 64-bit integer");
+  const char *const count[] = {"particles.count=[21,4294967301]"};
+  expect_input_error("tests/decks/minimal.cfg", 1, count, "--set particles.count=[21,4294967301]: ",
+                     "particles.count.[1] = 4294967301 is out of range [2, 100000]");
+  const char *const order[] = {"mls.order=4294967298"};
+  expect_input_error("tests/decks/minimal.cfg", 1, order, "--set mls.order=4294967298: ",
+                     "mls.order = 4294967298 is out of range [0, 3]");
+  const char *const jitter[] = {"particles.jitter=-4294967296"};
+  expect_input_error("tests/decks/minimal.cfg", 1, jitter, "--set particles.jitter=-4294967296: ",
+                     "particles.jitter = -4294967296 is out of range [0, 0.5]");
+}
+
+static void test_big_integers_in_included_files(void **state) {
+  (void)state;
+  expect_input_error("tests/decks/include_big.cfg", 0, no_overrides, "tests/decks/include_big_part.cfg:3: ",
+                     "particles.count.[0] = 4294967301 is out of range [2, 100000]");
+  const char *const count[] = {"particles.count=[21,21]"};
+  expect_input_error("tests/decks/include_big.cfg", 1, count, "tests/decks/include_big.cfg:4: ",
+                     "output.verbose must be true or false, not an integer");
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_values_and_parameters),
@@ -466,6 +514,9 @@ int main(void) {
       cmocka_unit_test(test_write_resolved),
       cmocka_unit_test(test_print_schema),
       cmocka_unit_test(test_print_schema_narrow),
+      cmocka_unit_test(test_big_integers_keep_their_value),
+      cmocka_unit_test(test_big_integers_out_of_range),
+      cmocka_unit_test(test_big_integers_in_included_files),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
