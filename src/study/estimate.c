@@ -12,14 +12,16 @@
 #include "run.h"
 
 /* Calibrated against measured peaks (docs/performance.md §the cost estimate): the factor's entries per
- * matrix entry, n log2 n in 2-D and n^(4/3) in 3-D (nested dissection), and the bytes a factor entry costs
+ * matrix row, a log2 n − b in 2-D and c n^(1/3) in 3-D (nested dissection), and the bytes a factor entry costs
  * with its indices and workspace (UMFPACK twice CHOLMOD's, §linear solvers). */
 enum { ESTIMATE_SAFETY_PERCENT = 125 };
-static const double FILL_2D = 0.08, FILL_3D = 0.045;
+static const double FILL_2D_SLOPE = 0.6, FILL_2D_OFFSET = 4.0, FILL_3D = 0.13;
 static const double CHOLMOD_BYTES = 12.0, UMFPACK_BYTES = 24.0;
 /* Conservative rates for the time: seconds per (point × support) of shape functions, per (point × support² ×
  * unknowns²) of assembly, and the factor's flop rate. */
-static const double SECONDS_SHAPE = 1.5e-6, SECONDS_ASSEMBLE = 4e-9, FLOP_RATE = 1e9;
+static const double SECONDS_SHAPE = 3e-7, SECONDS_ASSEMBLE = 1e-9, FLOP_RATE = 1e10;
+/* The process before any of it: the program, its libraries, the deck. */
+static const double BASE_BYTES = 32e6;
 
 /* ---- counts from the deck --------------------------------------------------------------------------------- */
 
@@ -59,8 +61,9 @@ static int model_unknowns(const MicaDeck *deck, int dim, int *ncomp, int *second
   return MICA_SUCCESS;
 }
 
-/* Particles per support (mean) and particles coupled to one particle, from the dilation (or radius) in
- * spacings: 2δ per axis for a box, the ball's volume for a ball; coupled: within twice the radius. */
+/* Particles per support (mean) and particles coupled to one particle, from the dilation (or radius) δ in
+ * spacings: 2δ per axis for a box, the ball's volume for a ball; coupled: closer than 2δ spacings per axis,
+ * 2 ceil(2δ) − 1 of them (a ball: the ball of radius 2δ). */
 static int support_counts(const MicaDeck *deck, const MicaShapeSpec *shape, const double *count, int dim,
                           double *support, double *coupled) {
   const char *kind, *method;
@@ -86,13 +89,13 @@ static int support_counts(const MicaDeck *deck, const MicaShapeSpec *shape, cons
   const int ball = !strcmp(kind, "ball");
   double box = 1, box2 = 1, mean = 1;
   for (int d = 0; d < dim; d++) {
-    box *= fmin(2 * delta[d] + 1, count[d]);
-    box2 *= fmin(4 * delta[d] + 1, count[d]);
+    box *= fmin(2 * delta[d], count[d]);
+    box2 *= fmin(2 * ceil(2 * delta[d]) - 1, count[d]);
     mean *= delta[d];
   }
   const double pi = 3.14159265358979323846, ball_volume = dim == 2 ? pi : 4 * pi / 3; /* of the unit ball */
-  *support = ball ? fmin(ball_volume * pow(pow(mean, 1.0 / dim) + 0.5, dim), box) : box;
-  *coupled = ball ? fmin(ball_volume * pow(2 * pow(mean, 1.0 / dim) + 1, dim), box2) : box2;
+  *support = ball ? fmin(ball_volume * pow(pow(mean, 1.0 / dim) + 0.25, dim), box) : box;
+  *coupled = ball ? fmin(ball_volume * pow(2 * pow(mean, 1.0 / dim) + 0.5, dim), box2) : box2;
   return MICA_SUCCESS;
 }
 
@@ -148,11 +151,12 @@ static void estimate_cost(int dim, int ncomp, int second, double coupled, RunEst
   const double n = est->dofs, per_row = est->nnz / fmax(n, 1);
   est->factor_entries = 0;
   if (strcmp(est->solver, "cg") != 0)
-    est->factor_entries = fmin(n * per_row * (dim == 3 ? FILL_3D * cbrt(n) : FILL_2D * log2(fmax(n, 2))), n * (n + 1) / 2);
+    est->factor_entries = fmin(n * per_row * (dim == 3 ? FILL_3D * cbrt(n) : fmax(FILL_2D_SLOPE * log2(fmax(n, 2)) - FILL_2D_OFFSET, 1)), n * (n + 1) / 2);
   const double per_entry = !strcmp(est->solver, "umfpack") ? UMFPACK_BYTES : CHOLMOD_BYTES;
   est->factor_bytes = est->factor_entries * per_entry;
   const double vectors = est->dofs * 8 * 16 + P * 8 * (dim + 8); /* Newton's vectors, particles, search */
-  est->bytes = (est->cache_bytes + est->matrix_bytes + est->factor_bytes + vectors) * ESTIMATE_SAFETY_PERCENT / 100;
+  est->bytes = BASE_BYTES + (est->cache_bytes + est->matrix_bytes + est->factor_bytes + vectors) *
+                                ESTIMATE_SAFETY_PERCENT / 100;
   const double flops = est->factor_entries * est->factor_entries / fmax(n, 1);
   est->seconds = Q * S * SECONDS_SHAPE + Q * S * S * ncomp * ncomp * SECONDS_ASSEMBLE + flops / FLOP_RATE;
 }
