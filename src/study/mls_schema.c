@@ -46,6 +46,8 @@ const MicaDeckKey mica_mls_schema[] = {
     {"sample.volume.points", MICA_KEY_INT, "0", 0, 1e8, NULL, 0, 0,
      "random sample points, uniform in the box (0: none)"},
     {"sample.volume.seed", MICA_KEY_INT, "1", 0, 2147483647, NULL, 0, 0, "seed of the volume samples"},
+    {"limits.mls_samples", MICA_KEY_INT, "1000000", 1, 1e8, NULL, 0, 0,
+     "the most samples (line and volume together) a variant evaluates; more are refused before they are made"},
     {"study.variants", MICA_KEY_OVERLAY, NULL, NOLIMIT, NULL, 0, 0,
      "list of variants to compare: ( { name = \"...\"; mls = { order = 2; }; }, ... ), any settings"},
     {"study.repeat", MICA_KEY_INT, "3", 1, 1000, NULL, 0, 0,

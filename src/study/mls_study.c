@@ -88,6 +88,21 @@ static int check_inside(const MicaDeck *deck, const char *path, const GridSpec *
   return MICA_SUCCESS;
 }
 
+/* The samples of a variant, line and volume together, at most limits.mls_samples (checked before either list
+ * is allocated: the schema's ranges alone allow 10^8). */
+static int check_sample_count(const MicaDeck *deck) {
+  long line, volume, limit;
+  MICA_CALL(mica_deck_int(deck, "sample.line.samples", &line));
+  MICA_CALL(mica_deck_int(deck, "sample.volume.points", &volume));
+  MICA_CALL(mica_deck_int(deck, "limits.mls_samples", &limit));
+  if (line + volume <= limit) return MICA_SUCCESS;
+  char where[256];
+  const char *path = line >= volume ? "sample.line.samples" : "sample.volume.points";
+  mica_deck_where(deck, path, where, sizeof where);
+  MICA_ERROR(MICA_ERR_INPUT, "%s: %ld line and %ld volume samples are more than limits.mls_samples = %ld; lower %s "
+             "or raise limits.mls_samples", where, line, volume, limit, path);
+}
+
 static int make_line_samples(const MicaDeck *deck, const GridSpec *g, MlsSample **out, long *nout) {
   const int dim = g->dim;
   double from[3] = {0}, to[3] = {0};
@@ -96,6 +111,7 @@ static int make_line_samples(const MicaDeck *deck, const GridSpec *g, MlsSample 
   MICA_CALL(mica_deck_floats(deck, "sample.line.from", from, 3, &nf));
   MICA_CALL(mica_deck_floats(deck, "sample.line.to", to, 3, &nt));
   MICA_CALL(mica_deck_int(deck, "sample.line.samples", &n));
+  MICA_CALL(check_sample_count(deck));
   char where[256];
   mica_deck_where(deck, nf != dim ? "sample.line.from" : "sample.line.to", where, sizeof where);
   MICA_CHECK(nf == dim && nt == dim, MICA_ERR_INPUT,

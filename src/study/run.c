@@ -107,6 +107,7 @@ static int read_shape(const MicaDeck *deck, MicaShapeSpec *shape, char *mesh, si
     MICA_CALL(require(deck, "geometry.mesh", kind));
     shape->kind = MICA_SHAPE_GMSH;
     MICA_CALL(mesh_path(deck, mesh, mesh_size));
+    MICA_CALL(run_mesh_file_check(deck, mesh));
     shape->mesh_path = mesh;
   }
   return read_size_factor(deck, shape);
@@ -436,6 +437,10 @@ static int build_geometry(const MicaDeck *deck, RunProblem *rp) {
   if (fe) MICA_CALL(run_check_fe_deck(deck, &shape, &layout, &cells, &fe_order));
   double start = mica_wtime();
   MICA_CALL(mica_discretization_create(&shape, &layout, &cells, &rp->disc));
+  if (shape.kind == MICA_SHAPE_GMSH) { /* the counts are the mesh's: estimated once it is read */
+    MICA_CALL(run_estimate(deck, &shape, &layout, &cells, rp->disc, &rp->estimate));
+    MICA_CALL(run_estimate_guard(deck, NULL, rp->disc->dim, &rp->estimate));
+  }
   if (fe) MICA_CALL(run_build_fe(&layout, &cells, fe_order, rp));
   MICA_CALL(run_read_integration(deck, &shape, &layout, &cells, rp));
   MICA_CALL(read_axisymmetric(deck, rp));
@@ -547,10 +552,24 @@ static int take_or_build_geometry(const MicaDeck *deck, RunProblem *rp, RunReuse
   return MICA_SUCCESS;
 }
 
+/* The cost guard (estimate.c): a built-in shape's cost from its counts, before anything is allocated. */
+static int guard_cost(const MicaDeck *deck, RunEstimate *est) {
+  MicaShapeSpec shape;
+  MicaLayoutSpec layout;
+  MicaCellSpec cells;
+  char mesh[1024];
+  MICA_CALL(read_shape(deck, &shape, mesh, sizeof mesh));
+  if (shape.kind == MICA_SHAPE_GMSH) return MICA_SUCCESS; /* build_geometry, once the mesh is read */
+  MICA_CALL(read_layout(deck, shape.dim, 0, &layout, &cells));
+  MICA_CALL(run_estimate(deck, &shape, &layout, &cells, NULL, est));
+  return run_estimate_guard(deck, &layout, shape.dim, est);
+}
+
 int run_problem_build_reusing(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse) {
   memset(rp, 0, sizeof *rp);
   rp->deck = deck;
   rp->reuse = reuse;
+  MICA_CALL(guard_cost(deck, &rp->estimate));
   if (reuse) {
     char *key = NULL;
     MICA_CALL(reuse_key(deck, &key));
@@ -776,6 +795,7 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   print_counts(&rp, &totals);
   MICA_CALL_CLEANUP(add_counts(&rp, &totals, summary));
   MICA_CALL_CLEANUP(run_parallel_counts(&rp, summary));
+  MICA_CALL_CLEANUP(run_estimate_report(&rp.estimate, summary));
   MICA_CALL_CLEANUP(read_newton(deck, rp.solid, &nopt));
   out.rp = &rp, out.outdir = outdir;
   MICA_CALL_CLEANUP(read_vtu(deck, &rp, &out));
@@ -821,6 +841,7 @@ static int run_check(const MicaDeck *deck, const char *outdir, MicaJson *summary
   print_counts(&rp, &totals);
   MICA_CALL_CLEANUP(add_counts(&rp, &totals, summary));
   MICA_CALL_CLEANUP(run_parallel_counts(&rp, summary));
+  MICA_CALL_CLEANUP(run_estimate_report(&rp.estimate, summary));
   const double nnz = (double)totals.nnz;
   const char *size_class = nnz < 1e6 ? "small (seconds)" : nnz < 3e7 ? "medium (minutes)" : "large (hours, or use MPI)";
   MICA_CALL_CLEANUP(mica_json_string(summary, "cost_class", size_class));

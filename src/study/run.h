@@ -16,6 +16,27 @@ typedef struct RunReuse RunReuse;
 int run_reuse_create(RunReuse **reuse);
 int run_reuse_destroy(RunReuse **reuse);
 
+/* The cost of a run from its deck (estimate.c, docs/performance.md §the cost estimate): counts, the peak
+ * memory of the parts (bytes) and a rough time, all in double so that no count wraps. */
+typedef struct RunEstimate {
+  int valid;                   /* 0: not estimated */
+  double particles, points, boundary_points, support, dofs, nnz, factor_entries;
+  double cache_bytes, matrix_bytes, factor_bytes, bytes; /* bytes: the peak of a run, with a safety factor */
+  double seconds;              /* rough: shape functions, one assembly and one factorization */
+  const char *solver;          /* "cholmod", "umfpack" or "cg" (what solver.linear = "auto" would take) */
+} RunEstimate;
+/* From a built-in shape's counts (disc NULL) or a discretization's (a Gmsh mesh). */
+int run_estimate(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                 const MicaCellSpec *cells, const MicaDiscretization *disc, RunEstimate *est);
+/* MICA_ERR_INPUT with the deck line of particles.count (or geometry.mesh; layout NULL), the estimate and the
+ * setting to change when est->bytes exceeds limits.memory_gb (default: the physical memory). */
+int run_estimate_guard(const MicaDeck *deck, const MicaLayoutSpec *layout, int dim, const RunEstimate *est);
+/* Prints the estimate and puts estimate_memory, estimate_seconds, estimate_factor_entries in the summary. */
+int run_estimate_report(const RunEstimate *est, MicaJson *summary);
+double run_physical_memory(void); /* bytes (sysconf), 0 if unknown */
+/* A mesh file must be a regular file of at most limits.mesh_mb, checked before it is opened. */
+int run_mesh_file_check(const MicaDeck *deck, const char *path);
+
 /* Everything a run builds from its deck, and the times of the phases that built it. */
 typedef struct RunProblem {
   const MicaDeck *deck;
@@ -42,6 +63,7 @@ typedef struct RunProblem {
   RunReuse *reuse;              /* NULL: a single run */
   int owns_geometry;            /* 1: disc and mls are this run's to free (else reuse keeps them) */
   int reused_geometry;          /* 1: disc and mls came from the previous run */
+  RunEstimate estimate;         /* the cost guard's estimate (estimate.c), made before the discretization */
 } RunProblem;
 
 /* The dimension of the model's kinematics (3 for an axisymmetric section) and the deck's name of unknown c

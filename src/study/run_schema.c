@@ -200,6 +200,12 @@ const MicaDeckKey mica_run_schema[] = {
      "quadrature_fields_energy. MPI: needs quadrature.error_order > 0, rank 0 writes"},
     /* the sweep (src/study/sweep*.c) */
 
+    {"limits.memory_gb", MICA_KEY_FLOAT, NULL, 1e-3, 1e6, NULL, 0, 0,
+     "the most memory a run may need, GB: a deck whose estimated peak (docs/performance.md §the cost estimate) is "
+     "larger is refused before anything is allocated (default: this machine's physical memory; a larger value "
+     "lets a run try beyond it)"},
+    {"limits.mesh_mb", MICA_KEY_FLOAT, "2048", 1e-3, 1e7, NULL, 0, 0,
+     "the largest geometry.mesh file read, MB (and it must be a regular file, not a device, pipe or directory)"},
     {"sweep.parameters", MICA_KEY_LIST, NULL, NOLIMIT, NULL, 1, 0,
      "the swept settings: ( { path = \"parameters.L\"; values = [4.0, 8.0]; }, ... ); any scalar setting of the run deck"},
     {"sweep.parameters.[].path", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, 0,
