@@ -6,6 +6,7 @@
  * the model's point kernel. For a classical model only the gradient slots are used and this is
  * R_Ia = ∫ P_aJ N_I,J, K = ∫ N_I,J A_aJbL N_K,L. Local blocks are scattered straight into the fixed pattern. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "mica/cosserat.h"
@@ -394,6 +395,21 @@ static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, M
   return assemble_points_general(s, &v, u, R, K);
 }
 
+/* A traction expression that is not finite where it is evaluated is a deck error: say which, where and when,
+ * here rather than later as a non-finite residual that names nothing. */
+static int check_traction(const MicaTraction *tr, int comp, const double x[3], int dim, double t, double value) {
+  if (isfinite(value)) return MICA_SUCCESS;
+  char point[96];
+  if (dim == 3)
+    snprintf(point, sizeof point, "(x, y, z) = (%g, %g, %g)", x[0], x[1], x[2]);
+  else
+    snprintf(point, sizeof point, "(x, y) = (%g, %g)", x[0], x[1]);
+  MICA_ERROR(MICA_ERR_INPUT,
+             "%s: the traction's component %d \"%s\" is %g at %s, load factor %g; write an expression that is "
+             "finite on the whole set",
+             tr->where, comp + 1, mica_function_text(tr->value[comp]), value, point, t);
+}
+
 /* Dead generalized tractions (forces on displacements, couples on rotations): R_kc −= ∫ t̄_c N_k dΓ. */
 static int assemble_tractions(const MicaSolid *s, double t, double *R) {
   const int dim = s->dim, ncomp = s->ncomp;
@@ -405,7 +421,10 @@ static int assemble_tractions(const MicaSolid *s, double t, double *R) {
     for (long p = 0; p < c->npoints; p++) {
       double x[3] = {0, 0, 0}, tv[MICA_MAX_COMP] = {0};
       memcpy(x, set->x + p * dim, sizeof(double) * (size_t)dim);
-      for (int a = 0; a < ncomp; a++) tv[a] = tr->value[a] ? scale * mica_function_eval(tr->value[a], x, t) : 0.0;
+      for (int a = 0; a < ncomp; a++) {
+        tv[a] = tr->value[a] ? scale * mica_function_eval(tr->value[a], x, t) : 0.0;
+        MICA_CALL(check_traction(tr, a, x, dim, t, tv[a]));
+      }
       for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
         for (int a = 0; a < ncomp; a++) R[c->index[e] * ncomp + a] -= set->w[p] * c->N[e] * tv[a];
     }

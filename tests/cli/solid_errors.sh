@@ -15,5 +15,10 @@ expect_failure 2 "use ν < 0.5" -- "$MICA" run $D/bad_poisson.cfg -o "$work/x"
 expect_failure 2 "supporting particles" -- "$MICA" run $D/too_sparse.cfg -o "$work/x"
 expect_failure 2 "plate_hole_truncated.msh:" -- "$MICA" run $D/truncated_mesh.cfg -o "$work/x"
 expect_failure 2 "unknown setting" -- "$MICA" run $D/base.cfg -o "$work/x" --set material.youngs=3
+# a traction that divides by zero on its set: the expression, its deck line, the point and the load factor
+expect_failure 2 'base.cfg:6: the traction'"'"'s component 2 "1/(x-4)" is inf at (x, y) = (4, ' \
+  -- "$MICA" run $D/base.cfg -o "$work/x" --set 'bcs.traction.[0].ty="1/(x-4)"'
+expect_failure 2 '), load factor 1; write an expression that is finite on the whole set' \
+  -- "$MICA" run $D/base.cfg -o "$work/x" --set 'bcs.traction.[0].ty="1/(x-4)"'
 [ ! -e "$work/x" ] || fail "a failed run left $work/x"
 ok "no output directory after failed runs"
