@@ -4,21 +4,21 @@
  *   mica --help | mica help [<command>] | mica <command> --help | mica --version
  *
  * The options are declared once, in the tables below; the parser (options.c) and the help (help.c) both
- * read them. A run writes into a staging directory inside DIR and moves its files into DIR only when it
- * succeeds, so a failed run leaves the results of an earlier one complete and untouched. Exit status:
+ * read them. A run writes into a staging directory beside DIR and swaps it in as DIR with one rename only
+ * when it succeeds (publish.h), so a failed or interrupted run leaves the results of an earlier one complete
+ * and untouched. Exit status:
  * 0 success, 2 bad input (deck or command line), 3 numerical failure, 1 anything else.
  */
-#include <dirent.h>
 #include <mpi.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include "cli.h"
 #include "mica/files.h"
 #include "mica/parallel.h"
+#include "mica/publish.h"
 #include "mica/timer.h"
 
 /* ---- the options ---- */
@@ -164,79 +164,38 @@ static int parse_arguments(int argc, char **argv, Invocation *inv, int *done) {
   return parse_command(argc - at, argv + at, inv, done);
 }
 
-/* Moves every entry of the staging directory into outdir (each rename is atomic). A directory (a sweep's
- * points/) replaces the one of an earlier run, which rename() cannot do while it holds files: the old one
- * goes just before the new one moves in, so a failed run leaves it untouched. */
-static int publish_staging(const char *staging, const char *outdir) {
-  DIR *dir = opendir(staging);
-  MICA_CHECK(dir, MICA_ERR_IO, "cannot read the staging directory %s", staging);
-  struct dirent *entry;
-  int ierr = MICA_SUCCESS;
-  while ((entry = readdir(dir)) && ierr == MICA_SUCCESS) {
-    if (!strcmp(entry->d_name, ".") || !strcmp(entry->d_name, "..")) continue;
-    char *from = NULL, *to = NULL;
-    struct stat info;
-    ierr = mica_path_join(staging, entry->d_name, &from);
-    if (!ierr) ierr = mica_path_join(outdir, entry->d_name, &to);
-    if (!ierr && stat(from, &info) == 0 && S_ISDIR(info.st_mode)) mica_remove_tree(to);
-    if (!ierr && rename(from, to) != 0)
-      ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_IO, "cannot move %s to %s", from, to);
-    free(from);
-    free(to);
-  }
-  closedir(dir);
-  rmdir(staging);
-  return ierr;
-}
-
 static int default_outdir(const MicaDeck *deck, char **outdir) {
   return mica_path_join("out", mica_deck_name(deck), outdir);
 }
 
-/* Parallel runs: ranks other than 0 run the command into a private scratch directory, removed at the end, so
- * that every file of the results is written once, by rank 0 (src/parallel). */
-static int private_outdir(char **staging) {
-  const char *tmp = getenv("TMPDIR");
-  char pattern[1024];
-  snprintf(pattern, sizeof pattern, "%s/mica-rank%d-XXXXXX", tmp && *tmp ? tmp : "/tmp", mica_parallel_rank());
-  MICA_CHECK(mkdtemp(pattern), MICA_ERR_IO, "rank %d cannot make a scratch directory %s", mica_parallel_rank(),
-             pattern);
-  MICA_CALL(MICA_MALLOC(*staging, strlen(pattern) + 1));
-  strcpy(*staging, pattern);
-  return MICA_SUCCESS;
-}
-
-/* Rank 0: the output directory, its staging directory and the resolved deck in it. */
-static int prepare_outdir(const Invocation *inv, const MicaDeck *deck, char **outdir, char **staging,
-                          int *outdir_existed) {
+/* Rank 0: the output directory's staging directory (publish.h) and the resolved deck in it. Ranks other
+ * than 0 run the command into a private scratch directory, removed at the end, so that every file of the
+ * results is written once, by rank 0 (src/parallel). */
+static int prepare_outdir(const Invocation *inv, const MicaDeck *deck, char **outdir, MicaStaging **staging) {
   char *path = NULL;
+  if (mica_parallel_rank() != 0) return mica_staging_create_scratch(mica_parallel_rank(), staging);
   if (inv->outdir) {
     MICA_CALL(MICA_MALLOC(*outdir, strlen(inv->outdir) + 1));
     strcpy(*outdir, inv->outdir);
   } else {
     MICA_CALL(default_outdir(deck, outdir));
   }
-  struct stat info;
-  *outdir_existed = stat(*outdir, &info) == 0;
-  char name[64];
-  snprintf(name, sizeof name, ".staging-%ld", (long)getpid());
-  MICA_CALL(mica_path_join(*outdir, name, staging));
-  MICA_CALL(mica_make_dir(*staging));
-  MICA_CALL(mica_path_join(*staging, "resolved.cfg", &path));
+  MICA_CALL(mica_staging_create_results(*outdir, staging));
+  MICA_CALL(mica_path_join(mica_staging_dir(*staging), "resolved.cfg", &path));
   int ierr = mica_deck_write_resolved(deck, path);
   free(path);
   return ierr;
 }
 
 /* Rank 0: summary.json into the staging directory, then everything into outdir. */
-static int publish(const char *staging, const char *outdir, MicaJson *summary, double start) {
+static int publish(MicaStaging *staging, const char *outdir, MicaJson *summary, double start) {
   char *path = NULL;
   MICA_CALL(mica_json_number(summary, "time_total", mica_wtime() - start));
-  MICA_CALL(mica_path_join(staging, "summary.json", &path));
+  MICA_CALL(mica_path_join(mica_staging_dir(staging), "summary.json", &path));
   int ierr = mica_json_write(summary, path);
   free(path);
   MICA_CALL(ierr);
-  MICA_CALL(publish_staging(staging, outdir));
+  MICA_CALL(mica_staging_publish(staging));
   printf("results in %s/ (summary.json, resolved.cfg)\n", outdir);
   return MICA_SUCCESS;
 }
@@ -247,30 +206,28 @@ static int publish(const char *staging, const char *outdir, MicaJson *summary, d
 static int run_command(const Invocation *inv) {
   MicaDeck *deck = NULL;
   MicaJson *summary = NULL;
-  char *outdir = NULL, *staging = NULL;
-  int ierr = MICA_SUCCESS, outdir_existed = 1;
+  char *outdir = NULL;
+  MicaStaging *staging = NULL;
+  int ierr = MICA_SUCCESS;
   const int root = mica_parallel_rank() == 0;
   const double start = mica_wtime();
   ierr = mica_deck_load(inv->deck_path, inv->command->schema, inv->noverrides, inv->overrides, &deck);
   if (!ierr) ierr = mica_parallel_inject("deck");
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
-  ierr = root ? prepare_outdir(inv, deck, &outdir, &staging, &outdir_existed) : private_outdir(&staging);
+  ierr = prepare_outdir(inv, deck, &outdir, &staging);
   if (!ierr) ierr = mica_json_create(&summary);
   if (!ierr) ierr = mica_json_string(summary, "status", "ok");
   if (!ierr) ierr = mica_json_string(summary, "command", inv->command->name);
   if (!ierr) ierr = mica_json_string(summary, "deck", inv->deck_path);
   if (!ierr && mica_parallel_active()) ierr = mica_json_int(summary, "ranks", mica_parallel_size());
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
-  ierr = inv->command->run(deck, staging, summary);
+  ierr = inv->command->run(deck, mica_staging_dir(staging), summary);
   if (!ierr) ierr = mica_parallel_inject("output");
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
   if (root) ierr = publish(staging, outdir, summary, start);
 cleanup:
   ierr = mica_parallel_agree(ierr); /* every rank passes here once more: a failure of rank 0's publishing */
-  if (ierr && staging && root) mica_remove_tree(staging);
-  if (staging && !root) mica_remove_tree(staging);
-  if (ierr && !outdir_existed && outdir) rmdir(outdir); /* only if empty: never removes results */
-  free(staging);
+  mica_staging_destroy(&staging); /* the staging directory of a failed run, the old results of a good one */
   free(outdir);
   mica_json_destroy(&summary);
   mica_deck_destroy(&deck);
