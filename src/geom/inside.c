@@ -210,7 +210,7 @@ static int read_mesh(MicaBody *b) {
   MICA_CHECK(b->shape.mesh_path && b->shape.mesh_path[0], MICA_ERR_INPUT, "gmsh: no mesh file given");
   snprintf(b->path, sizeof b->path, "%s", b->shape.mesh_path);
   b->shape.mesh_path = b->path;
-  MICA_CALL(gmsh_read(b->path, &b->mesh));
+  MICA_CALL(gmsh_read(b->path, b->shape.mesh_size_factor, &b->mesh));
   for (long e = 0; e < b->mesh.nelements; e++)
     if (gmsh_element_dim(b->mesh.type[e]) > b->mesh_dim) b->mesh_dim = gmsh_element_dim(b->mesh.type[e]);
   MICA_CHECK(b->mesh_dim == 2 || b->mesh_dim == 3, MICA_ERR_INPUT, "%s: the mesh has no 2-D or 3-D elements",
