@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mica/text.h"
 #include "deck_private.h"
 
 typedef struct {
@@ -18,28 +19,6 @@ typedef struct {
 static int check_setting(const CheckContext *context, const config_setting_t *setting, const char *schema_path);
 
 /* ---- suggestions ---- */
-
-/* Levenshtein distance; long words count as far apart. */
-static int edit_distance(const char *a, const char *b) {
-  enum { LONGEST = 80 };
-  size_t la = strlen(a), lb = strlen(b);
-  if (la >= LONGEST || lb >= LONGEST) return INT_MAX / 2;
-  int row[LONGEST];
-  for (size_t j = 0; j <= lb; j++) row[j] = (int)j;
-  for (size_t i = 1; i <= la; i++) {
-    int diagonal = row[0];
-    row[0] = (int)i;
-    for (size_t j = 1; j <= lb; j++) {
-      int above = row[j];
-      int best = diagonal + (a[i - 1] != b[j - 1]);
-      if (above + 1 < best) best = above + 1;
-      if (row[j - 1] + 1 < best) best = row[j - 1] + 1;
-      row[j] = best;
-      diagonal = above;
-    }
-  }
-  return row[lb];
-}
 
 static int close_enough(int distance, const char *word) {
   int allowed = (int)strlen(word) / 3;
@@ -79,7 +58,7 @@ static int suggest_key(const MicaDeckKey *schema, const char *schema_path, const
   int best = INT_MAX;
   for (const MicaDeckKey *key = schema; key->path; key++) {
     const char *sibling = child_name(key->path, prefix, name, sizeof name);
-    int distance = sibling ? edit_distance(unknown, sibling) : INT_MAX;
+    int distance = sibling ? mica_text_distance(unknown, sibling) : INT_MAX;
     if (distance < best && close_enough(distance, unknown)) {
       best = distance;
       suggestion->prefix_length = (int)(last_segment(display_path) - display_path);
@@ -89,7 +68,7 @@ static int suggest_key(const MicaDeckKey *schema, const char *schema_path, const
   if (best < INT_MAX) return 1;
   for (const MicaDeckKey *key = schema; key->path; key++) {
     if (strstr(key->path, "[]")) continue;
-    int whole = edit_distance(schema_path, key->path), tail = edit_distance(unknown, last_segment(key->path));
+    int whole = mica_text_distance(schema_path, key->path), tail = mica_text_distance(unknown, last_segment(key->path));
     int distance = close_enough(whole, schema_path) ? whole : close_enough(tail, unknown) ? tail : INT_MAX;
     if (distance < best) {
       best = distance;
@@ -175,7 +154,7 @@ static int find_choice(const char *choices, const char *word, char *closest, siz
     char candidate[128];
     snprintf(candidate, sizeof candidate, "%.*s", (int)length, choice);
     if (strcmp(candidate, word) == 0) return 1;
-    int distance = edit_distance(word, candidate);
+    int distance = mica_text_distance(word, candidate);
     if (distance < best && close_enough(distance, word)) {
       best = distance;
       snprintf(closest, size, "%s", candidate);
