@@ -100,8 +100,10 @@ static size_t number_length(const char *s, int *hex, int *integer, int *suffix) 
       *integer = 0;
       for (i++; isdigit((unsigned char)s[i]);) i++;
     }
-    size_t e = i + 1 + (s[i + 1] == '+' || s[i + 1] == '-');
-    if ((s[i] == 'e' || s[i] == 'E') && isdigit((unsigned char)s[e])) {
+    /* look past the exponent letter only when there is one: s[i] may be the string's NUL */
+    int exponent = s[i] == 'e' || s[i] == 'E';
+    size_t e = exponent ? i + 1 + (s[i + 1] == '+' || s[i + 1] == '-') : i;
+    if (exponent && isdigit((unsigned char)s[e])) {
       *integer = 0;
       for (i = e; isdigit((unsigned char)s[i]);) i++;
     }
