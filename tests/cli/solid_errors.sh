@@ -15,10 +15,23 @@ expect_failure 2 "use ν < 0.5" -- "$MICA" run $D/bad_poisson.cfg -o "$work/x"
 expect_failure 2 "supporting particles" -- "$MICA" run $D/too_sparse.cfg -o "$work/x"
 expect_failure 2 "plate_hole_truncated.msh:" -- "$MICA" run $D/truncated_mesh.cfg -o "$work/x"
 expect_failure 2 "unknown setting" -- "$MICA" run $D/base.cfg -o "$work/x" --set material.youngs=3
-# a traction that divides by zero on its set: the expression, its deck line, the point and the load factor
-expect_failure 2 'base.cfg:6: the traction'"'"'s component 2 "1/(x-4)" is inf at (x, y) = (4, ' \
+# a traction that divides by zero on its set: the setting, the expression, where it was given, the point and
+# the load factor
+expect_failure 2 '--set bcs.traction.[0].ty="1/(x-4)": bcs.traction.[0].ty "1/(x-4)" is inf at (x, y) = (4, ' \
   -- "$MICA" run $D/base.cfg -o "$work/x" --set 'bcs.traction.[0].ty="1/(x-4)"'
 expect_failure 2 '), load factor 1; write an expression that is finite on the whole set' \
   -- "$MICA" run $D/base.cfg -o "$work/x" --set 'bcs.traction.[0].ty="1/(x-4)"'
+# the same for a prescribed displacement, a body force and an exact solution's derivative, each with its deck line
+# (the first point: the 4-point Gauss rule on a cell of height 0.5, y = 0.25 (1 - 0.861136), as printed)
+expect_failure 2 'nonfinite_dirichlet.cfg:7: bcs.dirichlet.[0].uy "1/x" is inf at (x, y) = (0, 0.0347159), load factor 1; write an expression that is finite on the whole set' \
+  -- "$MICA" run $D/nonfinite_dirichlet.cfg -o "$work/x"
+for method in penalty lagrange; do
+  expect_failure 2 'nonfinite_dirichlet.cfg:7: bcs.dirichlet.[0].uy "1/x" is inf at (x, y) = (0, ' \
+    -- "$MICA" run $D/nonfinite_dirichlet.cfg -o "$work/x" --set bc.method=$method
+done
+expect_failure 2 'nonfinite_body.cfg:8: loads.by "sqrt(x - 5)" is NaN at (x, y) = (0.0347159, 0.0347159), load factor 1; write an expression that is finite in the whole body' \
+  -- "$MICA" run $D/nonfinite_body.cfg -o "$work/x"
+expect_failure 2 'nonfinite_exact.cfg:9: the x-derivative of exact.ux "d(sqrt(x))/dx" is inf at (x, y) = (0, 0), load factor 1' \
+  -- "$MICA" run $D/nonfinite_exact.cfg -o "$work/x"
 [ ! -e "$work/x" ] || fail "a failed run left $work/x"
 ok "no output directory after failed runs"
