@@ -69,16 +69,17 @@ static int choose_linear_solver(Newton *nw) {
   return MICA_SUCCESS;
 }
 
-/* A singular first tangent (at the reference state, before any load has deformed the body) is the deck's doing:
- * some motion of the body, or of part of it, costs no energy and no condition holds it. The rigid motions of the
- * whole body were checked before (mica_dirichlet_check_rigid), so it is a part, or a model whose energy misses a
- * motion: a deck error, not a numerical failure. */
-static int free_motion(void) {
+/* A first tangent (at the reference state, before any load has deformed the body) that CHOLMOD finds not positive
+ * definite or UMFPACK singular is the deck's doing: some motion costs no energy there and nothing holds it. The
+ * rigid motions of the whole body were checked before assembly (mica_dirichlet_check_rigid), so it is part of the
+ * body, spurious zero-energy modes of too low a quadrature, or a Nitsche stabilization too small to keep the
+ * tangent definite: a deck error (exit 2), not a numerical failure. */
+static int first_tangent_singular(void) {
   char cause[512];
   snprintf(cause, sizeof cause, "%s", mica_error_message());
-  MICA_ERROR(MICA_ERR_INPUT, "the body can move freely: the first tangent is singular (%s), so some motion of the "
-             "body or of part of it costs no energy and no condition holds it; add Dirichlet conditions on the "
-             "unknowns that hold it, or check that every part of the body is connected and supported",
+  MICA_ERROR(MICA_ERR_INPUT, "the body can move freely or part of it can: the first tangent, at the undeformed "
+             "state, is singular or indefinite (%s); add Dirichlet conditions that hold every part of the body, "
+             "raise quadrature.order if the quadrature leaves zero-energy modes, or raise bc.alpha with Nitsche",
              cause);
 }
 
@@ -97,7 +98,8 @@ static int solve_linear(Newton *nw) {
     ierr = mica_linear_solver_factor(nw->linear, nw->s->K);
   }
   nw->stats->time_factor += mica_wtime() - start;
-  if (ierr == MICA_ERR_NUMERIC && !nw->factored && !strcmp(nw->stats->linear_name, "umfpack")) return free_motion();
+  if (ierr == MICA_ERR_NUMERIC && !nw->factored && !mica_linear_solver_iterative(nw->linear->ops))
+    return first_tangent_singular();
   MICA_CALL(ierr);
   nw->factored = 1;
   for (long i = 0; i < n; i++) nw->R[i] = -nw->R[i];
