@@ -9,8 +9,8 @@
  * A condition holds the motions that are nonzero in one of its prescribed components at one of its boundary
  * points, so the free ones are the null space of
  *   G_ij = Σ_(conditions, points p, prescribed components c) w_p m_i,c(x_p) m_j,c(x_p) / Σ w_p,
- * a matrix of at most 6 × 6. x0 is the conditions' centroid, which decouples a set's rotation from the
- * translations it holds, so that the null vectors are, for one straight set, the motions themselves. */
+ * a matrix of at most 6 × 6. x0 is first the conditions' centroid, then (center_on_free_rotation) a point on the
+ * axis of a free rotation, so that the null vectors are the free motions themselves, which the message names. */
 #include <lapacke.h>
 #include <math.h>
 #include <stdio.h>
@@ -162,6 +162,37 @@ static int report_free(const RigidModes *M, const double *Z, const int *is_free,
              "conditions on %s", where, nfree, nfree == 1 ? "" : "s", nfree == 1 ? "is" : "are", modes, holds);
 }
 
+/* G's eigenvalues (ascending) and eigenvectors (columns of G, overwritten); is_free marks the null space. G's
+ * entries are averages of products of O(1) values: a held mode's eigenvalue is at least of the order of (the
+ * extent of the conditions / L)², a free one's is round-off. Returns the number of free modes, or −1. */
+static int null_space(const RigidModes *M, const MicaDiscretization *disc, int ndirichlet,
+                      const MicaDirichlet *dirichlet, double *G, int *is_free) {
+  double eig[MAX_MODES];
+  gram(M, disc, ndirichlet, dirichlet, G);
+  if (LAPACKE_dsyev(LAPACK_COL_MAJOR, 'V', 'U', M->nmodes, G, M->nmodes, eig) != 0) return -1;
+  int nfree = 0;
+  for (int v = 0; v < M->nmodes; v++) nfree += is_free[v] = eig[v] <= 1e-11 * fmax(1.0, eig[M->nmodes - 1]);
+  return nfree;
+}
+
+/* Moves x0 onto the axis of the free motion that turns most: u = t + ω × (x − x0) / L is a rotation about the
+ * axis through x0 + L (ω × t) / |ω|² (plus a slide along ω), so that null vector becomes the rotation alone and
+ * the message names it, not a mix of it and translations. */
+static void center_on_free_rotation(RigidModes *M, const double *Z, const int *is_free) {
+  int best = -1;
+  double best_turn = 1e-6;
+  for (int v = 0; v < M->nmodes; v++) {
+    double turn = 0;
+    for (int j = 0; j < M->nmodes; j++) turn += M->rotation[j] ? Z[j + v * M->nmodes] * Z[j + v * M->nmodes] : 0;
+    if (is_free[v] && turn > best_turn) best = v, best_turn = turn;
+  }
+  if (best < 0 || M->axisymmetric) return; /* the axisymmetric rotation is about the axis already */
+  double t[3] = {0, 0, 0}, w[3] = {0, 0, 0};
+  for (int j = 0; j < M->nmodes; j++) (M->rotation[j] ? w : t)[M->axis[j]] = Z[j + best * M->nmodes];
+  const double d[3] = {w[1] * t[2] - w[2] * t[1], w[2] * t[0] - w[0] * t[2], w[0] * t[1] - w[1] * t[0]};
+  for (int i = 0; i < M->dim; i++) M->x0[i] += M->length * d[i] / best_turn;
+}
+
 int mica_dirichlet_check_rigid(const MicaDiscretization *disc, int axisymmetric, int ncomp, const char *const *names,
                                int ndirichlet, const MicaDirichlet *dirichlet, const char *where) {
   MICA_CHECK(disc && names && (dirichlet || !ndirichlet) && where, MICA_ERR_ARGUMENT,
@@ -172,14 +203,13 @@ int mica_dirichlet_check_rigid(const MicaDiscretization *disc, int axisymmetric,
   parse_components(&M, names);
   list_modes(&M);
   place_modes(&M, disc, ndirichlet, dirichlet);
-  double G[MAX_MODES * MAX_MODES], eig[MAX_MODES];
-  gram(&M, disc, ndirichlet, dirichlet, G);
-  const lapack_int info = LAPACKE_dsyev(LAPACK_COL_MAJOR, 'V', 'U', M.nmodes, G, M.nmodes, eig);
-  MICA_CHECK(info == 0, MICA_ERR_LIBRARY, "LAPACKE_dsyev on the rigid modes' Gram matrix failed (info %d)", (int)info);
-  /* G's entries are averages of products of O(1) values: a held mode's eigenvalue is at least of the order of
-   * (the extent of the conditions / L)², a free one's is round-off */
-  int is_free[MAX_MODES], nfree = 0;
-  for (int v = 0; v < M.nmodes; v++) nfree += is_free[v] = eig[v] <= 1e-11 * fmax(1.0, eig[M.nmodes - 1]);
+  double Z[MAX_MODES * MAX_MODES];
+  int is_free[MAX_MODES], nfree = null_space(&M, disc, ndirichlet, dirichlet, Z, is_free);
+  if (nfree > 0 && nfree < M.nmodes) { /* the count stays; the null vectors become the motions themselves */
+    center_on_free_rotation(&M, Z, is_free);
+    nfree = null_space(&M, disc, ndirichlet, dirichlet, Z, is_free);
+  }
+  MICA_CHECK(nfree >= 0, MICA_ERR_LIBRARY, "LAPACKE_dsyev on the rigid modes' Gram matrix failed");
   if (!nfree) return MICA_SUCCESS;
-  return report_free(&M, G, is_free, nfree, names, where);
+  return report_free(&M, Z, is_free, nfree, names, where);
 }
