@@ -18,6 +18,15 @@ int mica_function_create(const char *text, int nparams, const char *const *param
 int mica_function_derivative(const MicaFunction *f, int var, MicaFunction **df);
 double mica_function_eval(const MicaFunction *f, const double x[3], double t);
 const char *mica_function_text(const MicaFunction *f); /* as written, before substitution */
+/* Where f comes from, for messages: its deck location ("deck.cfg:12") and setting ("loads.by"); copied
+ * (truncated to fit). mica_deck_function sets it; a derivative inherits it as "the x-derivative of SETTING". */
+void mica_function_set_origin(MicaFunction *f, const char *where, const char *setting);
+/* f at (x, t) into *value, with a check: a value that is not finite is a MICA_ERR_INPUT error,
+ *   "WHERE: SETTING \"TEXT\" is VALUE at (x, y[, z]) = (...), load factor T; write an expression that is finite ON",
+ * naming the point (dim coordinates) and load factor where it failed; on says where the expression must be finite
+ * ("on the whole set", "in the whole body"). Loads, prescribed values and exact solutions go through it. */
+int mica_function_eval_finite(const MicaFunction *f, const char *on, int dim, const double x[3], double t,
+                              double *value);
 int mica_function_destroy(MicaFunction **f);
 
 /* Evaluates a constant expression of the parameters only (numeric settings given as strings). */

@@ -122,6 +122,14 @@ typedef struct MicaBoundaryMethodOps {
 } MicaBoundaryMethodOps;
 
 extern const MicaBoundaryMethodOps mica_bc_penalty, mica_bc_nitsche, mica_bc_lagrange;
+
+/* The rigid motions (translations, rotations; axisymmetric: along and about the axis) that no Dirichlet condition
+ * holds, from the conditions' geometry alone (src/bc/rigid.c): a motion is held when one of its prescribed
+ * components is nonzero at one of a condition's boundary points. names: the deck names of the ncomp unknowns (ux,
+ * uy, phiz, ...; axisymmetric ur, utheta, uz, ...). A free motion is a MICA_ERR_INPUT error, "WHERE: the body can
+ * move freely: N rigid modes are not held (...); add Dirichlet conditions on ...". */
+int mica_dirichlet_check_rigid(const MicaDiscretization *disc, int axisymmetric, int ncomp, const char *const *names,
+                               int ndirichlet, const MicaDirichlet *dirichlet, const char *where);
 const MicaBoundaryMethodOps *mica_bc_method_find(const char *name);
 
 /* ---- The problem ---------------------------------------------------------------------------------------- */

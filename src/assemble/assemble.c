@@ -157,16 +157,28 @@ void mica_solid_element_stiffness(const MicaSolid *s, const MicaShapeCache *c, l
 /* Load scaling: with ramping, every load and prescribed value grows with the load factor t. */
 static double load_scale(const MicaSolid *s, double t) { return s->opt.ramp ? t : 1.0; }
 
+/* A load expression (f, maybe NULL) at x and t, times scale; one that is not finite there is a deck error that
+ * names it (mica_function_eval_finite), here rather than later as a non-finite residual that names nothing. */
+static int load_value(const MicaFunction *f, const char *on, int dim, const double x[3], double t, double scale,
+                      double *value) {
+  *value = 0.0;
+  if (!f) return MICA_SUCCESS;
+  MICA_CALL(mica_function_eval_finite(f, on, dim, x, t, value));
+  *value *= scale;
+  return MICA_SUCCESS;
+}
+
 /* Body loads, conjugate to each unknown (forces on displacements, couples on micro-rotations). */
-static void add_body_force(const MicaSolid *s, long p, double t, double scale, double *R) {
+static int add_body_force(const MicaSolid *s, long p, double t, double scale, double *R) {
   const MicaShapeCache *c = s->volume;
   const int dim = s->dim, ncomp = s->ncomp;
   double x[3] = {0, 0, 0}, b[MICA_MAX_COMP];
   memcpy(x, s->disc->qx + p * dim, sizeof(double) * (size_t)dim);
-  for (int a = 0; a < ncomp; a++) b[a] = s->opt.body[a] ? scale * mica_function_eval(s->opt.body[a], x, t) : 0.0;
+  for (int a = 0; a < ncomp; a++) MICA_CALL(load_value(s->opt.body[a], "in the whole body", dim, x, t, scale, &b[a]));
   const double w = s->disc->qw[p];
   for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
     for (int a = 0; a < ncomp; a++) R[c->index[e] * ncomp + a] -= w * c->N[e] * b[a];
+  return MICA_SUCCESS;
 }
 
 /* What every volume point contributes before its stiffness: the model at q(u), the internal force and body load
@@ -187,7 +199,7 @@ static int point_residual(MicaSolid *s, const VolumeTerms *v, long p, const doub
     return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
   }
   add_internal_force(v->L, c, p, sq, s->disc->qw[p], R);
-  if (v->has_body) add_body_force(s, p, v->t, v->scale, R);
+  if (v->has_body) MICA_CALL(add_body_force(s, p, v->t, v->scale, R));
   return MICA_SUCCESS;
 }
 
@@ -395,21 +407,6 @@ static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, M
   return assemble_points_general(s, &v, u, R, K);
 }
 
-/* A traction expression that is not finite where it is evaluated is a deck error: say which, where and when,
- * here rather than later as a non-finite residual that names nothing. */
-static int check_traction(const MicaTraction *tr, int comp, const double x[3], int dim, double t, double value) {
-  if (isfinite(value)) return MICA_SUCCESS;
-  char point[96];
-  if (dim == 3)
-    snprintf(point, sizeof point, "(x, y, z) = (%g, %g, %g)", x[0], x[1], x[2]);
-  else
-    snprintf(point, sizeof point, "(x, y) = (%g, %g)", x[0], x[1]);
-  MICA_ERROR(MICA_ERR_INPUT,
-             "%s: the traction's component %d \"%s\" is %g at %s, load factor %g; write an expression that is "
-             "finite on the whole set",
-             tr->where, comp + 1, mica_function_text(tr->value[comp]), value, point, t);
-}
-
 /* Dead generalized tractions (forces on displacements, couples on rotations): R_kc −= ∫ t̄_c N_k dΓ. */
 static int assemble_tractions(const MicaSolid *s, double t, double *R) {
   const int dim = s->dim, ncomp = s->ncomp;
@@ -421,10 +418,7 @@ static int assemble_tractions(const MicaSolid *s, double t, double *R) {
     for (long p = 0; p < c->npoints; p++) {
       double x[3] = {0, 0, 0}, tv[MICA_MAX_COMP] = {0};
       memcpy(x, set->x + p * dim, sizeof(double) * (size_t)dim);
-      for (int a = 0; a < ncomp; a++) {
-        tv[a] = tr->value[a] ? scale * mica_function_eval(tr->value[a], x, t) : 0.0;
-        MICA_CALL(check_traction(tr, a, x, dim, t, tv[a]));
-      }
+      for (int a = 0; a < ncomp; a++) MICA_CALL(load_value(tr->value[a], "on the whole set", dim, x, t, scale, &tv[a]));
       for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
         for (int a = 0; a < ncomp; a++) R[c->index[e] * ncomp + a] -= set->w[p] * c->N[e] * tv[a];
     }

@@ -10,7 +10,7 @@ const MicaBoundaryMethodOps *mica_bc_method_find(const char *name) {
   return NULL;
 }
 
-void bc_point(const MicaSolid *s, const MicaDirichlet *c, long p, double t, const double *u, BcPoint *bp) {
+int bc_point(const MicaSolid *s, const MicaDirichlet *c, long p, double t, const double *u, BcPoint *bp) {
   const int dim = s->dim, ncomp = s->ncomp;
   const MicaBoundarySet *set = &s->disc->sets[c->set];
   const MicaShapeCache *cache = s->boundary[c->set];
@@ -29,6 +29,11 @@ void bc_point(const MicaSolid *s, const MicaDirichlet *c, long p, double t, cons
   for (int a = 0; a < MICA_MAX_COMP; a++) bp->uh[a] = bp->residual[a] = 0;
   for (long k = 0; k < bp->n; k++)
     for (int a = 0; a < ncomp; a++) bp->uh[a] += bp->N[k] * u[bp->index[k] * ncomp + a];
-  for (int a = 0; a < ncomp; a++)
-    if (c->mask & (1 << a)) bp->residual[a] = bp->uh[a] - scale * mica_function_eval(c->value[a], bp->x, t);
+  for (int a = 0; a < ncomp; a++) {
+    if (!(c->mask & (1 << a))) continue;
+    double value;
+    MICA_CALL(mica_function_eval_finite(c->value[a], "on the whole set", dim, bp->x, t, &value));
+    bp->residual[a] = bp->uh[a] - scale * value;
+  }
+  return MICA_SUCCESS;
 }

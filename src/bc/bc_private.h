@@ -14,8 +14,9 @@ typedef struct {
   double residual[MICA_MAX_COMP]; /* u_h − ū for the prescribed components, 0 for the others */
 } BcPoint;
 
-/* Gathers point p of condition c at load factor t. */
-void bc_point(const MicaSolid *s, const MicaDirichlet *c, long p, double t, const double *u, BcPoint *bp);
+/* Gathers point p of condition c at load factor t; a prescribed value that is not finite there is a deck error
+ * naming its expression, line and the point. */
+int bc_point(const MicaSolid *s, const MicaDirichlet *c, long p, double t, const double *u, BcPoint *bp);
 
 /* β = α E / h: the penalty or Nitsche stabilization at a point. */
 static inline double bc_beta(const MicaSolid *s, const BcPoint *bp) {

@@ -40,7 +40,7 @@ static int lagrange_point(MicaSolid *s, const MicaDirichlet *c, long p, double t
                           MicaSparse *K) {
   const int dim = s->ncomp, cond = condition_index(s, c); /* unknowns per node */
   BcPoint bp;
-  bc_point(s, c, p, t, u, &bp);
+  MICA_CALL(bc_point(s, c, p, t, u, &bp));
   const double scale = s->opt.field.material.E, ws = bp.w * scale;
   long mnodes[MAX_ELEMENT];
   double psi[MAX_ELEMENT], lambda[MICA_MAX_COMP] = {0};

@@ -106,7 +106,7 @@ static int nitsche_add(MicaSolid *s, const MicaDirichlet *c, double t, const dou
   double F[9], P[9], A[81], T[27], D[81], W;
   for (long p = 0; p < cache->npoints; p++) {
     BcPoint bp;
-    bc_point(s, c, p, t, u, &bp);
+    MICA_CALL(bc_point(s, c, p, t, u, &bp));
     mica_solid_deformation_gradient(s, cache, p, u, F);
     int ierr = s->opt.field.classical->eval(&s->opt.field.material, dim, F, &W, P, A);
     if (ierr) {

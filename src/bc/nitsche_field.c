@@ -158,7 +158,7 @@ static int field_point(MicaSolid *s, const MicaDirichlet *c, long p, double t, c
   const MicaShapeCache *cache = s->boundary[c->set];
   double q[NQ_MAX], sq[NQ_MAX], D[NQ_MAX * NQ_MAX], H[NQ_MAX * NQ_MAX], W;
   BcPoint bp;
-  bc_point(s, c, p, t, u, &bp);
+  MICA_CALL(bc_point(s, c, p, t, u, &bp));
   mica_solid_kinematics(s, cache, p, u, q);
   int ierr = s->opt.field.ops->eval(&s->opt.field, fp->dim, q, &W, sq, D);
   if (ierr) {

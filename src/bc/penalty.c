@@ -14,7 +14,7 @@ static int penalty_add(MicaSolid *s, const MicaDirichlet *c, double t, const dou
   double *Ke = s->work;
   for (long p = 0; p < npoints; p++) {
     BcPoint bp;
-    bc_point(s, c, p, t, u, &bp);
+    MICA_CALL(bc_point(s, c, p, t, u, &bp));
     const double length = pow(s->disc->volume, 1.0 / dim);
     const int p_minus_1 = s->opt.basis_order > 1 ? s->opt.basis_order - 1 : 0;
     const double beta = bc_beta(s, &bp) * pow(length / bp.h, p_minus_1), wb = bp.w * beta;

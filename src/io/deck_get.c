@@ -306,6 +306,9 @@ int mica_deck_function(const MicaDeck *deck, const char *path, MicaFunction **f)
     deck_prefix_error(deck, setting);
     return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
   }
+  char where[DECK_PATH_MAX];
+  deck_where(deck, setting, where, sizeof where); /* for a value that turns out not finite where it is evaluated */
+  mica_function_set_origin(*f, where, path);
   return MICA_SUCCESS;
 }
 

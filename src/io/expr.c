@@ -17,6 +17,8 @@
 struct MicaFunction {
   void *evaluator; /* libmatheval's compiled tree */
   char *text;      /* as written by the user (or "d(...)/dx" for a derivative) */
+  char where[256];   /* deck location, "" when not from a deck */
+  char setting[160]; /* the deck setting it was read from, "" when not from a deck */
 };
 
 /* libmatheval takes char *, not const char *. */
@@ -472,6 +474,11 @@ int mica_function_derivative(const MicaFunction *f, int var, MicaFunction **df) 
   ierr = function_wrap(derivative, text, df);
   free(text);
   if (ierr) return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  if (f->setting[0]) {
+    char setting[sizeof f->setting + 32];
+    snprintf(setting, sizeof setting, "the %s-derivative of %s", variable_names[var], f->setting);
+    mica_function_set_origin(*df, f->where, setting);
+  }
   return MICA_SUCCESS;
 }
 
@@ -481,6 +488,41 @@ double mica_function_eval(const MicaFunction *f, const double x[3], double t) {
 }
 
 const char *mica_function_text(const MicaFunction *f) { return f ? f->text : NULL; }
+
+/* strlcpy: as much of src as fits, always terminated. */
+static void copy_truncated(char *dst, size_t size, const char *src) {
+  size_t n = src ? strlen(src) : 0;
+  if (n >= size) n = size - 1;
+  if (n) memcpy(dst, src, n);
+  dst[n] = '\0';
+}
+
+void mica_function_set_origin(MicaFunction *f, const char *where, const char *setting) {
+  copy_truncated(f->where, sizeof f->where, where);
+  copy_truncated(f->setting, sizeof f->setting, setting);
+}
+
+static int not_finite(const MicaFunction *f, const char *on, int dim, const double x[3], double t, double value) {
+  char point[128];
+  if (dim == 3)
+    snprintf(point, sizeof point, "(x, y, z) = (%g, %g, %g)", x[0], x[1], x[2]);
+  else
+    snprintf(point, sizeof point, "(x, y) = (%g, %g)", x[0], x[1]);
+  char number[32] = "NaN"; /* printf's "-nan" says nothing more */
+  if (!isnan(value)) snprintf(number, sizeof number, "%g", value);
+  const char *setting = f->setting[0] ? f->setting : "the expression";
+  if (f->where[0])
+    MICA_ERROR(MICA_ERR_INPUT, "%s: %s \"%s\" is %s at %s, load factor %g; write an expression that is finite %s",
+               f->where, setting, f->text, number, point, t, on);
+  MICA_ERROR(MICA_ERR_INPUT, "%s \"%s\" is %s at %s, load factor %g; write an expression that is finite %s", setting,
+             f->text, number, point, t, on);
+}
+
+int mica_function_eval_finite(const MicaFunction *f, const char *on, int dim, const double x[3], double t,
+                              double *value) {
+  *value = mica_function_eval(f, x, t);
+  return isfinite(*value) ? MICA_SUCCESS : not_finite(f, on, dim, x, t, *value);
+}
 
 int mica_function_destroy(MicaFunction **f) {
   if (!f || !*f) return MICA_SUCCESS;

@@ -25,6 +25,7 @@ typedef struct {
   MicaNewtonStats *stats;
   MicaLinearSolver *linear;
   int auto_linear; /* may switch from CHOLMOD to UMFPACK when the tangent is indefinite */
+  int factored;    /* a tangent has been factored: a singular one is no longer the reference state's */
   double *R, *du, *trial, *saved; /* trial: line search; saved: u at the start of a step, for cut-back */
 } Newton;
 
@@ -68,6 +69,20 @@ static int choose_linear_solver(Newton *nw) {
   return MICA_SUCCESS;
 }
 
+/* A first tangent (at the reference state, before any load has deformed the body) that CHOLMOD finds not positive
+ * definite or UMFPACK singular is the deck's doing: some motion costs no energy there and nothing holds it. The
+ * rigid motions of the whole body were checked before assembly (mica_dirichlet_check_rigid), so it is part of the
+ * body, spurious zero-energy modes of too low a quadrature, or a Nitsche stabilization too small to keep the
+ * tangent definite: a deck error (exit 2), not a numerical failure. */
+static int first_tangent_singular(void) {
+  char cause[512];
+  snprintf(cause, sizeof cause, "%s", mica_error_message());
+  MICA_ERROR(MICA_ERR_INPUT, "the body can move freely or part of it can: the first tangent, at the undeformed "
+             "state, is singular or indefinite (%s); add Dirichlet conditions that hold every part of the body, "
+             "raise quadrature.order if the quadrature leaves zero-energy modes, or raise bc.alpha with Nitsche",
+             cause);
+}
+
 /* Factor and solve K du = −R. In auto mode an indefinite tangent (CHOLMOD refuses it) moves the solve to
  * UMFPACK for the rest of the run, with a note in the log. */
 static int solve_linear(Newton *nw) {
@@ -83,7 +98,10 @@ static int solve_linear(Newton *nw) {
     ierr = mica_linear_solver_factor(nw->linear, nw->s->K);
   }
   nw->stats->time_factor += mica_wtime() - start;
+  if (ierr == MICA_ERR_NUMERIC && !nw->factored && !mica_linear_solver_iterative(nw->linear->ops))
+    return first_tangent_singular();
   MICA_CALL(ierr);
+  nw->factored = 1;
   for (long i = 0; i < n; i++) nw->R[i] = -nw->R[i];
   start = mica_wtime();
   MICA_CALL(mica_linear_solver_solve(nw->linear, nw->R, nw->du));
@@ -201,7 +219,7 @@ int mica_newton_solve(MicaSolid *s, const MicaNewtonOptions *opt, double *u,
                       int (*on_step)(void *ctx, int step, double t, const double *u), void *ctx,
                       MicaNewtonStats *stats) {
   memset(stats, 0, sizeof *stats);
-  Newton nw = {s, opt, stats, NULL, 0, NULL, NULL, NULL, NULL};
+  Newton nw = {s, opt, stats, NULL, 0, 0, NULL, NULL, NULL, NULL};
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(MICA_MALLOC(nw.R, s->ndof));
   MICA_CALL_CLEANUP(MICA_MALLOC(nw.du, s->ndof));

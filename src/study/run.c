@@ -778,6 +778,18 @@ static int read_vtu(const MicaDeck *deck, const RunProblem *rp, RunOutput *out) 
   return MICA_SUCCESS;
 }
 
+/* A body its conditions do not hold has a singular tangent: said before anything is assembled, with the motions
+ * and the components to hold; on the whole discretization (an MPI rank's share holds part of each set). Not part
+ * of building the problem: `mica stability` builds free bodies on purpose, to count their rigid modes. */
+static int check_rigid_modes(const MicaDeck *deck, const RunProblem *rp) {
+  const MicaSolid *s = rp->solid;
+  const char *names[MICA_MAX_COMP + 1];
+  const int ncomp = model_names(rp, &s->opt.field, 0, names);
+  char where[256];
+  mica_deck_where(deck, s->ndirichlet ? "bcs.dirichlet" : "bcs", where, sizeof where);
+  return mica_dirichlet_check_rigid(rp->disc, rp->axisymmetric, ncomp, names, s->ndirichlet, s->dirichlet, where);
+}
+
 int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summary, RunReuse *reuse) {
   RunProblem rp;
   MicaNewtonOptions nopt;
@@ -788,6 +800,7 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   memset(&stats, 0, sizeof stats);
   memset(&out, 0, sizeof out);
   MICA_CALL_CLEANUP(run_problem_build_reusing(deck, &rp, reuse));
+  MICA_CALL_CLEANUP(check_rigid_modes(deck, &rp));
   MICA_CALL_CLEANUP(run_quadrature_fields_check(deck, &rp));
   MICA_CALL_CLEANUP(run_check_probes(&rp));
   RunTotals totals;
@@ -835,6 +848,7 @@ static int run_check(const MicaDeck *deck, const char *outdir, MicaJson *summary
   RunProblem rp;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(run_problem_build(deck, &rp));
+  MICA_CALL_CLEANUP(check_rigid_modes(deck, &rp));
   MICA_CALL_CLEANUP(run_check_probes(&rp));
   RunTotals totals;
   MICA_CALL_CLEANUP(count_totals(&rp, &totals));

@@ -58,16 +58,20 @@ static void to_model_layout(const RunProblem *rp, const double *x, const double 
   }
 }
 
-/* The exact unknowns and their gradients at x (q layout of the model: values, then gradients). */
-static void exact_at(const RunProblem *rp, const double *x, double *q) {
+/* The exact unknowns and their gradients at x (q layout of the model: values, then gradients). An exact solution
+ * (or a derivative of it) that is not finite at x is a deck error naming it, rather than a NaN error norm. */
+static int exact_at(const RunProblem *rp, const double *x, double *q) {
   const int dim = rp->disc->dim, ncomp = rp->ncomp;
   double p[3] = {0, 0, 0}, q2[64];
   memcpy(p, x, sizeof(double) * (size_t)dim);
   for (int c = 0; c < ncomp; c++) {
-    q2[c] = mica_function_eval(rp->exact[c], p, 1.0);
-    for (int J = 0; J < dim; J++) q2[ncomp + c * dim + J] = mica_function_eval(rp->exact_grad[c][J], p, 1.0);
+    MICA_CALL(mica_function_eval_finite(rp->exact[c], "in the whole body", dim, p, 1.0, &q2[c]));
+    for (int J = 0; J < dim; J++)
+      MICA_CALL(mica_function_eval_finite(rp->exact_grad[c][J], "in the whole body", dim, p, 1.0,
+                                          &q2[ncomp + c * dim + J]));
   }
   to_model_layout(rp, x, q2, q);
+  return MICA_SUCCESS;
 }
 
 /* ---- fields at points: the particles and the vertices of the output mesh ------------------------------- */
@@ -137,7 +141,7 @@ static int fields_at(RunProblem *rp, const MicaShapeCache *c, long i, const doub
   }
   f->mises[i] = von_mises(sigma);
   if (rp->has_exact) {
-    exact_at(rp, x, qe);
+    MICA_CALL(exact_at(rp, x, qe));
     for (int a = 0; a < 3; a++) v[a] = a < mdim ? q[a] - qe[a] : 0;
     to_file_frame(rp, v, 3, f->error + i * 3);
   }
@@ -334,7 +338,8 @@ int run_error_values(RunProblem *rp, const double *u, double *rel_l2, double *re
   for (long p = 0; p < c->npoints && !ierr; p++) {
     double q[128], qe[128] = {0}, e[128] = {0};
     mica_solid_kinematics(s, c, p, u, q);
-    exact_at(rp, qx + p * dim, qe);
+    ierr = exact_at(rp, qx + p * dim, qe);
+    if (ierr) break; /* after the collective sum below, which every rank must reach */
     const double w = qw[p];
     for (int i = 0; i < nvg; i++) e[i] = q[i] - qe[i]; /* Hessian slots: no exact second derivatives, left 0 */
     for (int i = 0; i < ncomp; i++) l2[0] += w * e[i] * e[i], l2[1] += w * qe[i] * qe[i];

@@ -192,12 +192,39 @@ static void test_bessel(void **state) {
   for (size_t n = 0; n < sizeof all / sizeof *all; n++) mica_function_destroy(&all[n]);
 }
 
+/* mica_function_eval_finite: a finite value passes through; one that is not names the origin, the text, the
+ * point (2 or 3 coordinates) and the load factor; a derivative names the setting it came from. */
+static void test_eval_finite(void **state) {
+  (void)state;
+  MicaFunction *f = compile_ok("1/(x-1)", 0, NULL, NULL), *df = NULL;
+  mica_function_set_origin(f, "deck.cfg:7", "loads.by");
+  double v = 0;
+  assert_int_equal(mica_function_eval_finite(f, "in the whole body", 2, (double[3]){3, 0, 0}, 0.5, &v), MICA_SUCCESS);
+  assert_close(v, 0.5);
+  assert_int_equal(mica_function_eval_finite(f, "in the whole body", 2, (double[3]){1, 2, 0}, 0.5, &v), MICA_ERR_INPUT);
+  assert_string_equal(mica_error_message(), "deck.cfg:7: loads.by \"1/(x-1)\" is inf at (x, y) = (1, 2), load factor "
+                                            "0.5; write an expression that is finite in the whole body");
+  mica_error_clear();
+  assert_int_equal(mica_function_derivative(f, 0, &df), MICA_SUCCESS);
+  assert_int_equal(mica_function_eval_finite(df, "on the whole set", 3, (double[3]){1, 2, 3}, 1, &v), MICA_ERR_INPUT);
+  assert_non_null(strstr(mica_error_message(), "deck.cfg:7: the x-derivative of loads.by \"d(1/(x-1))/dx\" is"));
+  assert_non_null(strstr(mica_error_message(), "at (x, y, z) = (1, 2, 3), load factor 1;"));
+  mica_error_clear();
+  MicaFunction *g = compile_ok("sqrt(x)", 0, NULL, NULL); /* no origin: not from a deck */
+  assert_int_equal(mica_function_eval_finite(g, "on the whole set", 2, (double[3]){-1, 0, 0}, 1, &v), MICA_ERR_INPUT);
+  assert_string_equal(mica_error_message(), "the expression \"sqrt(x)\" is NaN at (x, y) = (-1, 0), load factor 1; "
+                                            "write an expression that is finite on the whole set");
+  mica_error_clear();
+  mica_function_destroy(&f), mica_function_destroy(&df), mica_function_destroy(&g);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_evaluate_variables), cmocka_unit_test(test_parameters),
       cmocka_unit_test(test_derivatives),        cmocka_unit_test(test_parameter_power_derivative),
       cmocka_unit_test(test_unknown_names),      cmocka_unit_test(test_syntax_errors),
       cmocka_unit_test(test_constant_eval),      cmocka_unit_test(test_bessel),
+      cmocka_unit_test(test_eval_finite),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
