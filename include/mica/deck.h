@@ -11,34 +11,10 @@
 
 #include "mica/error.h"
 #include "mica/expr.h"
+#include "mica/schema.h"
 
-typedef enum {
-  MICA_KEY_INT,      /* integer (or an expression of the parameters that evaluates to an integer) */
-  MICA_KEY_FLOAT,    /* number (or expression of the parameters) */
-  MICA_KEY_BOOL,
-  MICA_KEY_STRING,
-  MICA_KEY_CHOICE,   /* one of the words in `choices`, "a|b|c" */
-  MICA_KEY_INTS,     /* array of len_min..len_max integers */
-  MICA_KEY_FLOATS,   /* array of len_min..len_max numbers; a single number is accepted when len_min <= 1 */
-  MICA_KEY_FUNCTION, /* string expression of x, y, z, t and the parameters */
-  MICA_KEY_GROUP,    /* a group whose members are listed in the schema as "path.member" */
-  MICA_KEY_LIST,     /* a list of groups; members of each element are listed as "path.[].member" */
-  MICA_KEY_OVERLAY,  /* a list of groups, each holding any settings of the schema (study variants) and an
-                        optional `name` */
-  MICA_KEY_PARAMETERS /* the `parameters` group: any names, each a number or an expression of earlier ones */
-} MicaKeyType;
-
-typedef struct MicaDeckKey {
-  const char *path;    /* "mls.order", "output.probes.[].name" */
-  MicaKeyType type;
-  const char *def;     /* default in libconfig syntax ("2", "\"pascal\"", "[1.0, 1.0]"), NULL: none */
-  double min, max;     /* inclusive range for numbers and array elements (min > max: unchecked) */
-  const char *choices; /* MICA_KEY_CHOICE */
-  int len_min, len_max;
-  const char *help;    /* one line for `mica help <command>` and docs/input.md */
-} MicaDeckKey;
-
-/* A schema is an array of keys ending with a {NULL} entry. */
+/* A schema is an array of keys ending with a {NULL} entry (mica/schema.h); its registries and fragments are
+ * expanded when a deck is loaded against it. */
 
 typedef struct MicaDeck MicaDeck;
 
@@ -48,6 +24,12 @@ typedef struct MicaDeck MicaDeck;
 int mica_deck_load(const char *path, const MicaDeckKey *schema, int noverrides,
                    const char *const *overrides, MicaDeck **deck);
 int mica_deck_destroy(MicaDeck **deck);
+/* The composed keys the deck was checked against (registries and fragments expanded). */
+const MicaDeckKey *mica_deck_schema(const MicaDeck *deck);
+/* A reader of the deck's settings for types below the deck layer (mica/schema.h); valid while deck lives. */
+void mica_deck_settings(const MicaDeck *deck, MicaSettings *settings);
+/* 1 if the deck file or a --set gave the setting, 0 if it is absent or its default. */
+int mica_deck_given(const MicaDeck *deck, const char *path);
 
 /* The deck as seen by variant i of the overlay list at list_path: the element's settings replace the
  * base deck's. The variant shares the base deck's storage and must be destroyed before it. */
@@ -91,6 +73,6 @@ int mica_deck_write_resolved(const MicaDeck *deck, const char *path);
 /* Prints the schema for a terminal `width` columns wide: per setting a line of path, type, default and
  * range or choices (a long list wrapped after a '|', under the range column), then its help indented by
  * four spaces and wrapped. */
-void mica_deck_print_schema(const MicaDeckKey *schema, int width, FILE *stream);
+int mica_deck_print_schema(const MicaDeckKey *schema, int width, FILE *stream);
 
 #endif

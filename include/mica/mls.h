@@ -22,6 +22,7 @@
 #define MICA_MLS_H
 
 #include "mica/error.h"
+#include "mica/registry.h"
 
 #define MLS_MAX_DIM 3
 #define MLS_MAX_HESS 6 /* packed symmetric second derivatives in 3-D */
@@ -56,17 +57,25 @@ const MlsBasisOps *mls_basis_find(const char *name);
 /* ---- Weights (ops table) --------------------------------------------------------------------------
  * A 1-D kernel w(r) of the normalized distance r = |x − x_I|/ρ ≥ 0, zero for r ≥ 1. Box supports use
  * Φ = Π_d w(r_d) (eq 3.29), ball supports Φ = w(|x − x_I|/ρ). */
+/* Capability flags of a weight (MicaType.flags). */
+enum {
+  MLS_WEIGHT_ADAPTIVE = 1u << 0 /* uses the per-particle shape parameter (exponential): reads mls.alpha */
+};
+
 typedef struct MlsWeightOps {
-  const char *name;
+  MicaType type;  /* name, description, MLS_WEIGHT_* flags, own settings (under mls.) */
   int continuity; /* C^k; −1 for the truncated Gaussian, which does not vanish at r = 1 */
-  int adaptive;   /* 1 if the kernel uses the per-particle shape parameter (exponential) */
   /* w[0] = w(r), w[1] = dw/dr, w[2] = d²w/dr², for r ≥ 0. param: the particle's ρ/c (exponential). */
   void (*eval)(double r, double param, double w[3]);
 } MlsWeightOps;
 
 extern const MlsWeightOps mls_weight_cubic, mls_weight_quartic, mls_weight_quartic_c3, mls_weight_gauss,
     mls_weight_exponential;
-const MlsWeightOps *const *mls_weight_all(void);
+/* The weights: `mls.weight` chooses one; the default is named here only. */
+extern MicaRegistry mls_weight_registry;
+static inline const MlsWeightOps *mls_weight_of(const MicaType *type) { return (const MlsWeightOps *)type; }
+/* The i-th registered weight (NULL past the last), and lookup by name (NULL if unknown). */
+const MlsWeightOps *mls_weight_at(int i);
 const MlsWeightOps *mls_weight_find(const char *name);
 
 /* ---- Neighbor search ------------------------------------------------------------------------------
@@ -117,6 +126,10 @@ typedef struct MlsOptions {
 } MlsOptions;
 
 void mls_options_default(MlsOptions *opt);
+/* The settings of an MLS approximation, as a schema fragment (a command's schema inserts it as "mls"), and
+ * their reader: the options from the settings under group, checked against each other with the deck's lines. */
+extern const MicaDeckKey mls_keys[];
+int mls_options_from_settings(const MicaSettings *settings, const char *group, int dim, MlsOptions *opt);
 
 typedef struct MlsApprox MlsApprox;
 

@@ -56,7 +56,7 @@ const char *cli_closest(const char *word, const char *const *candidates);
 /* `mica --help`: usage, the commands, the options (help.c). */
 void cli_print_program_help(FILE *out);
 /* `mica help <command>` and `mica <command> --help`: usage, description, options, deck settings. */
-void cli_print_command_help(const MicaCommand *command, FILE *out);
+int cli_print_command_help(const MicaCommand *command, FILE *out); /* an error code */
 /* "usage: mica run [-o DIR] [--set PATH=VALUE]... [--] DECK" */
 void cli_print_command_usage(const MicaCommand *command, FILE *out);
 

@@ -62,7 +62,7 @@ void cli_print_command_usage(const MicaCommand *command, FILE *out) {
   fputs(" [--] DECK\n", out);
 }
 
-void cli_print_command_help(const MicaCommand *command, FILE *out) {
+int cli_print_command_help(const MicaCommand *command, FILE *out) {
   cli_print_command_usage(command, out);
   fprintf(out, "       mica %s --help   (the same as mica help %s)\n\n", command->name, command->name);
   paragraph(command->summary, out);
@@ -75,5 +75,5 @@ void cli_print_command_help(const MicaCommand *command, FILE *out) {
   fputc('\n', out);
   paragraph(exit_status, out);
   fputs("\nsettings of the deck (docs/input.md):\n", out);
-  mica_deck_print_schema(command->schema, CLI_WIDTH, out);
+  return mica_deck_print_schema(command->schema, CLI_WIDTH, out);
 }

@@ -102,6 +102,13 @@ static const MicaCommand *find_command(const char *who, const char *name) {
 }
 
 /* mica help [<command>] */
+/* The exit status of printing a help text: composing a schema can only fail for want of memory. */
+static int help_status(int ierr) {
+  if (!ierr) return 0;
+  mica_error_report("mica");
+  return mica_exit_status(ierr);
+}
+
 static int print_help_topic(int argc, char **argv) {
   if (argc == 1) {
     cli_print_program_help(stdout);
@@ -113,8 +120,7 @@ static int print_help_topic(int argc, char **argv) {
   }
   const MicaCommand *command = find_command("mica help", argv[1]);
   if (!command) return CLI_USAGE;
-  cli_print_command_help(command, stdout);
-  return 0;
+  return help_status(cli_print_command_help(command, stdout));
 }
 
 /* The command's own arguments, argv[0] being its name. */
@@ -124,8 +130,7 @@ static int parse_command(int argc, char **argv, Invocation *inv, int *done) {
   int status = cli_parse(argc, argv, who, cli_command_options, inv, take_deck, NULL);
   if (status) return status;
   if (inv->help) {
-    cli_print_command_help(inv->command, stdout);
-    return 0;
+    return help_status(cli_print_command_help(inv->command, stdout));
   }
   if (!inv->deck_path) {
     fprintf(stderr, "%s: which deck? ", who);

@@ -252,7 +252,8 @@ static int evaluate_parameters(MicaDeck *deck) {
 
 static int deck_create(const char *path, const MicaDeckKey *schema, int noverrides, MicaDeck **deck) {
   MICA_CALL(MICA_CALLOC(*deck, 1));
-  (*deck)->schema = schema;
+  MICA_CALL(mica_schema_compose(schema, &(*deck)->composed));
+  (*deck)->schema = mica_schema_keys((*deck)->composed);
   MICA_CALL(copy_text(path, strlen(path), &(*deck)->path));
   MICA_CALL(file_stem(path, &(*deck)->name));
   MICA_CALL(directory_of(path, &(*deck)->include_dir));
@@ -287,6 +288,7 @@ int mica_deck_destroy(MicaDeck **deck) {
     config_destroy(d->config);
     free(d->config);
   }
+  mica_schema_destroy(&d->composed);
   for (int i = 0; i < d->noverrides; i++) {
     free(d->overrides[i].path);
     free(d->overrides[i].text);
@@ -346,6 +348,7 @@ int mica_deck_variant(const MicaDeck *base, const char *list_path, int i, MicaDe
   MICA_CALL_CLEANUP(copy_text(list_path, strlen(list_path), &v->list_path));
   MICA_CALL_CLEANUP(variant_name(element, i, &v->name));
   MICA_CALL_CLEANUP(variant_parameters(v));
+  MICA_CALL_CLEANUP(deck_check_owners(v));
   return MICA_SUCCESS;
 cleanup:
   mica_deck_destroy(variant);
@@ -477,7 +480,10 @@ static void print_key_help(const char *help, int width, FILE *stream) {
   mica_text_wrap(stream, help, HELP_INDENT, HELP_INDENT, width, NULL);
 }
 
-void mica_deck_print_schema(const MicaDeckKey *schema, int width, FILE *stream) {
+int mica_deck_print_schema(const MicaDeckKey *base, int width, FILE *stream) {
+  MicaSchema *composed;
+  MICA_CALL(mica_schema_compose(base, &composed));
+  const MicaDeckKey *schema = mica_schema_keys(composed);
   int widths[3] = {7, 4, 7}; /* the headings' lengths */
   for (const MicaDeckKey *key = schema; key->path; key++) {
     KeyColumns columns = key_columns(key);
@@ -492,4 +498,7 @@ void mica_deck_print_schema(const MicaDeckKey *schema, int width, FILE *stream) 
     print_key_line(key->path, columns.type, columns.def, columns.range, widths, width, stream);
     print_key_help(key->help, width, stream);
   }
+  return mica_schema_destroy(&composed);
 }
+
+const MicaDeckKey *mica_deck_schema(const MicaDeck *deck) { return deck->schema; }

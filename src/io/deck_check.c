@@ -305,6 +305,34 @@ static int check_setting(const CheckContext *context, const config_setting_t *se
   case MICA_KEY_LIST: return check_list(context, key, setting);
   case MICA_KEY_OVERLAY: return check_overlay(context, key, setting);
   case MICA_KEY_PARAMETERS: return MICA_SUCCESS; /* checked as they were evaluated */
+  case MICA_KEY_FRAGMENT: break; /* expanded by the composition: never in a deck's schema */
+  }
+  return MICA_SUCCESS;
+}
+
+/* 1 if word is one of "a|b|c". */
+static int among(const char *word, const char *words) {
+  const size_t n = strlen(word);
+  for (const char *c = words; c; c = strchr(c, '|') ? strchr(c, '|') + 1 : NULL)
+    if (!strncmp(c, word, n) && (c[n] == '|' || c[n] == '\0')) return 1;
+  return 0;
+}
+
+/* A type's setting given while its chooser names another type would have no effect: refused. */
+int deck_check_owners(const MicaDeck *deck) {
+  for (const MicaDeckKey *key = deck->schema; key->path; key++) {
+    if (!key->owner || strstr(key->path, "[]") || !mica_deck_given(deck, key->path)) continue;
+    const char *chosen;
+    MICA_CALL(mica_deck_string(deck, key->chooser, &chosen));
+    if (among(chosen, key->owner)) continue;
+    char where[DECK_MESSAGE_MAX], names[DECK_MESSAGE_MAX];
+    mica_deck_where(deck, key->path, where, sizeof where);
+    snprintf(names, sizeof names, "%s", key->owner);
+    for (char *bar = strchr(names, '|'); bar; bar = strchr(bar, '|')) *bar = '/';
+    MICA_ERROR(MICA_ERR_INPUT,
+               "%s: %s is a setting of %s = \"%s\" only, and %s is \"%s\" here: it would have no effect; remove "
+               "it or set %s = \"%s\"",
+               where, key->path, key->chooser, names, key->chooser, chosen, key->chooser, names);
   }
   return MICA_SUCCESS;
 }
@@ -312,6 +340,7 @@ static int check_setting(const CheckContext *context, const config_setting_t *se
 int deck_check(const MicaDeck *deck) {
   CheckContext context = {deck, &deck->params, 0};
   MICA_CALL(check_members(&context, config_root_setting(deck->config), ""));
+  MICA_CALL(deck_check_owners(deck));
   return MICA_SUCCESS;
 }
 

@@ -409,3 +409,36 @@ cleanup:
   *text = NULL;
   return ierr;
 }
+
+/* ---- given or default; the reader for types below the deck layer ---- */
+
+int mica_deck_given(const MicaDeck *deck, const char *path) {
+  const config_setting_t *setting = deck && path ? lookup(deck, path) : NULL;
+  if (!setting) return 0;
+  if (config_setting_source_line(setting) > 0) return 1;
+  char full[DECK_PATH_MAX];
+  deck_setting_path(setting, full, sizeof full);
+  return covering_override(deck, full) != NULL;
+}
+
+static int settings_has(const void *ctx, const char *path) { return mica_deck_has(ctx, path); }
+static int settings_int(const void *ctx, const char *path, long *v) { return mica_deck_int(ctx, path, v); }
+static int settings_float(const void *ctx, const char *path, double *v) { return mica_deck_float(ctx, path, v); }
+static int settings_bool(const void *ctx, const char *path, int *v) { return mica_deck_bool(ctx, path, v); }
+static int settings_string(const void *ctx, const char *path, const char **v) {
+  return mica_deck_string(ctx, path, v);
+}
+static int settings_floats(const void *ctx, const char *path, double *v, int max, int *count) {
+  return mica_deck_floats(ctx, path, v, max, count);
+}
+static int settings_where(const void *ctx, const char *path, char *buf, int size) {
+  return mica_deck_where(ctx, path, buf, size);
+}
+
+static const MicaSettingsOps deck_settings_ops = {settings_has,    settings_int,    settings_float, settings_bool,
+                                                  settings_string, settings_floats, settings_where};
+
+void mica_deck_settings(const MicaDeck *deck, MicaSettings *settings) {
+  settings->ops = &deck_settings_ops;
+  settings->ctx = deck;
+}

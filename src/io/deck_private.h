@@ -52,7 +52,8 @@ void deck_text_free(DeckText *text);
 
 struct MicaDeck {
   config_t *config;           /* owned by the base deck; a variant borrows its base's */
-  const MicaDeckKey *schema;
+  const MicaDeckKey *schema; /* the composed keys: the base deck's own, a variant's its base's */
+  MicaSchema *composed;       /* base deck only: owns schema */
   char *path;                 /* the deck file as given on the command line */
   char *name;                 /* file stem, or the variant's name */
   char *include_dir;          /* the deck's directory, for @include */
@@ -108,6 +109,8 @@ void deck_where(const MicaDeck *deck, const config_setting_t *setting, char *buf
 /* Raises MICA_ERR_INPUT "WHERE: message" about setting. */
 int deck_fail(const MicaDeck *deck, const config_setting_t *setting, const char *file, int line,
               const char *func, const char *fmt, ...) MICA_PRINTF(6, 7);
+/* A type's setting given while its chooser names another type: refused (deck_check.c). */
+int deck_check_owners(const MicaDeck *deck);
 #define DECK_FAIL(deck, setting, ...) deck_fail((deck), (setting), __FILE__, __LINE__, __func__, __VA_ARGS__)
 /* Puts "WHERE: path: " in front of the current error message (an expression error, say). */
 void deck_prefix_error(const MicaDeck *deck, const config_setting_t *setting);

@@ -13,7 +13,7 @@ void mls_options_default(MlsOptions *opt) {
   memset(opt, 0, sizeof *opt);
   opt->basis = &mls_basis_pascal;
   opt->order = 1;
-  opt->weight = &mls_weight_quartic_c3;
+  opt->weight = mls_weight_of(mica_registry_default(&mls_weight_registry));
   opt->support = MLS_SUPPORT_BOX;
   opt->dilation = 2.0;
   opt->alpha = 1.0;
@@ -35,10 +35,10 @@ static int check_options(int dim, long n, const MlsOptions *opt) {
   if (opt->dilation <= 0)
     MICA_CHECK(opt->radius[0] > 0, MICA_ERR_INPUT, "MLS support radius must be positive, not %g",
                opt->radius[0]);
-  if (opt->dilation > 0 || opt->weight->adaptive)
+  if (opt->dilation > 0 || mica_type_has(&opt->weight->type, MLS_WEIGHT_ADAPTIVE))
     MICA_CHECK(n >= 2, MICA_ERR_INPUT,
                "a radius given as a dilation of the local spacing needs at least two particles");
-  MICA_CHECK(!opt->weight->adaptive || opt->alpha > 0, MICA_ERR_INPUT,
+  MICA_CHECK(!mica_type_has(&opt->weight->type, MLS_WEIGHT_ADAPTIVE) || opt->alpha > 0, MICA_ERR_INPUT,
              "the exponential weight needs alpha > 0, not %g", opt->alpha);
   return MICA_SUCCESS;
 }
@@ -68,7 +68,7 @@ static void set_radii_from_options(MlsApprox *mls) {
  * (eq 3.34). Needs the supports to be set in the search. */
 static int set_weight_params(MlsApprox *mls) {
   const int dim = mls->dim;
-  if (!mls->opt.weight->adaptive) {
+  if (!mica_type_has(&mls->opt.weight->type, MLS_WEIGHT_ADAPTIVE)) {
     for (long i = 0; i < mls->n * dim; i++) mls->wparam[i] = 1.0;
     return MICA_SUCCESS;
   }

@@ -121,22 +121,43 @@ static void exponential_eval(double r, double param, double w[3]) {
   w[2] = (g * g - 2.0 * q) * e;
 }
 
-const MlsWeightOps mls_weight_cubic = {"cubic", 2, 0, cubic_eval};
-const MlsWeightOps mls_weight_quartic = {"quartic", 2, 0, quartic_eval};
-const MlsWeightOps mls_weight_quartic_c3 = {"quartic-c3", 3, 0, quartic_c3_eval};
-const MlsWeightOps mls_weight_gauss = {"gauss", -1, 0, gauss_eval};
-const MlsWeightOps mls_weight_exponential = {"exponential", 0, 1, exponential_eval};
-
-static const MlsWeightOps *const weight_registry[] = {
-    &mls_weight_cubic, &mls_weight_quartic, &mls_weight_quartic_c3, &mls_weight_gauss,
-    &mls_weight_exponential, NULL,
+/* The exponential weight's own setting: α of eq 3.34 (mls.alpha). */
+static const MicaDeckKey exponential_keys[] = {
+    {.path = "alpha", .type = MICA_KEY_FLOAT, .def = "1.0", .min = 1e-3, .max = 1e3,
+     .help = "c = alpha × the largest distance to particles whose supports reach it (eqs 3.34-3.36: 1 to 2)"},
+    {0},
 };
 
-const MlsWeightOps *const *mls_weight_all(void) { return weight_registry; }
+static int exponential_from_settings(const MicaType *type, const MicaSettings *settings, const char *group,
+                                     void *options) {
+  (void)type;
+  return mica_settings_float(settings, group, "alpha", &((MlsOptions *)options)->alpha);
+}
+
+const MlsWeightOps mls_weight_cubic = {{"cubic", "cubic spline (eq 3.30), C²", 0, NULL, NULL}, 2, cubic_eval};
+const MlsWeightOps mls_weight_quartic = {{"quartic", "quartic spline (eq 3.31), C²", 0, NULL, NULL}, 2, quartic_eval};
+const MlsWeightOps mls_weight_quartic_c3 = {
+    {"quartic-c3", "the uniform quartic B-spline, C³", 0, NULL, NULL}, 3, quartic_c3_eval};
+const MlsWeightOps mls_weight_gauss = {
+    {"gauss", "truncated Gaussian exp(−(r/0.4)²) (eq 3.32), discontinuous at r = 1", 0, NULL, NULL}, -1, gauss_eval};
+const MlsWeightOps mls_weight_exponential = {
+    {"exponential", "adaptive exponential weight (eqs 3.33-3.36), C⁰", MLS_WEIGHT_ADAPTIVE, exponential_keys,
+     exponential_from_settings},
+    0, exponential_eval};
+
+static const MicaType *const builtin_weights[] = {
+    &mls_weight_cubic.type, &mls_weight_quartic.type, &mls_weight_quartic_c3.type, &mls_weight_gauss.type,
+    &mls_weight_exponential.type, NULL,
+};
+
+MicaRegistry mls_weight_registry = {"weight function", "quartic-c3", builtin_weights, NULL, 0};
+
+const MlsWeightOps *mls_weight_at(int i) {
+  const MicaType *type = mica_registry_type(&mls_weight_registry, i);
+  return type ? mls_weight_of(type) : NULL;
+}
 
 const MlsWeightOps *mls_weight_find(const char *name) {
-  if (!name) return NULL;
-  for (int i = 0; weight_registry[i]; i++)
-    if (strcmp(weight_registry[i]->name, name) == 0) return weight_registry[i];
-  return NULL;
+  const MicaType *type = mica_registry_find(&mls_weight_registry, name);
+  return type ? mls_weight_of(type) : NULL;
 }

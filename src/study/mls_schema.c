@@ -2,6 +2,8 @@
  * from this table by `mica help mls`). Names follow those of the run decks (docs/input.md). */
 #include "mls_study.h"
 
+MICA_SCHEMA_TABLES
+
 #define NOLIMIT 1.0, 0.0 /* min > max: no range check */
 
 const MicaDeckKey mica_mls_schema[] = {
@@ -17,25 +19,7 @@ const MicaDeckKey mica_mls_schema[] = {
     {"particles.jitter", MICA_KEY_FLOAT, "0.0", 0, 0.45, NULL, 0, 0,
      "random shift of each interior particle, uniform in ±jitter × spacing per axis"},
     {"particles.seed", MICA_KEY_INT, "1", 0, 2147483647, NULL, 0, 0, "seed of the jitter"},
-    {"mls.basis", MICA_KEY_CHOICE, "\"pascal\"", NOLIMIT, "pascal|lagrange|bernstein", 0, 0,
-     "polynomial basis: complete (pascal) or tensor product (lagrange, bernstein)"},
-    {"mls.order", MICA_KEY_INT, "1", 0, 3, NULL, 0, 0, "basis order: pascal 0-3, lagrange and bernstein 1-3"},
-    {"mls.weight", MICA_KEY_CHOICE, "\"quartic-c3\"", NOLIMIT, "cubic|quartic|quartic-c3|gauss|exponential", 0,
-     0, "weight function (docs/theory.md §weights)"},
-    {"mls.support", MICA_KEY_CHOICE, "\"box\"", NOLIMIT, "box|ball", 0, 0,
-     "support shape: box (radius per axis) or ball"},
-    {"mls.radius", MICA_KEY_FLOATS, NULL, 1e-12, 1e12, NULL, 1, 3,
-     "absolute support radius (one value, or one per axis for box supports)"},
-    {"mls.dilation", MICA_KEY_FLOAT, NULL, 1e-3, 1e3, NULL, 0, 0,
-     "support radius as a multiple of the local particle spacing (default: order + 1)"},
-    {"mls.spacing", MICA_KEY_CHOICE, "\"near\"", NOLIMIT, "near|far", 0, 0,
-     "the local spacing mls.dilation multiplies, per axis: near, the nearer neighbor's distance; far, the "
-     "farther side's (if at most twice the nearer), for graded clouds (docs/theory.md §supports)"},
-    {"mls.alpha", MICA_KEY_FLOAT, "1.0", 1e-3, 1e3, NULL, 0, 0,
-     "exponential weight: c = alpha × the largest distance to particles whose supports reach it (eqs 3.34-3.36: 1 to 2)"},
-    {"mls.rcond_min", MICA_KEY_FLOAT, "1e-13", 0, 1e-2, NULL, 0, 0,
-     "a moment matrix with a smaller reciprocal condition number is an error"},
-    {"mls.search", MICA_KEY_CHOICE, "\"kdtree\"", NOLIMIT, "kdtree|cells", 0, 0, "neighbor search structure"},
+    {.path = "mls", .type = MICA_KEY_FRAGMENT, .fragment = mls_keys}, /* src/mls/settings.c */
     {"function.f", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0,
      "the target function of x, y, z (and the parameters); its derivatives are taken symbolically"},
     {"sample.axis", MICA_KEY_CHOICE, "\"x\"", NOLIMIT, "x|y|z", 0, 0,

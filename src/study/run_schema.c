@@ -6,6 +6,8 @@
 #include "run.h"
 #include "sweep.h"
 
+MICA_SCHEMA_TABLES
+
 #define NOLIMIT 1.0, 0.0
 
 /* The mls.* settings are the same as `mica mls`'s, with solid-mechanics defaults. */
@@ -45,20 +47,7 @@ const MicaDeckKey mica_run_schema[] = {
     {"particles.grading", MICA_KEY_FLOATS, "[1.0]", 1e-3, 1e3, NULL, 1, 3,
      "graded: ratio of the last spacing to the first, per axis (one value for all)"},
     {"particles.seed", MICA_KEY_INT, "1", 0, 2147483647, NULL, 0, 0, "seed of the jittered and irregular layouts"},
-    {"mls.basis", MICA_KEY_CHOICE, "\"pascal\"", NOLIMIT, "pascal|lagrange|bernstein", 0, 0, "polynomial basis"},
-    {"mls.order", MICA_KEY_INT, "1", 0, 3, NULL, 0, 0, "basis order"},
-    {"mls.weight", MICA_KEY_CHOICE, "\"quartic-c3\"", NOLIMIT, "cubic|quartic|quartic-c3|gauss|exponential", 0, 0,
-     "weight function"},
-    {"mls.support", MICA_KEY_CHOICE, "\"box\"", NOLIMIT, "box|ball", 0, 0, "support shape"},
-    {"mls.radius", MICA_KEY_FLOATS, NULL, 1e-12, 1e12, NULL, 1, 3, "absolute support radius"},
-    {"mls.dilation", MICA_KEY_FLOAT, NULL, 1e-3, 1e3, NULL, 0, 0,
-     "support radius as a multiple of the local spacing (default: order + 1)"},
-    {"mls.spacing", MICA_KEY_CHOICE, "\"near\"", NOLIMIT, "near|far", 0, 0,
-     "the local spacing mls.dilation multiplies, per axis: near, the nearer neighbor's distance; far, the "
-     "farther side's (if at most twice the nearer), for graded clouds (docs/theory.md §supports)"},
-    {"mls.alpha", MICA_KEY_FLOAT, "1.0", 1e-3, 1e3, NULL, 0, 0, "exponential weight parameter"},
-    {"mls.rcond_min", MICA_KEY_FLOAT, "1e-13", 0, 1e-2, NULL, 0, 0, "smallest acceptable reciprocal condition of M"},
-    {"mls.search", MICA_KEY_CHOICE, "\"kdtree\"", NOLIMIT, "kdtree|cells", 0, 0, "neighbor search structure"},
+    {.path = "mls", .type = MICA_KEY_FRAGMENT, .fragment = mls_keys}, /* src/mls/settings.c */
     {"quadrature.order", MICA_KEY_INT, "4", 1, 20, NULL, 0, 0, "Gauss points per direction in each background cell"},
     {"quadrature.boundary_order", MICA_KEY_INT, "0", 0, 20, NULL, 0, 0,
      "Gauss points per direction on boundary edges/faces (0: quadrature.order)"},

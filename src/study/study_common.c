@@ -10,50 +10,12 @@
 #include "mica/files.h"
 #include "study_common.h"
 
-/* The mls.* settings (docs/input.md): basis, order, weight, support, radius or dilation, search. */
+/* The mls.* settings (docs/input.md): src/mls/settings.c reads them. */
 int mica_study_mls_options(const MicaDeck *deck, int dim, MlsOptions *opt) {
-  const char *name;
-  mls_options_default(opt);
-  MICA_CALL(mica_deck_string(deck, "mls.basis", &name));
-  opt->basis = mls_basis_find(name);
-  MICA_CALL(mica_deck_string(deck, "mls.weight", &name));
-  opt->weight = mls_weight_find(name);
-  MICA_CHECK(opt->basis && opt->weight, MICA_ERR_ARGUMENT, "schema and registry disagree on mls names");
-  long order;
-  MICA_CALL(mica_deck_int(deck, "mls.order", &order));
-  opt->order = (int)order;
-  char where[256];
-  mica_deck_where(deck, "mls.order", where, sizeof where);
-  MICA_CHECK(order >= opt->basis->min_order && order <= opt->basis->max_order, MICA_ERR_INPUT,
-             "%s: the %s basis has orders %d to %d, not %ld", where, opt->basis->name,
-             opt->basis->min_order, opt->basis->max_order, order);
-  MICA_CALL(mica_deck_string(deck, "mls.support", &name));
-  opt->support = strcmp(name, "ball") == 0 ? MLS_SUPPORT_BALL : MLS_SUPPORT_BOX;
-  MICA_CALL(mica_deck_string(deck, "mls.search", &name));
-  opt->search = strcmp(name, "cells") == 0 ? MLS_SEARCH_CELLS : MLS_SEARCH_KDTREE;
-  MICA_CALL(mica_deck_string(deck, "mls.spacing", &name));
-  opt->spacing = strcmp(name, "far") == 0 ? MLS_SPACING_FAR : MLS_SPACING_NEAR;
-  MICA_CALL(mica_deck_float(deck, "mls.alpha", &opt->alpha));
-  MICA_CALL(mica_deck_float(deck, "mls.rcond_min", &opt->rcond_min));
-  const int has_radius = mica_deck_has(deck, "mls.radius"), has_dilation = mica_deck_has(deck, "mls.dilation");
-  mica_deck_where(deck, has_radius ? "mls.radius" : "mls.dilation", where, sizeof where);
-  MICA_CHECK(!(has_radius && has_dilation), MICA_ERR_INPUT,
-             "%s: give mls.radius (absolute) or mls.dilation (times the spacing), not both", where);
-  opt->dilation = 0;
-  if (has_radius) {
-    int n;
-    MICA_CALL(mica_deck_floats(deck, "mls.radius", opt->radius, 3, &n));
-    MICA_CHECK(n == 1 || n == dim, MICA_ERR_INPUT, "%s: mls.radius needs 1 or %d values, not %d", where, dim, n);
-    MICA_CHECK(n == 1 || opt->support == MLS_SUPPORT_BOX, MICA_ERR_INPUT,
-               "%s: a ball support has one radius; give mls.radius as a single number", where);
-  } else if (has_dilation) {
-    MICA_CALL(mica_deck_float(deck, "mls.dilation", &opt->dilation));
-  } else {
-    opt->dilation = opt->order + 1.0;
-  }
-  return MICA_SUCCESS;
+  MicaSettings settings;
+  mica_deck_settings(deck, &settings);
+  return mls_options_from_settings(&settings, "mls", dim, opt);
 }
-
 
 /* A moment matrix that is singular at some point follows from the deck's particles, radius and basis: for
  * a command that reads a deck it is bad input (exit status 2), whatever the MLS library calls it. */

@@ -19,6 +19,7 @@ typedef struct SweepAxis {
   int nvalues;
   double *values;    /* numbers, or NULL */
   char **words;      /* words, or NULL */
+  int boolean;       /* the setting is true/false: its words are written unquoted */
   char where[SWEEP_WHERE_MAX]; /* "deck.cfg:12", the line of the axis's path */
 } SweepAxis;
 

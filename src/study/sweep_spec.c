@@ -24,8 +24,8 @@ static int copy_text(const char *text, size_t length, char **copy) {
   return MICA_SUCCESS;
 }
 
-/* The run schema's key for a setting path ("output.probes.[0].scale" -> "output.probes.[].scale"). */
-static const MicaDeckKey *run_key(const char *path) {
+/* The deck's key for a setting path ("output.probes.[0].scale" -> "output.probes.[].scale"). */
+static const MicaDeckKey *run_key(const MicaDeck *deck, const char *path) {
   char schema_path[512];
   size_t used = 0;
   for (const char *c = path; *c && used + 1 < sizeof schema_path; c++) {
@@ -34,9 +34,7 @@ static const MicaDeckKey *run_key(const char *path) {
       while (c[1] >= '0' && c[1] <= '9') c++;
   }
   schema_path[used] = '\0';
-  for (const MicaDeckKey *key = mica_run_schema; key->path; key++)
-    if (!strcmp(key->path, schema_path)) return key;
-  return NULL;
+  return mica_schema_find(mica_deck_schema(deck), schema_path);
 }
 
 static int is_parameter(const char *path) { return !strncmp(path, "parameters.", 11) && path[11]; }
@@ -46,9 +44,8 @@ void sweep_override_text(const SweepAxis *axis, int v, char *buf, size_t size) {
     snprintf(buf, size, "%s=%.17g", axis->path, axis->values[v]);
     return;
   }
-  const MicaDeckKey *key = run_key(axis->path);
-  const int bare = key && key->type == MICA_KEY_BOOL; /* true/false unquoted: libconfig's booleans */
-  snprintf(buf, size, bare ? "%s=%s" : "%s=\"%s\"", axis->path, axis->words[v]);
+  /* true/false unquoted: libconfig's booleans */
+  snprintf(buf, size, axis->boolean ? "%s=%s" : "%s=\"%s\"", axis->path, axis->words[v]);
 }
 
 void sweep_value_label(const SweepAxis *axis, int v, char *buf, size_t size) {
@@ -91,7 +88,7 @@ static int check_path(const MicaDeck *deck, const char *group, const SweepAxis *
                path);
     return MICA_SUCCESS;
   }
-  const MicaDeckKey *key = run_key(path);
+  const MicaDeckKey *key = run_key(deck, path);
   if (!key) return MICA_SUCCESS; /* the trial load names it, with a "did you mean" */
   const MicaKeyType t = key->type;
   const int number = t == MICA_KEY_INT || t == MICA_KEY_FLOAT ||
@@ -210,6 +207,8 @@ int sweep_axis_read(const MicaDeck *deck, const char *element, SweepAxis *axes, 
   MICA_CALL(mica_deck_string(deck, path, &text));
   MICA_CALL(copy_text(text, strlen(text), &axis->path));
   axis->label = is_parameter(axis->path) ? axis->path + 11 : axis->path;
+  const MicaDeckKey *key = run_key(deck, axis->path);
+  axis->boolean = key && key->type == MICA_KEY_BOOL;
   for (int b = 0; b < a; b++)
     MICA_CHECK(strcmp(axes[b].path, axis->path), MICA_ERR_INPUT, "%s: %s is varied twice (also by %s)",
                axis->where, axis->path, axes[b].where);

@@ -14,6 +14,8 @@
 
 #include "mica/deck.h"
 
+MICA_SCHEMA_TABLES
+
 /* A schema like the real commands': numbers, arrays, choices, functions, an implied group
  * (sample.line), a list of probes and an overlay of study variants. */
 static const MicaDeckKey schema[] = {

@@ -24,6 +24,16 @@
 #define FD_TOL 1e-7
 
 /* Shape parameters ρ/c at which the adaptive kernel is tested (the others ignore param). */
+
+/* The registered weights as a NULL-terminated array (the registry's order). */
+static const MlsWeightOps *const *weights_all(void) {
+  static const MlsWeightOps *all[64];
+  int n = 0;
+  for (; n < 63 && mls_weight_at(n); n++) all[n] = mls_weight_at(n);
+  all[n] = NULL;
+  return all;
+}
+
 static const double exp_params[] = {0.25, 1.0, 2.0, 5.0};
 #define NUM_EXP_PARAMS (sizeof exp_params / sizeof exp_params[0])
 
@@ -52,13 +62,13 @@ static void test_find_and_fields(void **state) {
       {"gauss", &mls_weight_gauss, -1, 0},
       {"exponential", &mls_weight_exponential, 0, 1},
   };
-  const MlsWeightOps *const *all = mls_weight_all();
+  const MlsWeightOps *const *all = weights_all();
   for (int i = 0; i < 5; i++) {
     assert_ptr_equal(mls_weight_find(expected[i].name), expected[i].ops);
     assert_ptr_equal(all[i], expected[i].ops);
-    assert_string_equal(expected[i].ops->name, expected[i].name);
+    assert_string_equal(expected[i].ops->type.name, expected[i].name);
     assert_int_equal(expected[i].ops->continuity, expected[i].continuity);
-    assert_int_equal(expected[i].ops->adaptive, expected[i].adaptive);
+    assert_int_equal(mica_type_has(&expected[i].ops->type, MLS_WEIGHT_ADAPTIVE), expected[i].adaptive);
   }
   assert_null(all[5]);
   assert_null(mls_weight_find("quartic_c3"));
@@ -73,7 +83,7 @@ static void test_find_and_fields(void **state) {
 static void test_zero_outside_support(void **state) {
   (void)state;
   const double outside[] = {1.0, nextafter(1.0, 2.0), 1.0 + 1e-9, 1.5, 2.0, 1e6};
-  for (const MlsWeightOps *const *ops = mls_weight_all(); *ops; ops++)
+  for (const MlsWeightOps *const *ops = weights_all(); *ops; ops++)
     for (size_t p = 0; p < NUM_EXP_PARAMS; p++)
       for (size_t i = 0; i < sizeof outside / sizeof outside[0]; i++) {
         double w[3] = {NAN, NAN, NAN};
@@ -87,10 +97,10 @@ static void test_zero_outside_support(void **state) {
 static void test_left_limit_at_one(void **state) {
   (void)state;
   double r = 1.0 - 1e-9, w[3];
-  for (const MlsWeightOps *const *ops = mls_weight_all(); *ops; ops++) {
+  for (const MlsWeightOps *const *ops = weights_all(); *ops; ops++) {
     int k = (*ops)->continuity;
     weight(*ops, r, 2.0, w);
-    for (int n = 0; n <= k && n < 3; n++) assert_close(0.0, w[n], 1e-6, (*ops)->name, r);
+    for (int n = 0; n <= k && n < 3; n++) assert_close(0.0, w[n], 1e-6, (*ops)->type.name, r);
   }
   weight(&mls_weight_gauss, r, 0.0, w);
   assert_close(exp(-6.25), w[0], 1e-10, "gauss w(1-)", r);
@@ -110,14 +120,14 @@ static void check_fd(const MlsWeightOps *ops, double param) {
     weight(ops, r - FD_STEP, param, wm);
     for (int n = 1; n <= 2; n++) {
       double fd = (wp[n - 1] - wm[n - 1]) / (2.0 * FD_STEP);
-      assert_close(fd, w[n], FD_TOL * (1.0 + fabs(w[n])), ops->name, r);
+      assert_close(fd, w[n], FD_TOL * (1.0 + fabs(w[n])), ops->type.name, r);
     }
   }
 }
 
 static void test_derivatives_vs_fd(void **state) {
   (void)state;
-  for (const MlsWeightOps *const *ops = mls_weight_all(); *ops; ops++)
+  for (const MlsWeightOps *const *ops = weights_all(); *ops; ops++)
     for (size_t p = 0; p < NUM_EXP_PARAMS; p++) check_fd(*ops, exp_params[p]);
 }
 
@@ -125,12 +135,12 @@ static void test_derivatives_vs_fd(void **state) {
 static void test_values_at_zero(void **state) {
   (void)state;
   double w[3];
-  for (const MlsWeightOps *const *ops = mls_weight_all(); *ops; ops++)
+  for (const MlsWeightOps *const *ops = weights_all(); *ops; ops++)
     for (size_t p = 0; p < NUM_EXP_PARAMS; p++) {
       weight(*ops, 0.0, exp_params[p], w);
-      assert_close(0.0, w[1], 1e-15, (*ops)->name, 0.0);
+      assert_close(0.0, w[1], 1e-15, (*ops)->type.name, 0.0);
       double expected = *ops == &mls_weight_cubic ? 2.0 / 3.0 : 1.0;
-      assert_close(expected, w[0], 1e-15, (*ops)->name, 0.0);
+      assert_close(expected, w[0], 1e-15, (*ops)->type.name, 0.0);
     }
 }
 
@@ -144,7 +154,7 @@ static void check_c2_at_knot(const MlsWeightOps *ops, double knot) {
   double left[3], right[3];
   weight(ops, knot - gap, 1.0, left);
   weight(ops, knot + gap, 1.0, right);
-  for (int n = 0; n < 3; n++) assert_close(left[n], right[n], 1e-8 * (1.0 + fabs(left[n])), ops->name, knot);
+  for (int n = 0; n < 3; n++) assert_close(left[n], right[n], 1e-8 * (1.0 + fabs(left[n])), ops->type.name, knot);
 }
 
 /* w''' on either side of a knot, by the second-order one-sided differences
@@ -210,7 +220,7 @@ static void check_against_bspline(const MlsWeightOps *ops, int d, double scale) 
     double expected[3] = {scale * cardinal_bspline(d, 0, u), -c * scale * cardinal_bspline(d, 1, u),
                           c * c * scale * cardinal_bspline(d, 2, u)};
     for (int n = 0; n < 3; n++)
-      assert_close(expected[n], w[n], 1e-13 * (1.0 + fabs(expected[n])), ops->name, r);
+      assert_close(expected[n], w[n], 1e-13 * (1.0 + fabs(expected[n])), ops->type.name, r);
   }
 }
 

@@ -1,0 +1,61 @@
+/* Registries of types (mica/registry.h): lookup by name, the default, the choice list, run-time additions. */
+#include "mica/registry.h"
+
+#include <string.h>
+
+int mica_registry_count(const MicaRegistry *registry) {
+  int n = 0;
+  while (registry->builtin && registry->builtin[n]) n++;
+  return n + registry->nadded;
+}
+
+const MicaType *mica_registry_type(const MicaRegistry *registry, int i) {
+  int nbuiltin = 0;
+  while (registry->builtin && registry->builtin[nbuiltin]) nbuiltin++;
+  if (i < 0 || i >= nbuiltin + registry->nadded) return NULL;
+  return i < nbuiltin ? registry->builtin[i] : registry->added[i - nbuiltin];
+}
+
+const MicaType *mica_registry_find(const MicaRegistry *registry, const char *name) {
+  if (!registry || !name) return NULL;
+  const int n = mica_registry_count(registry);
+  for (int i = 0; i < n; i++)
+    if (!strcmp(mica_registry_type(registry, i)->name, name)) return mica_registry_type(registry, i);
+  return NULL;
+}
+
+const MicaType *mica_registry_default(const MicaRegistry *registry) {
+  return mica_registry_find(registry, registry->def);
+}
+
+int mica_registry_add(MicaRegistry *registry, const MicaType *type) {
+  MICA_CHECK(registry && type && type->name && type->name[0], MICA_ERR_ARGUMENT, "mica_registry_add: bad argument");
+  MICA_CHECK(!mica_registry_find(registry, type->name), MICA_ERR_ARGUMENT,
+             "a %s called '%s' is already registered", registry->family, type->name);
+  MICA_CALL(MICA_REALLOC(registry->added, registry->nadded + 1));
+  registry->added[registry->nadded++] = type;
+  return MICA_SUCCESS;
+}
+
+int mica_registry_choices(const MicaRegistry *registry, char *buf, size_t size) {
+  size_t used = 0;
+  buf[0] = '\0';
+  const int n = mica_registry_count(registry);
+  for (int i = 0; i < n; i++) {
+    const char *name = mica_registry_type(registry, i)->name;
+    const size_t length = strlen(name);
+    MICA_CHECK(used + length + (i > 0) < size, MICA_ERR_ARGUMENT, "the %s names do not fit in %zu bytes",
+               registry->family, size);
+    if (i > 0) buf[used++] = '|';
+    memcpy(buf + used, name, length + 1);
+    used += length;
+  }
+  return MICA_SUCCESS;
+}
+
+int mica_registry_get(const MicaRegistry *registry, const char *name, const MicaType **type) {
+  *type = mica_registry_find(registry, name);
+  MICA_CHECK(*type, MICA_ERR_ARGUMENT, "no %s is called '%s' (the deck's schema and the registry disagree)",
+             registry->family, name ? name : "(null)");
+  return MICA_SUCCESS;
+}
