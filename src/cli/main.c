@@ -213,7 +213,8 @@ static int publish_reached(MicaStaging *staging, const char *outdir, MicaJson *s
   char reason[1536];
   snprintf(reason, sizeof reason, "%s", mica_error_message());
   const char *status = NULL;
-  double reached = root && mica_json_get_string(summary, "status", &status) == MICA_SUCCESS && !strcmp(status, "failed");
+  double reached =
+      root && mica_json_get_string(summary, "status", &status) == MICA_SUCCESS && !strcmp(status, "failed");
   mica_error_clear(); /* from here every rank passes each agreement point with a fresh code */
   int ierr = mica_parallel_broadcast(MICA_SUCCESS, &reached, 1, 0);
   if (!ierr && reached && root) {

@@ -19,7 +19,9 @@ small=(--set 'particles.count=[9,9]' --set solver.max_iterations=12 --set output
 failing=(--set parameters.F=1000 --set solver.max_cuts=6)
 command -v python3 > /dev/null || fail "python3 is needed to read the VTU files back"
 # json_get KEY FILE: a member of summary.json as python3 prints it (the reason holds commas and quotes)
-json_get() { python3 -c 'import json, sys; print(json.load(open(sys.argv[2])).get(sys.argv[1], "(absent)"))' "$1" "$2"; }
+json_get() {
+  python3 -c 'import json, sys; print(json.load(open(sys.argv[2])).get(sys.argv[1], "(absent)"))' "$1" "$2"
+}
 
 # the checks on a failed run's directory: check_failed DIR EXPECTED_STEPS
 check_failed() {
@@ -74,12 +76,14 @@ r="$work/cook"
 "$MICA" run $deck -o "$r" "${small[@]}" "${failing[@]}" > "$r.log" 2> "$r.err"
 rc=$?
 [ $rc -eq 3 ] || fail "the failing run exited $rc, expected 3: $(cat "$r.err")"
-grep -q "^mica: Newton did not converge in 12 iterations at load factor 0.0296875 .*after 6 cut-backs (the most allowed); the last converged load factor is 0.028125 (load step 18)" "$r.err" \
-  || fail "stderr does not give the reason: $(cat "$r.err")"
+reason="^mica: Newton did not converge in 12 iterations at load factor 0.0296875 .*after 6 cut-backs (the most"
+reason+=" allowed); the last converged load factor is 0.028125 (load step 18)"
+grep -q "$reason" "$r.err" || fail "stderr does not give the reason: $(cat "$r.err")"
 [ "$(wc -l < "$r.err")" -eq 1 ] || fail "stderr has more than the one message: $(cat "$r.err")"
 ok "exit 3, the reason on stderr"
-[ "$(json_get reason "$r/summary.json")" = "$(sed 's/^mica: //' "$r.err")" ] || fail "summary's reason is not stderr's message"
-grep -q "^partial results (the converged load steps) in $r/" "$r.log" || fail "stdout does not say where the results are"
+[ "$(json_get reason "$r/summary.json")" = "$(sed 's/^mica: //' "$r.err")" ] \
+  || fail "summary's reason is not stderr's message"
+grep -q "^partial results (the converged load steps) in $r/" "$r.log" || fail "stdout does not say where"
 [ ! -e "$r/step_0019.vtu" ] && [ ! -e "$r/step_0020.vtu" ] || fail "the earlier run's step files 19, 20 are left"
 [ -z "$(ls -A "$work" | grep -e staging -e '\.old-')" ] || fail "a staging directory is left: $(ls -A "$work")"
 ok "the failed run's results replaced the earlier run's whole"
@@ -133,21 +137,22 @@ else
 fi
 
 # ---- a sweep and a study with a point that fails this way: they go on; its row says failed ----
-{ cat $deck; echo 'sweep = { parameters = ( { path = "parameters.F"; values = [1.0, 1000.0]; } ); probe = "tip_uy"; chart = false; };'; } \
-  > "$work/sweep.cfg"
+{ cat $deck; echo 'sweep = { parameters = ( { path = "parameters.F"; values = [1.0, 1000.0]; } );'
+  echo '          probe = "tip_uy"; chart = false; };'; } > "$work/sweep.cfg"
 "$MICA" sweep "$work/sweep.cfg" -o "$work/sweep" "${small[@]}" --set solver.max_cuts=3 > "$work/sweep.log" 2>&1 \
   || fail "the sweep failed: $(tail -3 "$work/sweep.log")"
 csv="$work/sweep/sweep.csv"
 awk -F, '$1 == 1 && $5 == "ok"' "$csv" | grep -q . || fail "sweep point 1 should be ok: $(cat "$csv")"
-awk -F, '$1 == 2 && $5 == "failed"' "$csv" | grep -q 'no load step converged' || fail "sweep point 2 should say failed: $(cat "$csv")"
+awk -F, '$1 == 2 && $5 == "failed"' "$csv" | grep -q 'no load step converged' \
+  || fail "sweep point 2 should say failed: $(cat "$csv")"
 s="$work/sweep/points/2/summary.json"
 [ "$(json_value status "$s")/$(json_value exit_status "$s")/$(json_value load_factor_reached "$s")" = failed/3/0 ] \
   || fail "points/2/summary.json: status $(json_value status "$s"), exit_status $(json_value exit_status "$s")"
 [ "$(json_value points_failed "$work/sweep/summary.json")" = 1 ] || fail "sweep summary: points_failed should be 1"
 ok "sweep: the failing point's row says failed, its summary status failed, exit_status 3, load factor 0"
 
-{ cat $deck; echo 'study = { choices = ( { path = "parameters.F"; values = [1.0, 1000.0]; } ); error = "tip_uy"; reference = 13.77; chart = false; };'; } \
-  > "$work/study.cfg"
+{ cat $deck; echo 'study = { choices = ( { path = "parameters.F"; values = [1.0, 1000.0]; } );'
+  echo '          error = "tip_uy"; reference = 13.77; chart = false; };'; } > "$work/study.cfg"
 "$MICA" study "$work/study.cfg" -o "$work/study" "${small[@]}" --set solver.max_cuts=3 > "$work/study.log" 2>&1 \
   || fail "the study failed: $(tail -3 "$work/study.log")"
 awk -F, '$1 == 2 && $3 == "failed"' "$work/study/study.csv" | grep -q 'no load step converged' \
