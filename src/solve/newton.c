@@ -177,7 +177,7 @@ static int give_up(Newton *nw, double *u, double target, int may_cut) {
   st->failed = 1;
   st->load_factor_failed = target;
   if (!may_cut)
-    snprintf(why, sizeof why, "a linear problem's step is not cut back: its tangent does not depend on the load");
+    snprintf(why, sizeof why, "a linear problem's load step is not halved: its tangent does not depend on the load");
   else
     snprintf(why, sizeof why, "after %d cut-back%s (%s)", st->cuts, st->cuts == 1 ? "" : "s",
              st->cuts < nw->opt->max_cuts ? "the step cannot be halved again" : "the most allowed");
