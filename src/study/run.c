@@ -901,7 +901,9 @@ const MicaCommand mica_command_run = {
     "Builds the body, particles and background cells, the MLS approximation, the model and the boundary\n"
     "conditions of the deck, and solves with Newton's method over load steps (CHOLMOD or UMFPACK). Writes\n"
     "fields per load step (VTU + PVD, at the particles and on the cells) and summary.json: counts, per-phase\n"
-    "times, Newton iterations, error norms when an exact solution is given, and every probe.",
+    "times, Newton iterations, error norms when an exact solution is given, and every probe. A solve that\n"
+    "stops (a load step failing after solver.max_cuts halvings) writes what it reached, the converged steps\n"
+    "and summary.json with \"status\": \"failed\", the load factor reached and the reason, and exits 3.",
     mica_run_schema,
     run_solve,
 };
