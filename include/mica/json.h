@@ -21,6 +21,8 @@ int mica_json_close(MicaJson *json);
 /* Reads back a number (or integer) member of the root object: MICA_ERR_ARGUMENT if key is absent or holds
  * something else (used by `mica sweep` to collect each run's probes). */
 int mica_json_get_number(const MicaJson *json, const char *key, double *value);
+/* Reads back a string member of the root object (the command line reads "status"); *value points into json. */
+int mica_json_get_string(const MicaJson *json, const char *key, const char **value);
 /* Serializes (all containers must be closed but the root) and writes path atomically. */
 int mica_json_write(const MicaJson *json, const char *path);
 /* The serialized text, for tests and printing; caller frees. */

@@ -266,10 +266,15 @@ typedef struct MicaNewtonStats {
   double cpu_assemble; /* thread CPU time of the assemblies (mica_cputime) */
   const char *linear_name;
   MicaLinearSolverStats linear;
+  double load_factor;        /* the last converged load factor: 1 when solved, 0 before any step converged */
+  double load_factor_failed; /* the load factor of the step that failed for good (0: none did) */
+  int failed;                /* 1: a step failed after its cut-backs; u is the last converged state */
 } MicaNewtonStats;
 
 /* Solves from u (initial guess, updated in place) to load factor 1; on_step (may be NULL) is called after
- * every converged step with the load factor. */
+ * every converged step with the load factor. A step that fails numerically even after its cut-backs ends
+ * the solve with MICA_ERR_NUMERIC, stats->failed = 1, u back at the last converged state (stats->load_factor)
+ * and a message that says how far the solve got; any other error leaves stats->failed = 0. */
 int mica_newton_solve(MicaSolid *s, const MicaNewtonOptions *opt, double *u,
                       int (*on_step)(void *ctx, int step, double t, const double *u), void *ctx,
                       MicaNewtonStats *stats);

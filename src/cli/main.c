@@ -6,7 +6,9 @@
  * The options are declared once, in the tables below; the parser (options.c) and the help (help.c) both
  * read them. A run writes into a staging directory beside DIR and swaps it in as DIR with one rename only
  * when it succeeds (publish.h), so a failed or interrupted run leaves the results of an earlier one complete
- * and untouched. Exit status:
+ * and untouched. The one exception is a run that failed but wrote what it reached (a Newton solve that
+ * stopped after its cut-backs: its summary says "status": "failed"): the user asked for that run, so its
+ * results replace the earlier ones, whole, and it exits 3. Exit status:
  * 0 success, 2 bad input (deck or command line), 3 numerical failure, 1 anything else.
  */
 #include <mpi.h>
@@ -57,7 +59,8 @@ static int ask_version(Invocation *inv, const char *who, const char *value) {
 const CliOption cli_command_options[] = {
     {"output", 'o', "DIR", 0,
      "write the results to DIR (default out/<deck name>, relative to the working directory); a failed run "
-     "leaves the results already in DIR untouched",
+     "leaves the results already in DIR untouched, except a run whose Newton solve stopped: what it reached "
+     "replaces them (exit status 3)",
      set_output},
     {"set", 0, "PATH=VALUE", 1,
      "override a deck setting (repeatable; applied in order, after the deck): VALUE in libconfig syntax, "
@@ -193,7 +196,7 @@ static int prepare_outdir(const Invocation *inv, const MicaDeck *deck, char **ou
 }
 
 /* Rank 0: summary.json into the staging directory, then everything into outdir. */
-static int publish(MicaStaging *staging, const char *outdir, MicaJson *summary, double start) {
+static int publish(MicaStaging *staging, const char *outdir, MicaJson *summary, double start, const char *what) {
   char *path = NULL;
   MICA_CALL(mica_json_number(summary, "time_total", mica_wtime() - start));
   MICA_CALL(mica_path_join(mica_staging_dir(staging), "summary.json", &path));
@@ -201,8 +204,30 @@ static int publish(MicaStaging *staging, const char *outdir, MicaJson *summary, 
   free(path);
   MICA_CALL(ierr);
   MICA_CALL(mica_staging_publish(staging));
-  printf("results in %s/ (summary.json, resolved.cfg)\n", outdir);
+  printf("%s in %s/ (summary.json, resolved.cfg)\n", what, outdir);
+  fflush(stdout);
   return MICA_SUCCESS;
+}
+
+/* The command failed numerically (failure agreed by every rank). If it wrote what it reached — its summary
+ * says "status": "failed" (src/study/run.c) — rank 0 publishes that like a success's results; the failure is
+ * then set again and agreed, so that every rank exits 3 with its message. Rank 0's summary decides for all:
+ * the ranks must take the same collective steps. A failure to publish replaces it (with its reason). */
+static int publish_reached(MicaStaging *staging, const char *outdir, MicaJson *summary, double start) {
+  const int root = mica_parallel_rank() == 0;
+  char reason[1536];
+  snprintf(reason, sizeof reason, "%s", mica_error_message());
+  const char *status = NULL;
+  double reached =
+      root && mica_json_get_string(summary, "status", &status) == MICA_SUCCESS && !strcmp(status, "failed");
+  mica_error_clear(); /* from here every rank passes each agreement point with a fresh code */
+  int ierr = mica_parallel_broadcast(MICA_SUCCESS, &reached, 1, 0);
+  if (!ierr && reached && root) {
+    ierr = publish(staging, outdir, summary, start, "partial results (the converged load steps)");
+    if (ierr) mica_error_prefix("%s; the results it reached were not published", reason);
+  }
+  MICA_CALL(mica_parallel_agree(ierr));
+  return mica_parallel_agree(mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_NUMERIC, "%s", reason));
 }
 
 /* Loads the deck, runs the command into a staging directory, publishes on success. Under MPI every rank
@@ -228,8 +253,10 @@ static int run_command(const Invocation *inv) {
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
   ierr = inv->command->run(deck, mica_staging_dir(staging), summary);
   if (!ierr) ierr = mica_parallel_inject("output");
-  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
-  if (root) ierr = publish(staging, outdir, summary, start);
+  ierr = mica_parallel_agree(ierr);
+  if (ierr == MICA_ERR_NUMERIC) ierr = publish_reached(staging, outdir, summary, start);
+  MICA_CALL_CLEANUP(ierr);
+  if (root) ierr = publish(staging, outdir, summary, start, "results");
 cleanup:
   ierr = mica_parallel_agree(ierr); /* every rank passes here once more: a failure of rank 0's publishing */
   mica_staging_destroy(&staging); /* the staging directory of a failed run, the old results of a good one */

@@ -243,6 +243,16 @@ int mica_json_get_number(const MicaJson *json, const char *key, double *value) {
   return MICA_SUCCESS;
 }
 
+int mica_json_get_string(const MicaJson *json, const char *key, const char **value) {
+  MICA_CHECK(json && key && value, MICA_ERR_ARGUMENT, "mica_json_get_string: NULL argument");
+  const int i = find_member(json->root, key);
+  MICA_CHECK(i >= 0, MICA_ERR_ARGUMENT, "the summary has no member '%s'", key);
+  const JsonNode *node = json->root->items[i];
+  MICA_CHECK(node->kind == JSON_STRING, MICA_ERR_ARGUMENT, "the summary's member '%s' is not a string", key);
+  *value = node->value.string;
+  return MICA_SUCCESS;
+}
+
 /* ---- serialization ---- */
 
 static int buffer_append(Buffer *buffer, const char *text, size_t length) {

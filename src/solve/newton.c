@@ -184,6 +184,29 @@ static int newton_step(Newton *nw, int step, double t, double *u) {
   }
 }
 
+/* The end of a solve whose step at load factor target failed for good: u goes back to the last converged
+ * state, which the caller may still write, and the message says how far the solve got and why it stopped
+ * cutting (the caller adds what to change). */
+static int give_up(Newton *nw, double *u, double target, int may_cut) {
+  MicaNewtonStats *st = nw->stats;
+  char cause[1024], why[128], reached[128];
+  snprintf(cause, sizeof cause, "%s", mica_error_message());
+  memcpy(u, nw->saved, sizeof(double) * (size_t)nw->s->ndof);
+  st->failed = 1;
+  st->load_factor_failed = target;
+  if (!may_cut)
+    snprintf(why, sizeof why, "a linear problem's load step is not halved: its tangent does not depend on the load");
+  else
+    snprintf(why, sizeof why, "after %d cut-back%s (%s)", st->cuts, st->cuts == 1 ? "" : "s",
+             st->cuts < nw->opt->max_cuts ? "the step cannot be halved again" : "the most allowed");
+  if (st->steps_done)
+    snprintf(reached, sizeof reached, "the last converged load factor is %.6g (load step %d)", st->load_factor,
+             st->steps_done);
+  else
+    snprintf(reached, sizeof reached, "no load step converged (load factor 0 reached)");
+  MICA_ERROR(MICA_ERR_NUMERIC, "%s; %s; %s", cause, why, reached);
+}
+
 /* Load factors are exact fractions k / den, den = steps · 2^cuts, so the last is 1 (a sum of increments 1/steps
  * ends at 0.9999999999999999, and the outputs would say so). k and den are integers held exactly in doubles while
  * den ≤ 2^53, so no cut goes beyond that (a step of 1e-16 of the load would not be a step anyway). */
@@ -205,11 +228,13 @@ static int run_steps(Newton *nw, double *u, int (*on_step)(void *, int, double, 
       nw->stats->cuts++;
       continue;
     }
+    if (ierr == MICA_ERR_NUMERIC) return give_up(nw, u, target, may_cut);
     if (ierr) return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
     k += 1;
     t = target;
     step++;
     nw->stats->steps_done = step;
+    nw->stats->load_factor = t;
     if (on_step) MICA_CALL(on_step(ctx, step, t, u));
   }
   return MICA_SUCCESS;

@@ -725,6 +725,7 @@ static int read_newton(const MicaDeck *deck, const MicaSolid *s, MicaNewtonOptio
 
 static int add_newton_stats(const MicaNewtonStats *st, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "load_steps", st->steps_done));
+  MICA_CALL(mica_json_number(summary, "load_factor_reached", st->load_factor));
   MICA_CALL(mica_json_int(summary, "step_cuts", st->cuts));
   MICA_CALL(mica_json_int(summary, "newton_iterations", st->iterations_total));
   MICA_CALL(mica_json_int(summary, "newton_iterations_last_step", st->last_iterations));
@@ -790,6 +791,53 @@ static int check_rigid_modes(const MicaDeck *deck, const RunProblem *rp) {
   return mica_dirichlet_check_rigid(rp->disc, rp->axisymmetric, ncomp, names, s->ndirichlet, s->dirichlet, where);
 }
 
+/* What every solve reports, converged or not: Newton's and the linear solvers' statistics and the memory
+ * (collective under MPI). */
+static int add_solve_stats(const RunProblem *rp, const RunTotals *totals, const MicaNewtonStats *stats,
+                           double time_newton, MicaJson *summary) {
+  MICA_CALL(mica_json_number(summary, "time_newton", time_newton));
+  MICA_CALL(add_newton_stats(stats, summary));
+  MICA_CALL(add_memory_per_dof(rp, totals, stats, summary));
+  MICA_CALL(run_krylov_summary(rp, stats, summary));
+  MICA_CALL(run_parallel_ranks(rp, stats, summary));
+  MICA_CALL(run_parallel_solver_stats(rp, summary));
+  MICA_CALL(run_parallel_memory(rp, summary));
+  return MICA_SUCCESS;
+}
+
+/* Newton's message, and what in the deck may get a nonlinear solve further (a linear one fails alike at any
+ * load step). */
+static void failure_reason(const RunProblem *rp, const MicaNewtonOptions *nopt, char *reason, size_t size) {
+  if (mica_solid_linear(rp->solid))
+    snprintf(reason, size, "%s", mica_error_message());
+  else
+    snprintf(reason, size, "%s; more solver.steps, a larger solver.max_cuts%s may get further", mica_error_message(),
+             nopt->line_search ? " or a smaller load" : " or solver.line_search = true");
+}
+
+/* A solve whose step failed after its cut-backs (stats->failed) still writes what it reached: the fields of
+ * the converged steps and their PVD, the statistics, and status "failed" with the load factors and the
+ * reason; no probes, error norms or quadrature fields, which belong to the full load. The command line
+ * publishes these results (main.c); the failure is returned again. */
+static int write_reached(const RunProblem *rp, RunOutput *out, const RunTotals *totals, const MicaNewtonOptions *nopt,
+                         const MicaNewtonStats *stats, double time_newton, MicaJson *summary) {
+  char reason[1536];
+  failure_reason(rp, nopt, reason, sizeof reason);
+  mica_error_clear(); /* every rank failed alike: the collectives below run as after a success */
+  const double output_start = mica_wtime();
+  MICA_CALL(add_solve_stats(rp, totals, stats, time_newton, summary));
+  MICA_CALL(run_output_finish(out));
+  MICA_CALL(mica_json_number(summary, "time_output", out->time_output + mica_wtime() - output_start));
+  MICA_CALL(run_peak_memory(summary));
+  MICA_CALL(mica_json_string(summary, "status", "failed"));
+  MICA_CALL(mica_json_number(summary, "load_factor_failed", stats->load_factor_failed));
+  MICA_CALL(mica_json_string(summary, "reason", reason));
+  printf("failed at load factor %.6g after %d converged load step%s (load factor %.6g), %d cut-back%s\n",
+         stats->load_factor_failed, stats->steps_done, stats->steps_done == 1 ? "" : "s", stats->load_factor,
+         stats->cuts, stats->cuts == 1 ? "" : "s");
+  MICA_ERROR(MICA_ERR_NUMERIC, "%s", reason);
+}
+
 int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summary, RunReuse *reuse) {
   RunProblem rp;
   MicaNewtonOptions nopt;
@@ -814,14 +862,10 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(read_vtu(deck, &rp, &out));
   MICA_CALL_CLEANUP(MICA_CALLOC(u, rp.solid->ndof));
   const double start = mica_wtime();
-  MICA_CALL_CLEANUP(mica_newton_solve(rp.solid, &nopt, u, run_output_step, &out, &stats));
-  MICA_CALL_CLEANUP(mica_json_number(summary, "time_newton", mica_wtime() - start));
-  MICA_CALL_CLEANUP(add_newton_stats(&stats, summary));
-  MICA_CALL_CLEANUP(add_memory_per_dof(&rp, &totals, &stats, summary));
-  MICA_CALL_CLEANUP(run_krylov_summary(&rp, &stats, summary));
-  MICA_CALL_CLEANUP(run_parallel_ranks(&rp, &stats, summary));
-  MICA_CALL_CLEANUP(run_parallel_solver_stats(&rp, summary));
-  MICA_CALL_CLEANUP(run_parallel_memory(&rp, summary));
+  ierr = mica_newton_solve(rp.solid, &nopt, u, run_output_step, &out, &stats);
+  if (ierr && stats.failed) ierr = write_reached(&rp, &out, &totals, &nopt, &stats, mica_wtime() - start, summary);
+  MICA_CALL_CLEANUP(ierr);
+  MICA_CALL_CLEANUP(add_solve_stats(&rp, &totals, &stats, mica_wtime() - start, summary));
   const double output_start = mica_wtime();
   MICA_CALL_CLEANUP(run_output_finish(&out));
   MICA_CALL_CLEANUP(run_error_norms(&rp, u, summary));
@@ -871,7 +915,9 @@ const MicaCommand mica_command_run = {
     "Builds the body, particles and background cells, the MLS approximation, the model and the boundary\n"
     "conditions of the deck, and solves with Newton's method over load steps (CHOLMOD or UMFPACK). Writes\n"
     "fields per load step (VTU + PVD, at the particles and on the cells) and summary.json: counts, per-phase\n"
-    "times, Newton iterations, error norms when an exact solution is given, and every probe.",
+    "times, Newton iterations, error norms when an exact solution is given, and every probe. A solve that\n"
+    "stops (a load step failing after solver.max_cuts halvings) writes what it reached, the converged steps\n"
+    "and summary.json with \"status\": \"failed\", the load factor reached and the reason, and exits 3.",
     mica_run_schema,
     run_solve,
 };

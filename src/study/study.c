@@ -148,6 +148,12 @@ static int run_combination(const StudySpec *spec, long p, const char *outdir, St
     const int failed = solve_once(spec, dir, &o, json, &row->reference);
     if (failed) {
       MICA_CALL_CLEANUP(record_failure(row, failed));
+      row->reached = mica_study_solve_reached(json);
+      if (row->reached) { /* its summary says how far it got, and why: it is the combination's */
+        mica_json_destroy(&first);
+        first = json;
+        json = NULL;
+      }
     } else {
       for (int k = 0; k < STUDY_NPHASES; k++) row->phase[k] = fmin(row->phase[k], get_number(json, study_phase_key[k]));
       if (r == 0) { /* the first solve's summary is the combination's */
@@ -158,8 +164,13 @@ static int run_combination(const StudySpec *spec, long p, const char *outdir, St
     }
     mica_json_destroy(&json);
   }
-  if (row->status) {
+  if (row->status && row->reached) {
+    MICA_CALL_CLEANUP(mica_study_add_failure(first, row->status, row->message));
+    MICA_CALL_CLEANUP(mica_json_write(first, path));
+  } else if (row->status) {
     MICA_CALL_CLEANUP(write_failure_summary(spec, p, &o, row, path));
+  }
+  if (row->status) {
     row->error = row->time = NAN;
     for (int k = 0; k < STUDY_NPHASES; k++) row->phase[k] = NAN;
   } else {

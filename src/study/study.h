@@ -46,6 +46,7 @@ typedef struct StudyRow {
   int *choice;           /* per choice, the index of the combination's value */
   int status;            /* MICA_SUCCESS, or the failure's error code */
   char *message;         /* the failure's message, or NULL */
+  int reached;           /* 1: it failed but wrote what it reached (a Newton run that stopped: "failed") */
   long dofs, particles, quadrature_points, nnz, nnz_factor, cache_bytes, matrix_bytes;
   double phase[STUDY_NPHASES]; /* seconds, the minimum over the repeats */
   double error_l2, error_h1, error_energy; /* relative; NAN without an exact solution */

@@ -53,6 +53,18 @@ void mica_study_log_close(int saved) {
   close(saved);
 }
 
+int mica_study_solve_reached(const MicaJson *summary) {
+  const char *status = NULL;
+  if (mica_json_get_string(summary, "status", &status) == MICA_SUCCESS) return !strcmp(status, "failed");
+  mica_error_clear();
+  return 0;
+}
+
+int mica_study_add_failure(MicaJson *summary, int code, const char *message) {
+  MICA_CALL(mica_json_string(summary, "error", message ? message : ""));
+  return mica_json_int(summary, "exit_status", mica_exit_status(code));
+}
+
 int mica_study_run_logged(const MicaCommand *command, const MicaDeck *deck, const char *dir, MicaJson *summary) {
   int saved;
   MICA_CALL(mica_study_log_open(dir, &saved));

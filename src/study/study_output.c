@@ -41,7 +41,7 @@ static void put_row(FILE *fp, const StudySpec *spec, long p, const StudyRow *row
     else put_quoted(fp, axis->words[row->choice[c]]);
   }
   const int ok = row->status == MICA_SUCCESS;
-  fprintf(fp, ",%s", ok ? "ok" : "error");
+  fprintf(fp, ",%s", ok ? "ok" : row->reached ? "failed" : "error");
   if (ok)
     fprintf(fp, ",%ld,%ld,%ld,%ld,%ld,%ld,%ld,%ld", row->dofs, row->particles, row->quadrature_points, row->nnz,
             row->nnz_factor, row->cache_bytes, row->matrix_bytes, study_memory_bytes(row));

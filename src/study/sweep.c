@@ -151,11 +151,13 @@ static int run_point(const SweepSpec *spec, long p, const char *outdir, RunReuse
   const int failed = point_solve(spec, dir, &o, json, reuse);
   pt->time = mica_wtime() - start;
   if (failed) MICA_CALL_CLEANUP(record_failure(pt, failed)); /* first: reading the summary clears errors */
+  pt->reached = failed && mica_study_solve_reached(json);
   read_setup(json, pt);
-  if (failed) {
+  if (failed && !pt->reached) {
     MICA_CALL_CLEANUP(write_failure_summary(spec, p, &o, pt, path));
-  } else {
-    read_probes(spec, json, pt);
+  } else { /* a Newton run that stopped keeps its summary: how far it got, and why (no probes) */
+    if (failed) MICA_CALL_CLEANUP(mica_study_add_failure(json, pt->status, pt->message));
+    else read_probes(spec, json, pt);
     MICA_CALL_CLEANUP(mica_json_number(json, "time_total", pt->time));
     MICA_CALL_CLEANUP(mica_json_write(json, path));
   }

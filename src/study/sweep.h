@@ -56,6 +56,7 @@ typedef struct SweepPoint {
   double time;      /* seconds, loading and solving */
   int status;       /* MICA_SUCCESS, or the error code of the failure */
   char *message;    /* the failure's message, or NULL */
+  int reached;      /* 1: the point failed but wrote what it reached (a Newton run that stopped: "failed") */
   double setup;     /* seconds building discretization, MLS, shape caches and pattern (NAN if it failed) */
   double caches_built; /* shape-function caches the point computed (0: it shared the previous point's) */
 } SweepPoint;

@@ -40,7 +40,7 @@ static void put_row(FILE *fp, const SweepSpec *spec, long p, const SweepPoint *p
     fputc(',', fp);
     if (isfinite(pt->probe[i])) fprintf(fp, "%.17g", pt->probe[i]);
   }
-  fprintf(fp, ",%.6g,%s,", pt->time, pt->status ? "error" : "ok");
+  fprintf(fp, ",%.6g,%s,", pt->time, !pt->status ? "ok" : pt->reached ? "failed" : "error");
   if (pt->status) put_quoted(fp, pt->message ? pt->message : "");
   fputc('\n', fp);
 }

@@ -103,6 +103,13 @@ static void test_replace_root_key(void **state) {
   char *text = text_of(json);
   assert_string_equal(text, "{\n  \"status\": \"ok\",\n  \"dofs\": 10\n}\n");
   free(text);
+  /* read back: the replaced string; a number or a missing key is refused */
+  const char *status = NULL;
+  assert_int_equal(mica_json_get_string(json, "status", &status), MICA_SUCCESS);
+  assert_string_equal(status, "ok");
+  assert_int_equal(mica_json_get_string(json, "dofs", &status), MICA_ERR_ARGUMENT);
+  assert_int_equal(mica_json_get_string(json, "reason", &status), MICA_ERR_ARGUMENT);
+  mica_error_clear();
   mica_json_destroy(&json);
 }
 
