@@ -28,13 +28,17 @@ typedef enum {
   MICA_KEY_PARAMETERS /* the `parameters` group: any names, each a number or an expression of earlier ones */
 } MicaKeyType;
 
+/* The longest string setting, in bytes, unless its key's len_max allows more (file paths, word lists): a
+ * deck's names and titles are at most this, refused when longer before anything runs (docs/input.md). */
+enum { MICA_DECK_TEXT_MAX = 200, MICA_DECK_LONG_TEXT_MAX = 1024 };
+
 typedef struct MicaDeckKey {
   const char *path;    /* "mls.order", "output.probes.[].name" */
   MicaKeyType type;
   const char *def;     /* default in libconfig syntax ("2", "\"pascal\"", "[1.0, 1.0]"), NULL: none */
   double min, max;     /* inclusive range for numbers and array elements (min > max: unchecked) */
   const char *choices; /* MICA_KEY_CHOICE */
-  int len_min, len_max;
+  int len_min, len_max; /* values of INTS/FLOATS/LIST; for STRING len_max is the most bytes (0: TEXT_MAX) */
   const char *help;    /* one line for `mica help <command>` and docs/input.md */
 } MicaDeckKey;
 

@@ -277,7 +277,7 @@ static int add_summary(const StudySpec *spec, const StudyRow *rows, long nfailed
   if (fastest >= 0) {
     MICA_CALL_CLEANUP(add_row_object(spec, rows, fastest, "fastest_for_target", summary));
   } else {
-    char text[256];
+    char text[CHOICE_TEXT];
     snprintf(text, sizeof text, "none: no combination reaches %s error <= %g", spec->error_name, spec->target);
     MICA_CALL_CLEANUP(mica_json_string(summary, "fastest_for_target", text));
   }

@@ -173,7 +173,7 @@ cleanup:
 static void print_progress(const SweepSpec *spec, long p, const SweepPoint *pt, double elapsed) {
   printf("point %ld/%ld ", p + 1, spec->npoints);
   for (int a = 0; a < spec->naxes; a++) {
-    char label[256];
+    char label[2048]; /* "path = word": a path and a word of at most MICA_DECK_LONG_TEXT_MAX */
     sweep_value_label(&spec->axes[a], pt->choice[a], label, sizeof label);
     printf(" %s", label);
   }
