@@ -9,7 +9,7 @@ work="$(cd "$(dirname "$OUT_DIR")" 2>/dev/null && pwd)/$(basename "$OUT_DIR")/mp
 rm -rf "$work" && mkdir -p "$work/tmp"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm_rsh_agent=false
 export TMPDIR="$work/tmp"
-[ "${SAN:-}" = 1 ] && export ASAN_OPTIONS="detect_leaks=0:abort_on_error=0" # OpenMPI's plugin leaks; see mpi.sh
+mpi_leak_checks # under SAN=1: leak checks under mpirun with the slow unwinder (common.bash)
 MPIRUN=(timeout 300 mpirun --oversubscribe)
 [ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
 if ! out=$("${MPIRUN[@]}" -np 2 "$MICA" --version 2>&1) || [ "$(grep -c '^mica ' <<<"$out")" -lt 1 ]; then
