@@ -375,7 +375,7 @@ static int draw_charts(const StudySpec *spec, const StudyRow *rows, long fastest
 static int study_run(const MicaDeck *deck, const char *outdir, MicaJson *summary) {
   StudySpec spec;
   StudyRow *rows = NULL;
-  char *points = NULL, title[128];
+  char *points = NULL, title[MICA_DECK_TEXT_MAX + 64]; /* "relative error of " and a probe's name */
   long nfailed = 0;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(study_spec_read(deck, &spec));

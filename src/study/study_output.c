@@ -255,7 +255,7 @@ static int key_entries(const StudySpec *spec, const StudyRow *rows, const Curves
 
 static int write_script(const StudySpec *spec, const StudyRow *rows, const Curves *cv, long nfront, long fastest,
                         const char *outdir) {
-  char title[512], error_title[128], text[1024], quoted[3][1024];
+  char title[512], error_title[MICA_DECK_TEXT_MAX + 64], text[1024], quoted[3][1024];
   const char *deck_title;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;

@@ -75,14 +75,12 @@ static int parse_pair(const char *line, double *x, double *y) {
   return end != next && isfinite(*x) && isfinite(*y);
 }
 
-static int data_path(const SweepSpec *spec, const char *file, char *buf, size_t size) {
-  if (file[0] == '/') {
-    snprintf(buf, size, "%s", file);
-  } else {
-    char deck_path[4096];
-    snprintf(deck_path, sizeof deck_path, "%s", mica_deck_path(spec->deck));
-    snprintf(buf, size, "%s/%s", dirname(deck_path), file);
-  }
+static int data_path(const SweepSpec *spec, const char *file, const char *where, char *buf, size_t size) {
+  char deck_path[4096];
+  snprintf(deck_path, sizeof deck_path, "%s", mica_deck_path(spec->deck));
+  const int n = file[0] == '/' ? snprintf(buf, size, "%s", file) : snprintf(buf, size, "%s/%s", dirname(deck_path), file);
+  MICA_CHECK(n >= 0 && (size_t)n < size, MICA_ERR_INPUT, "%s: the file's path, beside the deck, is %d bytes long; at "
+             "most %zu are allowed: move the deck or the file to a shorter path", where, n, size - 1);
   return MICA_SUCCESS;
 }
 
@@ -114,7 +112,7 @@ static int read_experiment(SweepSpec *spec, int e) {
   mica_deck_where(spec->deck, path, where, sizeof where);
   MICA_CHECK(mica_deck_has(spec->deck, path), MICA_ERR_INPUT, "%s: sweep.experiments.[%d] needs a file", where, e);
   MICA_CALL(mica_deck_string(spec->deck, path, &name));
-  MICA_CALL(data_path(spec, name, file, sizeof file));
+  MICA_CALL(data_path(spec, name, where, file, sizeof file));
   FILE *fp = fopen(file, "r");
   MICA_CHECK(fp, MICA_ERR_INPUT, "%s: cannot read %s: %s", where, file, strerror(errno));
   const int ierr = read_points(fp, data);

@@ -60,6 +60,16 @@ sed "s/name = \"rho 1.51\"/name = \"$name\"/; s/samples = 201/samples = 11/" "$m
 grep -qF "\"$name\"" "$work/name/summary.json" || fail "summary.json lacks the 200-byte variant name whole"
 ok "a 200-byte variant name stands whole in summary.json"
 
+# A study measured by a probe of a 200-byte name: its first line says "relative error of <name>" whole (cut
+# at 127 bytes of the line's title before).
+box "$work/probe200.cfg" "study = { choices = ( { path = \"material.E\"; values = [1.0, 2.0]; } ); error = \"$name\"; reference = 1.0; };"
+sed -i "s/name = \"tip_ux\"/name = \"$name\"/" "$work/probe200.cfg"
+"$MICA" study "$work/probe200.cfg" -o "$work/probe200" > "$work/probe200.log" 2>&1 \
+  || fail "study: $(tail -n 3 "$work/probe200.log")"
+grep -qF "relative error of $name against" "$work/probe200.log" \
+  || fail "the study's first line lacks the 200-byte probe name whole: $(head -n 1 "$work/probe200.log" | cut -c1-80)"
+ok "a 200-byte probe name stands whole in the study's title"
+
 # ---- expressions beyond MICA_EXPR_TEXT_MAX: refused before libmatheval parses them --------------------------
 # libmatheval takes time quadratic in a run of blanks (1 MB: about a second, 50 MB: most of an hour) and
 # overflows its stack on a chain of 2 * 10^5 terms (a crash before): both refused at once.
