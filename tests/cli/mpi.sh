@@ -11,9 +11,9 @@ rm -rf "$work" && mkdir -p "$work/tmp"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm_rsh_agent=false
 export TMPDIR="$work/tmp" # ranks other than 0 run in scratch directories here, which must be gone afterwards
 # Under SAN=1 the runs under mpirun are leak-checked too (common.bash: the slow unwinder, tests/lsan.supp).
-mpi_leak_checks
 MPIRUN=(timeout 300 mpirun --oversubscribe)
 [ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
+mpi_leak_checks # under SAN=1: the ranks leak-checked with the slow unwinder (common.bash)
 
 if ! out=$("${MPIRUN[@]}" -np 2 "$MICA" --version 2>&1) || [ "$(grep -c '^mica ' <<<"$out")" -lt 1 ]; then
   echo "#####################################################################################"
