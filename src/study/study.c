@@ -25,7 +25,7 @@ enum { CHOICE_TEXT = 2048 };
 /* ---- one combination ---------------------------------------------------------------------------------- */
 
 typedef struct {
-  char (*text)[1024]; /* per choice: "mls.order=2" */
+  char (*text)[SWEEP_OVERRIDE_MAX]; /* per choice: "mls.order=2" */
   const char **list;
 } Overrides;
 

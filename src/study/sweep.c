@@ -34,7 +34,7 @@ static int point_dir(const char *outdir, long p, char **dir) {
 /* ---- one point -------------------------------------------------------------------------------------- */
 
 typedef struct {
-  char (*text)[1024]; /* per axis: "parameters.L=8" */
+  char (*text)[SWEEP_OVERRIDE_MAX]; /* per axis: "parameters.L=8" */
   const char **list;
 } PointOverrides;
 

@@ -7,8 +7,11 @@
 #define MICA_SWEEP_H
 
 #include "mica/command.h"
+#include "mica/deck.h"
 
 enum { SWEEP_WHERE_MAX = 256 };
+/* "path=\"word\"": a setting path and a word of a words list, each within its deck cap (deck.h) */
+enum { SWEEP_OVERRIDE_MAX = MICA_DECK_TEXT_MAX + MICA_DECK_LONG_TEXT_MAX + 8 };
 /* The default of limits.sweep_points and limits.study_combinations (run_schema.c): the most points of a
  * sweep's grid and combinations of a study, each a full solve. Either can be raised in the deck. */
 #define SWEEP_LIMIT_DEFAULT "100000"

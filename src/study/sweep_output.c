@@ -193,7 +193,7 @@ static void fine_grid(const SweepSpec *spec, double *x) {
 /* The analytic curves of one chart curve: its values of the other axes are overrides, so the deck's
  * parameters they change are bound in the expressions. y[k * FINE + i] = curve k at x[i]. */
 static int analytic_eval(const SweepSpec *spec, const SweepPoint *pts, long first, const double *x, double *y) {
-  char (*text)[1024] = NULL;
+  char (*text)[SWEEP_OVERRIDE_MAX] = NULL;
   const char **list = NULL;
   MicaDeck *deck = NULL;
   MicaFunction *f = NULL;

@@ -195,7 +195,7 @@ static int read_values(const MicaDeck *deck, const char *element, const SweepLim
  * with the list element. */
 static int try_values(const MicaDeck *deck, const char *element, const SweepAxis *axis) {
   for (int v = 0; v < axis->nvalues; v++) {
-    char text[1024];
+    char text[SWEEP_OVERRIDE_MAX];
     const char *extra[1] = {text};
     MicaDeck *trial = NULL;
     sweep_override_text(axis, v, text, sizeof text);
