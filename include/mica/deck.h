@@ -13,6 +13,10 @@
 #include "mica/expr.h"
 #include "mica/schema.h"
 
+/* The longest string setting, in bytes, unless its key's len_max allows more (file paths, word lists): a
+ * deck's names and titles are at most this, refused when longer before anything runs (docs/input.md). */
+enum { MICA_DECK_TEXT_MAX = 200, MICA_DECK_LONG_TEXT_MAX = 1024 };
+
 /* A schema is an array of keys ending with a {NULL} entry (mica/schema.h); its registries and fragments are
  * expanded when a deck is loaded against it. */
 

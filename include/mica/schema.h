@@ -43,7 +43,7 @@ typedef struct MicaDeckKey {
   const char *def;     /* default in libconfig syntax ("2", "\"pascal\"", "[1.0, 1.0]"), NULL: none */
   double min, max;     /* inclusive range for numbers and array elements (min > max: unchecked) */
   const char *choices; /* MICA_KEY_CHOICE without a registry */
-  int len_min, len_max;
+  int len_min, len_max; /* values of INTS/FLOATS/LIST; for STRING len_max is the most bytes (0: MICA_DECK_TEXT_MAX) */
   const char *help;    /* one line for `mica help <command>` and docs/input.md */
   const struct MicaRegistry *registry; /* MICA_KEY_CHOICE: choose one of its types */
   const struct MicaDeckKey *fragment;  /* MICA_KEY_FRAGMENT: the keys inserted here */

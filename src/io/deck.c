@@ -420,7 +420,9 @@ static void key_type(const MicaDeckKey *key, char *buf, size_t size) {
   static const char *const names[] = {"int",  "float",    "bool",  "string", "choice",  "ints",
                                       "floats", "function", "group", "list",   "overlay", "parameters"};
   const char *name = names[key->type];
-  if ((key->type == MICA_KEY_INTS || key->type == MICA_KEY_FLOATS) && key->len_max > key->len_min)
+  if ((key->type == MICA_KEY_INTS || key->type == MICA_KEY_FLOATS) && key->len_max <= 0 && key->len_min > 0)
+    snprintf(buf, size, "%s[%d+]", name, key->len_min); /* no most: as many as wanted */
+  else if ((key->type == MICA_KEY_INTS || key->type == MICA_KEY_FLOATS) && key->len_max > key->len_min)
     snprintf(buf, size, "%s[%d-%d]", name, key->len_min, key->len_max);
   else if (key->type == MICA_KEY_INTS || key->type == MICA_KEY_FLOATS)
     snprintf(buf, size, "%s[%d]", name, key->len_min);

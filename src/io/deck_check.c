@@ -98,6 +98,20 @@ static int check_type(const CheckContext *context, const config_setting_t *setti
   return DECK_FAIL(context->deck, setting, "%s must be %s, not %s", path, expected, deck_type_name(setting));
 }
 
+/* A string of at most key->len_max bytes (MICA_DECK_TEXT_MAX when the key sets none): names and titles end in
+ * fixed buffers of charts, summaries and messages, so a longer one is refused here, with its line, rather than
+ * cut short somewhere in the run. The value itself is not echoed: it is the thing too long to show. */
+static int check_string(const CheckContext *context, const MicaDeckKey *key, const config_setting_t *setting) {
+  MICA_CALL(check_type(context, setting, CONFIG_TYPE_STRING, "a string"));
+  const size_t most = key && key->len_max > 0 ? (size_t)key->len_max : MICA_DECK_TEXT_MAX;
+  const size_t length = strlen(config_setting_get_string(setting));
+  if (length <= most) return MICA_SUCCESS;
+  char path[DECK_PATH_MAX];
+  deck_setting_path(setting, path, sizeof path);
+  return DECK_FAIL(context->deck, setting, "%s is %zu bytes long; at most %zu are allowed: shorten it", path, length,
+                   most);
+}
+
 static int check_number(const CheckContext *context, const MicaDeckKey *key, const config_setting_t *setting,
                         int integer) {
   double value;
@@ -234,7 +248,7 @@ static int check_list(const CheckContext *context, const MicaDeckKey *key, const
 static int check_variant_name(const CheckContext *context, const config_setting_t *list, int index) {
   const config_setting_t *name = config_setting_get_member(config_setting_get_elem(list, (unsigned)index), "name");
   if (!name) return MICA_SUCCESS;
-  MICA_CALL(check_type(context, name, CONFIG_TYPE_STRING, "a string"));
+  MICA_CALL(check_string(context, NULL, name));
   for (int j = 0; j < index; j++) {
     const char *earlier;
     if (config_setting_lookup_string(config_setting_get_elem(list, (unsigned)j), "name", &earlier) &&
@@ -296,7 +310,7 @@ static int check_setting(const CheckContext *context, const config_setting_t *se
   case MICA_KEY_INT: return check_number(context, key, setting, 1);
   case MICA_KEY_FLOAT: return check_number(context, key, setting, 0);
   case MICA_KEY_BOOL: return check_type(context, setting, CONFIG_TYPE_BOOL, "true or false");
-  case MICA_KEY_STRING: return check_type(context, setting, CONFIG_TYPE_STRING, "a string");
+  case MICA_KEY_STRING: return check_string(context, key, setting);
   case MICA_KEY_CHOICE: return check_choice(context, key, setting);
   case MICA_KEY_INTS:
   case MICA_KEY_FLOATS: return check_numbers(context, key, setting);

@@ -416,6 +416,9 @@ static int check_evaluator_variables(void *evaluator, const char *text, const Bi
 static int compile(const char *text, const Bindings *bindings, void **evaluator) {
   *evaluator = NULL;
   MICA_CHECK(text, MICA_ERR_ARGUMENT, "expression text is NULL");
+  const size_t length = strnlen(text, (size_t)MICA_EXPR_TEXT_MAX + 1);
+  MICA_CHECK(length <= MICA_EXPR_TEXT_MAX, MICA_ERR_INPUT,
+             "the expression is longer than %d bytes (it starts \"%.40s\"); shorten it", MICA_EXPR_TEXT_MAX, text);
   MICA_CALL(check_bindings(bindings));
   MICA_CALL(check_syntax(text));
   MICA_CALL(check_names(text, bindings));

@@ -49,7 +49,7 @@ static int write_chart_data(const MlsVariantResult *results, int nvariants, cons
   for (int v = 0; v < nvariants; v++) {
     const MlsVariantResult *r = &results[v];
     const MlsErrors *e = &r->line_err;
-    char name[160];
+    char name[512];
     mica_gnuplot_datum(r->name, name, sizeof name); /* one line */
     fprintf(out.fp, "# variant %s: position along the axis, relative errors of f, df, ddf\n", name);
     for (long i = 0; i < r->nline; i++) {

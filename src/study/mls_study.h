@@ -23,7 +23,7 @@ typedef struct {
 } MlsErrors;
 
 typedef struct {
-  char name[128];
+  char name[256]; /* a variant's name (at most MICA_DECK_TEXT_MAX) or the deck file's stem (a file name) */
   int dim, axis;
   long nparticles;
   MlsSample *line, *volume;

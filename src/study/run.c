@@ -1,6 +1,7 @@
 /* `mica run`: solve a solid-mechanics deck (the pipeline of docs/architecture.md: deck → discretization → MLS →
  * cache → assembly → Newton → output); `mica check`: build everything but the solve and print the cost. */
 #include <libgen.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,14 +34,14 @@ static int require(const MicaDeck *deck, const char *path, const char *shape) {
 static int mesh_path(const MicaDeck *deck, char *buf, size_t size) {
   const char *name;
   MICA_CALL(mica_deck_string(deck, "geometry.mesh", &name));
-  if (name[0] == '/') {
-    snprintf(buf, size, "%s", name);
-    return MICA_SUCCESS;
-  }
-  char deck_path[1024];
+  char deck_path[PATH_MAX];
   snprintf(deck_path, sizeof deck_path, "%s", mica_deck_path(deck));
-  snprintf(buf, size, "%s/%s", dirname(deck_path), name);
-  return MICA_SUCCESS;
+  const int n = name[0] == '/' ? snprintf(buf, size, "%s", name) : snprintf(buf, size, "%s/%s", dirname(deck_path), name);
+  if (n >= 0 && (size_t)n < size) return MICA_SUCCESS;
+  char where[256];
+  mica_deck_where(deck, "geometry.mesh", where, sizeof where);
+  MICA_ERROR(MICA_ERR_INPUT, "%s: the mesh's path, beside the deck, is %d bytes long; at most %zu are allowed: move the "
+             "deck or the mesh to a shorter path", where, n, size - 1);
 }
 
 /* geometry.mesh_size_factor scales the sizes Gmsh meshes a .geo with; for anything else it would do nothing. */
@@ -429,7 +430,7 @@ static int build_geometry(const MicaDeck *deck, RunProblem *rp) {
   MicaLayoutSpec layout;
   MicaCellSpec cells;
   MlsOptions mls_opt;
-  char mesh[1024];
+  char mesh[PATH_MAX];
   int fe = 0, fe_order = 0;
   MICA_CALL(read_shape(deck, &shape, mesh, sizeof mesh));
   MICA_CALL(read_layout(deck, shape.dim, shape.kind == MICA_SHAPE_GMSH, &layout, &cells));
@@ -463,7 +464,7 @@ int run_error_discretization(const RunProblem *rp, MicaDiscretization **disc) {
   MicaShapeSpec shape;
   MicaLayoutSpec layout;
   MicaCellSpec cells;
-  char mesh[1024];
+  char mesh[PATH_MAX];
   MICA_CALL(read_shape(rp->deck, &shape, mesh, sizeof mesh));
   MICA_CALL(read_layout(rp->deck, shape.dim, shape.kind == MICA_SHAPE_GMSH, &layout, &cells));
   cells.order = (int)order;
@@ -475,7 +476,7 @@ int run_error_discretization(const RunProblem *rp, MicaDiscretization **disc) {
 
 int run_body_create(const MicaDeck *deck, MicaBody **body) {
   MicaShapeSpec shape;
-  char mesh[1024];
+  char mesh[PATH_MAX];
   MICA_CALL(read_shape(deck, &shape, mesh, sizeof mesh));
   return mica_body_create(&shape, body);
 }
@@ -557,7 +558,7 @@ static int guard_cost(const MicaDeck *deck, RunEstimate *est) {
   MicaShapeSpec shape;
   MicaLayoutSpec layout;
   MicaCellSpec cells;
-  char mesh[1024];
+  char mesh[PATH_MAX];
   MICA_CALL(read_shape(deck, &shape, mesh, sizeof mesh));
   if (shape.kind == MICA_SHAPE_GMSH) return MICA_SUCCESS; /* build_geometry, once the mesh is read */
   MICA_CALL(read_layout(deck, shape.dim, 0, &layout, &cells));

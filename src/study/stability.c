@@ -43,9 +43,18 @@ int stability_read_options(const MicaDeck *deck, StabilityOptions *o) {
   o->reference = !strcmp(solver, "gauss");
   MICA_CALL(mica_deck_int(deck, "stability.reference_order", &o->reference_order));
   MICA_CALL(mica_deck_float(deck, "stability.low_energy_ratio", &o->low_energy_ratio));
-  MICA_CALL(mica_deck_ints(deck, "stability.inf_sup_counts", o->inf_sup_counts, 16, &n));
+  /* as many levels as the deck lists; the default's three or a lone value when it lists none */
+  int capacity = mica_deck_list_length(deck, "stability.inf_sup_counts");
+  if (capacity < 3) capacity = 3;
+  MICA_CALL(MICA_CALLOC(o->inf_sup_counts, capacity));
+  MICA_CALL(mica_deck_ints(deck, "stability.inf_sup_counts", o->inf_sup_counts, capacity, &n));
   o->ninf_sup = n;
   return MICA_SUCCESS;
+}
+
+void stability_free_options(StabilityOptions *o) {
+  MICA_FREE(o->inf_sup_counts);
+  o->ninf_sup = 0;
 }
 
 /* ---- rigid-body motions -------------------------------------------------------------------------------- */
@@ -471,7 +480,11 @@ static int stability_run(const MicaDeck *deck, const char *outdir, MicaJson *sum
   RunProblem rp;
   int ierr = MICA_SUCCESS;
   memset(&rp, 0, sizeof rp);
-  MICA_CALL(stability_read_options(deck, &o));
+  ierr = stability_read_options(deck, &o);
+  if (ierr) {
+    stability_free_options(&o);
+    return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  }
   const int need_problem = o.eigen || o.patch || o.conditioning;
   if (need_problem) {
     MICA_CALL_CLEANUP(run_problem_build(deck, &rp));
@@ -499,6 +512,7 @@ static int stability_run(const MicaDeck *deck, const char *outdir, MicaJson *sum
   if (o.inf_sup) MICA_CALL_CLEANUP(stability_inf_sup(&o, deck, outdir, summary));
 cleanup:
   if (need_problem) run_problem_free(&rp);
+  stability_free_options(&o);
   return ierr;
 }
 

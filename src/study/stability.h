@@ -21,7 +21,7 @@ typedef struct StabilityOptions {
   int reference;             /* stability.reference = "gauss" (1) or "none" (0) */
   long reference_order;      /* Gauss points per direction per cell of the reference, at least */
   double low_energy_ratio;   /* ρ: a mode below λ₁,ref is a low-energy spurious one when λ < ρ · its reference energy */
-  long inf_sup_counts[16];
+  long *inf_sup_counts; /* [ninf_sup], owned: stability_free_options */
   int ninf_sup;
 } StabilityOptions;
 
@@ -67,6 +67,7 @@ typedef struct InfSupRow {
 } InfSupRow;
 
 int stability_read_options(const MicaDeck *deck, StabilityOptions *opt);
+void stability_free_options(StabilityOptions *opt);
 
 int stability_eigen(const StabilityOptions *opt, RunProblem *rp, const char *outdir, MicaJson *summary);
 int stability_conditioning(RunProblem *rp, MicaJson *summary);

@@ -220,8 +220,20 @@ static double log_slope(const InfSupRow *rows, int n) {
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
+/* The row's numbers in summary.json, keyed by its particle count. */
+static int record_row(const InfSupRow *row, MicaJson *summary) {
+  char key[64];
+  snprintf(key, sizeof key, "inf_sup_beta_N%ld", row->count[0]);
+  MICA_CALL(mica_json_number(summary, key, row->beta));
+  snprintf(key, sizeof key, "inf_sup_zero_N%ld", row->count[0]);
+  MICA_CALL(mica_json_int(summary, key, row->zero));
+  snprintf(key, sizeof key, "inf_sup_pressure_modes_N%ld", row->count[0]);
+  MICA_CALL(mica_json_int(summary, key, row->pressure_modes));
+  return MICA_SUCCESS;
+}
+
 int stability_inf_sup(const StabilityOptions *o, const MicaDeck *deck, const char *outdir, MicaJson *summary) {
-  InfSupRow rows[16];
+  InfSupRow *rows = NULL;
   int ierr = MICA_SUCCESS, nrows = 0;
   int axisymmetric;
   MICA_CALL(mica_deck_bool(deck, "geometry.axisymmetric", &axisymmetric));
@@ -230,7 +242,7 @@ int stability_inf_sup(const StabilityOptions *o, const MicaDeck *deck, const cha
     MICA_CALL(mica_json_string(summary, "inf_sup_skipped", "axisymmetric"));
     return MICA_SUCCESS;
   }
-  memset(rows, 0, sizeof rows);
+  MICA_CALL(MICA_CALLOC(rows, o->ninf_sup > 0 ? o->ninf_sup : 1));
   const double start = mica_wtime();
   for (int i = 0; i < o->ninf_sup; i++) {
     MicaDeck *refined = NULL;
@@ -244,19 +256,14 @@ int stability_inf_sup(const StabilityOptions *o, const MicaDeck *deck, const cha
     mica_deck_destroy(&refined);
     if (ierr) {
       mica_error_prefix("inf-sup test at N = %ld", o->inf_sup_counts[i]);
-      return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+      mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+      goto cleanup;
     }
     printf("inf-sup N = %ld: %ld particles (%ld on the boundary), %ld free unknowns, %ld quadrature points: "
            "%d zero eigenvalues, β = %.6g\n", row->count[0], row->particles, row->constrained, row->nfree, row->nquad,
            row->zero, row->beta);
     fflush(stdout);
-    char key[64];
-    snprintf(key, sizeof key, "inf_sup_beta_N%ld", row->count[0]);
-    MICA_CALL(mica_json_number(summary, key, row->beta));
-    snprintf(key, sizeof key, "inf_sup_zero_N%ld", row->count[0]);
-    MICA_CALL(mica_json_int(summary, key, row->zero));
-    snprintf(key, sizeof key, "inf_sup_pressure_modes_N%ld", row->count[0]);
-    MICA_CALL(mica_json_int(summary, key, row->pressure_modes));
+    MICA_CALL_CLEANUP(record_row(row, summary));
     nrows++;
   }
   int positive = nrows >= 2;
@@ -264,9 +271,11 @@ int stability_inf_sup(const StabilityOptions *o, const MicaDeck *deck, const cha
   if (positive) {
     const double slope = log_slope(rows, nrows);
     printf("inf-sup: d log β / d log N = %.3f (bounded below: ≈ 0; Q1P0-type locking: ≈ −1)\n", slope);
-    MICA_CALL(mica_json_number(summary, "inf_sup_slope", slope));
+    MICA_CALL_CLEANUP(mica_json_number(summary, "inf_sup_slope", slope));
   }
-  MICA_CALL(mica_json_number(summary, "time_inf_sup", mica_wtime() - start));
-  MICA_CALL(stability_write_inf_sup(rows, nrows, outdir, o->chart));
+  MICA_CALL_CLEANUP(mica_json_number(summary, "time_inf_sup", mica_wtime() - start));
+  MICA_CALL_CLEANUP(stability_write_inf_sup(rows, nrows, outdir, o->chart));
+cleanup:
+  free(rows);
   return ierr;
 }

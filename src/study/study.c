@@ -25,7 +25,7 @@ enum { CHOICE_TEXT = 2048 };
 /* ---- one combination ---------------------------------------------------------------------------------- */
 
 typedef struct {
-  char (*text)[1024]; /* per choice: "mls.order=2" */
+  char (*text)[SWEEP_OVERRIDE_MAX]; /* per choice: "mls.order=2" */
   const char **list;
 } Overrides;
 
@@ -288,7 +288,7 @@ static int add_summary(const StudySpec *spec, const StudyRow *rows, long nfailed
   if (fastest >= 0) {
     MICA_CALL_CLEANUP(add_row_object(spec, rows, fastest, "fastest_for_target", summary));
   } else {
-    char text[256];
+    char text[CHOICE_TEXT];
     snprintf(text, sizeof text, "none: no combination reaches %s error <= %g", spec->error_name, spec->target);
     MICA_CALL_CLEANUP(mica_json_string(summary, "fastest_for_target", text));
   }
@@ -386,7 +386,7 @@ static int draw_charts(const StudySpec *spec, const StudyRow *rows, long fastest
 static int study_run(const MicaDeck *deck, const char *outdir, MicaJson *summary) {
   StudySpec spec;
   StudyRow *rows = NULL;
-  char *points = NULL, title[128];
+  char *points = NULL, title[MICA_DECK_TEXT_MAX + 64]; /* "relative error of " and a probe's name */
   long nfailed = 0;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(study_spec_read(deck, &spec));

@@ -112,7 +112,7 @@ static void curve_label(const StudySpec *spec, const StudyRow *rows, long first,
   size_t used = 0;
   buf[0] = '\0';
   for (int c = 0; c + 1 < spec->nchoices; c++) {
-    char label[256];
+    char label[LABEL_MAX];
     sweep_value_label(&spec->choices[c], rows[first].choice[c], label, sizeof label);
     const int n = snprintf(buf + used, size - used, "%s%s", used ? " " : "", label);
     if (n > 0 && (size_t)n < size - used) used += (size_t)n;
@@ -125,7 +125,7 @@ static int write_points(const StudySpec *spec, const StudyRow *rows, const char 
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_out_open_in(outdir, "study_points.dat", &out));
-  char error[256], path[256]; /* in data-file quotes: one comment line */
+  char error[LABEL_MAX], path[LABEL_MAX]; /* in data-file quotes: one comment line */
   mica_gnuplot_datum(spec->error_name, error, sizeof error);
   mica_gnuplot_datum(spec->choices[spec->nchoices - 1].path, path, sizeof path);
   fprintf(out.fp, "# time (s), %s error, dofs; one block per combination of all choices but %s\n", error, path);
@@ -255,7 +255,7 @@ static int key_entries(const StudySpec *spec, const StudyRow *rows, const Curves
 
 static int write_script(const StudySpec *spec, const StudyRow *rows, const Curves *cv, long nfront, long fastest,
                         const char *outdir) {
-  char title[512], error_title[128], text[1024], quoted[3][1024];
+  char title[512], error_title[MICA_DECK_TEXT_MAX + 64], text[1024], quoted[3][1024];
   const char *deck_title;
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;

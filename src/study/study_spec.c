@@ -24,24 +24,27 @@ static void where_of(const MicaDeck *deck, const char *path, char *buf) {
 
 /* ---- the choices ------------------------------------------------------------------------------------- */
 
-static int read_choice(StudySpec *spec, int c) {
+static int read_choice(StudySpec *spec, const SweepLimit *limit, int c) {
   char element[64], path[96];
   snprintf(element, sizeof element, "study.choices.[%d]", c);
-  MICA_CALL(sweep_axis_read(spec->deck, element, spec->choices, c));
+  MICA_CALL(sweep_axis_read(spec->deck, element, limit, spec->choices, c));
   snprintf(path, sizeof path, "%s.name", element);
   if (mica_deck_has(spec->deck, path)) MICA_CALL(mica_deck_string(spec->deck, path, &spec->choices[c].label));
   return MICA_SUCCESS;
 }
 
-static int count_combinations(StudySpec *spec) {
+static int try_choice(StudySpec *spec, int c) {
+  char element[64];
+  snprintf(element, sizeof element, "study.choices.[%d]", c);
+  return sweep_axis_try(spec->deck, element, &spec->choices[c]);
+}
+
+static int count_combinations(StudySpec *spec, const SweepLimit *limit) {
   char where[SWEEP_WHERE_MAX];
   where_of(spec->deck, "study.choices", where);
+  MICA_CALL(sweep_limit_check(limit, spec->choices, spec->nchoices, 0, where));
   spec->ncombinations = 1;
-  for (int c = 0; c < spec->nchoices; c++) {
-    spec->ncombinations *= spec->choices[c].nvalues;
-    MICA_CHECK(spec->ncombinations <= SWEEP_MAX_POINTS, MICA_ERR_INPUT, "%s: the study has more than %d combinations",
-               where, SWEEP_MAX_POINTS);
-  }
+  for (int c = 0; c < spec->nchoices; c++) spec->ncombinations *= spec->choices[c].nvalues;
   return MICA_SUCCESS;
 }
 
@@ -163,8 +166,11 @@ int study_spec_read(const MicaDeck *deck, StudySpec *spec) {
              "\"parameters.n\"; values = [9, 17, 33]; } ); error = \"energy\"; target = 1e-3; }", where);
   MICA_CALL(MICA_CALLOC(spec->choices, spec->nchoices));
   MICA_CALL(read_probes(spec));
-  for (int c = 0; c < spec->nchoices; c++) MICA_CALL(read_choice(spec, c));
-  MICA_CALL(count_combinations(spec));
+  SweepLimit limit = {"limits.study_combinations", "combinations", 0};
+  MICA_CALL(sweep_limit_read(deck, &limit));
+  for (int c = 0; c < spec->nchoices; c++) MICA_CALL(read_choice(spec, &limit, c));
+  MICA_CALL(count_combinations(spec, &limit));
+  for (int c = 0; c < spec->nchoices; c++) MICA_CALL(try_choice(spec, c)); /* after the count: 10^5 values are slow */
   MICA_CALL(read_measure(spec));
   MICA_CALL(read_options(spec));
   return MICA_SUCCESS;

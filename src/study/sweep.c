@@ -34,7 +34,7 @@ static int point_dir(const char *outdir, long p, char **dir) {
 /* ---- one point -------------------------------------------------------------------------------------- */
 
 typedef struct {
-  char (*text)[1024]; /* per axis: "parameters.L=8" */
+  char (*text)[SWEEP_OVERRIDE_MAX]; /* per axis: "parameters.L=8" */
   const char **list;
 } PointOverrides;
 
@@ -175,7 +175,7 @@ cleanup:
 static void print_progress(const SweepSpec *spec, long p, const SweepPoint *pt, double elapsed) {
   printf("point %ld/%ld ", p + 1, spec->npoints);
   for (int a = 0; a < spec->naxes; a++) {
-    char label[256];
+    char label[2048]; /* "path = word": a path and a word of at most MICA_DECK_LONG_TEXT_MAX */
     sweep_value_label(&spec->axes[a], pt->choice[a], label, sizeof label);
     printf(" %s", label);
   }

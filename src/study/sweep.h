@@ -7,8 +7,22 @@
 #define MICA_SWEEP_H
 
 #include "mica/command.h"
+#include "mica/deck.h"
 
-enum { SWEEP_WHERE_MAX = 256, SWEEP_MAX_POINTS = 100000 };
+enum { SWEEP_WHERE_MAX = 256 };
+/* "path=\"word\"": a setting path and a word of a words list, each within its deck cap (deck.h) */
+enum { SWEEP_OVERRIDE_MAX = MICA_DECK_TEXT_MAX + MICA_DECK_LONG_TEXT_MAX + 8 };
+/* The default of limits.sweep_points and limits.study_combinations (run_schema.c): the most points of a
+ * sweep's grid and combinations of a study, each a full solve. Either can be raised in the deck. */
+#define SWEEP_LIMIT_DEFAULT "100000"
+enum { SWEEP_LIMIT_MOST = 1000000000 }; /* the largest either may be raised to: an axis counts its values in int */
+
+/* The cap on the runs of a sweep or a study, read from its limits.* setting. */
+typedef struct SweepLimit {
+  const char *setting; /* "limits.sweep_points" */
+  const char *runs;    /* "points", "combinations" */
+  long most;
+} SweepLimit;
 
 /* The run schema's keys followed by the sweep group's (filled at program start). */
 
@@ -63,11 +77,18 @@ typedef struct SweepPoint {
 
 int sweep_spec_read(const MicaDeck *deck, SweepSpec *spec);
 /* One element of a list of varied settings ("sweep.parameters.[2]", "study.choices.[0]"): reads its path
- * and its values (values, words or range + points + scale) into axes[a], checks the path (a single-valued
- * setting of the run deck or a parameter, not a setting of the element's own group, not one of
- * axes[0..a-1]) and tries every value as an override of deck, so that a value the run deck refuses is an
- * input error with the element's line. */
-int sweep_axis_read(const MicaDeck *deck, const char *element, SweepAxis *axes, int a);
+ * and its values (values, words or range + points + scale; at most limit->most of them) into axes[a], checks
+ * the path (a single-valued setting of the run deck or a parameter, not a setting of the element's own group,
+ * not one of axes[0..a-1]). */
+int sweep_axis_read(const MicaDeck *deck, const char *element, const SweepLimit *limit, SweepAxis *axes, int a);
+/* Tries every value of the axis as an override of deck, so that a value the run deck refuses is an input
+ * error with the element's line (a deck load per value: done once the grid is known to fit its limit). */
+int sweep_axis_try(const MicaDeck *deck, const char *element, const SweepAxis *axis);
+/* Reads limit->most from limit->setting (limit->setting and limit->runs given). */
+int sweep_limit_read(const MicaDeck *deck, SweepLimit *limit);
+/* The grid of the n axes (product of their numbers of values; zip: the first axis's) against the limit: an
+ * input error at where, naming the count and the setting, when it has more runs. */
+int sweep_limit_check(const SweepLimit *limit, const SweepAxis *axes, int n, int zip, const char *where);
 void sweep_axis_free(SweepAxis *axis);
 void sweep_spec_free(SweepSpec *spec);
 /* The axis choices of point p (0-based) in choice[naxes]. */

@@ -15,6 +15,9 @@
 #include "sweep.h"
 
 enum { FINE = 201 }; /* samples of an analytic curve */
+/* A chart's curve values ("a = 1, model = svk") and titles: room for several axes of a path and a word each;
+ * titles, labels and names of the deck are at most MICA_DECK_TEXT_MAX (deck_check.c refuses longer ones). */
+enum { VALUES_MAX = 4096, TITLE_MAX = VALUES_MAX + 512 };
 
 /* ---- sweep.csv -------------------------------------------------------------------------------------- */
 
@@ -72,14 +75,12 @@ static int parse_pair(const char *line, double *x, double *y) {
   return end != next && isfinite(*x) && isfinite(*y);
 }
 
-static int data_path(const SweepSpec *spec, const char *file, char *buf, size_t size) {
-  if (file[0] == '/') {
-    snprintf(buf, size, "%s", file);
-  } else {
-    char deck_path[4096];
-    snprintf(deck_path, sizeof deck_path, "%s", mica_deck_path(spec->deck));
-    snprintf(buf, size, "%s/%s", dirname(deck_path), file);
-  }
+static int data_path(const SweepSpec *spec, const char *file, const char *where, char *buf, size_t size) {
+  char deck_path[4096];
+  snprintf(deck_path, sizeof deck_path, "%s", mica_deck_path(spec->deck));
+  const int n = file[0] == '/' ? snprintf(buf, size, "%s", file) : snprintf(buf, size, "%s/%s", dirname(deck_path), file);
+  MICA_CHECK(n >= 0 && (size_t)n < size, MICA_ERR_INPUT, "%s: the file's path, beside the deck, is %d bytes long; at "
+             "most %zu are allowed: move the deck or the file to a shorter path", where, n, size - 1);
   return MICA_SUCCESS;
 }
 
@@ -111,7 +112,7 @@ static int read_experiment(SweepSpec *spec, int e) {
   mica_deck_where(spec->deck, path, where, sizeof where);
   MICA_CHECK(mica_deck_has(spec->deck, path), MICA_ERR_INPUT, "%s: sweep.experiments.[%d] needs a file", where, e);
   MICA_CALL(mica_deck_string(spec->deck, path, &name));
-  MICA_CALL(data_path(spec, name, file, sizeof file));
+  MICA_CALL(data_path(spec, name, where, file, sizeof file));
   FILE *fp = fopen(file, "r");
   MICA_CHECK(fp, MICA_ERR_INPUT, "%s: cannot read %s: %s", where, file, strerror(errno));
   const int ierr = read_points(fp, data);
@@ -192,7 +193,7 @@ static void fine_grid(const SweepSpec *spec, double *x) {
 /* The analytic curves of one chart curve: its values of the other axes are overrides, so the deck's
  * parameters they change are bound in the expressions. y[k * FINE + i] = curve k at x[i]. */
 static int analytic_eval(const SweepSpec *spec, const SweepPoint *pts, long first, const double *x, double *y) {
-  char (*text)[1024] = NULL;
+  char (*text)[SWEEP_OVERRIDE_MAX] = NULL;
   const char **list = NULL;
   MicaDeck *deck = NULL;
   MicaFunction *f = NULL;
@@ -309,7 +310,7 @@ static int write_experiments_file(const SweepSpec *spec, const char *outdir) {
   if (!spec->nexperiments) return MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_out_open_in(outdir, "sweep_experiments.dat", &out));
   for (int e = 0; e < spec->nexperiments; e++) {
-    char name[256];
+    char name[512];
     mica_gnuplot_datum(spec->experiments[e].name, name, sizeof name);
     fprintf(out.fp, "# %s\n", name);
     for (int i = 0; i < spec->experiments[e].n; i++)
@@ -362,7 +363,7 @@ static void curve_values(const SweepSpec *spec, const SweepPoint *pts, long firs
     if (a == spec->x) continue;
     const SweepAxis *axis = &spec->axes[a];
     const int v = pts[first].choice[a];
-    char value[64];
+    char value[MICA_DECK_LONG_TEXT_MAX + 1];
     if (axis->values) snprintf(value, sizeof value, "%g", axis->values[v]);
     else snprintf(value, sizeof value, "%s", axis->words[v]);
     const int n = snprintf(buf + used, size - used, "%s%s = %s", used ? ", " : "", axis->label, value);
@@ -373,7 +374,7 @@ static void curve_values(const SweepSpec *spec, const SweepPoint *pts, long firs
 /* One plot item, its title made safe for gnuplot; on log axes values that are not positive are left out. */
 static void plot_item(const SweepSpec *spec, Chart *ch, const char *file, int index, const char *style,
                       const char *title) {
-  char safe[1100];
+  char safe[2 * TITLE_MAX + 3]; /* every quote doubled, and the two around it */
   mica_gnuplot_quote(title, safe, sizeof safe);
   if (strlen(title) > ch->longest) ch->longest = strlen(title);
   fprintf(ch->script, "%s'%s' index %d using %s:%s %s title %s", ch->nplots++ ? ", \\\n     " : "", file, index,
@@ -383,7 +384,7 @@ static void plot_item(const SweepSpec *spec, Chart *ch, const char *file, int in
 static void plot_points(const SweepSpec *spec, const SweepPoint *pts, Chart *ch) {
   for (int c = 0; c < ch->curves.n; c++) {
     if (!ch->npoints[c]) continue;
-    char values[400], title[512], series[96], style[160];
+    char values[VALUES_MAX], title[TITLE_MAX], series[96], style[160];
     curve_values(spec, pts, ch->curves.first[c], values, sizeof values);
     snprintf(title, sizeof title, values[0] ? "mica, %s" : "mica", values);
     mica_gnuplot_series(c, series, sizeof series);
@@ -420,7 +421,7 @@ static void plot_analytic(const SweepSpec *spec, const SweepPoint *pts, Chart *c
   for (int c = 0; c < ch->curves.n; c++)
     for (int k = 0; k < spec->nanalytic; k++) {
       if (!analytic_drawn(spec, ch, c, k)) continue;
-      char path[64], title[1024], values[400], style[128];
+      char path[64], title[TITLE_MAX], values[VALUES_MAX], style[128];
       const char *name = NULL;
       snprintf(path, sizeof path, "sweep.analytic.[%d].name", k);
       if (!mica_deck_has(spec->deck, path) || mica_deck_string(spec->deck, path, &name)) name = "analytic";
@@ -450,7 +451,7 @@ static void plot_items(const SweepSpec *spec, const SweepPoint *pts, Chart *ch) 
 static int x_label(const SweepSpec *spec, char *buf, size_t size) {
   const SweepAxis *axis = &spec->axes[spec->x];
   const char *text;
-  char words[256];
+  char words[VALUES_MAX];
   MICA_CALL(mica_deck_string(spec->deck, "sweep.xlabel", &text));
   if (text[0]) {
     snprintf(buf, size, "%s", text);
@@ -465,7 +466,7 @@ static int x_label(const SweepSpec *spec, char *buf, size_t size) {
 /* sweep.ylabel, or the probe's name in words and what it probes: "stiffness ratio (probe of uy)". */
 static int y_label(const SweepSpec *spec, char *buf, size_t size) {
   const char *text, *field = "energy";
-  char path[64], words[256];
+  char path[64], words[VALUES_MAX];
   MICA_CALL(mica_deck_string(spec->deck, "sweep.ylabel", &text));
   if (text[0]) {
     snprintf(buf, size, "%s", text);
@@ -481,7 +482,7 @@ static int y_label(const SweepSpec *spec, char *buf, size_t size) {
 /* ---- the script ---- */
 
 static int write_header(const SweepSpec *spec, Chart *ch, int pass, FILE *fp) {
-  char text[512], title[1100], xlabel[1100], ylabel[1100];
+  char text[TITLE_MAX], title[2 * TITLE_MAX + 3], xlabel[2 * TITLE_MAX + 3], ylabel[2 * TITLE_MAX + 3];
   const char *deck_title;
   MICA_CALL(mica_deck_string(spec->deck, "problem.title", &deck_title));
   mica_gnuplot_quote(deck_title[0] ? deck_title : mica_deck_name(spec->deck), title, sizeof title);

@@ -126,7 +126,17 @@ static int split_words(const char *text, const char *where, SweepAxis *axis) {
   return MICA_SUCCESS;
 }
 
-static int read_range(const MicaDeck *deck, const char *element, const char *where, SweepAxis *axis) {
+/* One axis alone must fit the limit (every other axis has at least one value): checked before its values are
+ * made, so that points = 10^9 allocates nothing. */
+static int check_axis_count(const SweepLimit *limit, double count, const char *where, const char *path) {
+  MICA_CHECK(count <= (double)limit->most, MICA_ERR_INPUT,
+             "%s: %s has %.0f values, more %s than %s = %ld; use fewer values or raise %s", where, path, count,
+             limit->runs, limit->setting, limit->most, limit->setting);
+  return MICA_SUCCESS;
+}
+
+static int read_range(const MicaDeck *deck, const char *element, const SweepLimit *limit, const char *where,
+                      SweepAxis *axis) {
   char path[128];
   double ends[2];
   long points;
@@ -137,6 +147,7 @@ static int read_range(const MicaDeck *deck, const char *element, const char *whe
   snprintf(path, sizeof path, "%s.points", element);
   MICA_CHECK(mica_deck_has(deck, path), MICA_ERR_INPUT, "%s: a range needs points (how many values)", where);
   MICA_CALL(mica_deck_int(deck, path, &points));
+  MICA_CALL(check_axis_count(limit, (double)points, where, path));
   snprintf(path, sizeof path, "%s.scale", element);
   MICA_CALL(mica_deck_string(deck, path, &scale));
   const int logscale = !strcmp(scale, "log");
@@ -155,7 +166,7 @@ static int read_range(const MicaDeck *deck, const char *element, const char *whe
 }
 
 /* values, words or range: exactly one. */
-static int read_values(const MicaDeck *deck, const char *element, SweepAxis *axis) {
+static int read_values(const MicaDeck *deck, const char *element, const SweepLimit *limit, SweepAxis *axis) {
   char values[128], words[128], range[128];
   snprintf(values, sizeof values, "%s.values", element);
   snprintf(words, sizeof words, "%s.words", element);
@@ -168,20 +179,20 @@ static int read_values(const MicaDeck *deck, const char *element, SweepAxis *axi
     MICA_CALL(mica_deck_string(deck, words, &text));
     MICA_CALL(split_words(text, axis->where, axis));
   } else if (mica_deck_has(deck, range)) {
-    MICA_CALL(read_range(deck, element, axis->where, axis));
+    MICA_CALL(read_range(deck, element, limit, axis->where, axis));
   } else {
     const int n = mica_deck_list_length(deck, values);
     MICA_CALL(MICA_MALLOC(axis->values, n > 0 ? n : 1));
     MICA_CALL(mica_deck_floats(deck, values, axis->values, n > 0 ? n : 1, &axis->nvalues));
   }
-  return MICA_SUCCESS;
+  return check_axis_count(limit, axis->nvalues, axis->where, axis->path);
 }
 
 /* Every value of the axis, tried as an override of the run deck: errors are the deck layer's, prefixed
  * with the list element. */
 static int try_values(const MicaDeck *deck, const char *element, const SweepAxis *axis) {
   for (int v = 0; v < axis->nvalues; v++) {
-    char text[1024];
+    char text[SWEEP_OVERRIDE_MAX];
     const char *extra[1] = {text};
     MicaDeck *trial = NULL;
     sweep_override_text(axis, v, text, sizeof text);
@@ -195,7 +206,7 @@ static int try_values(const MicaDeck *deck, const char *element, const SweepAxis
   return MICA_SUCCESS;
 }
 
-int sweep_axis_read(const MicaDeck *deck, const char *element, SweepAxis *axes, int a) {
+int sweep_axis_read(const MicaDeck *deck, const char *element, const SweepLimit *limit, SweepAxis *axes, int a) {
   SweepAxis *axis = &axes[a];
   char path[160], group[32];
   const char *text;
@@ -212,9 +223,32 @@ int sweep_axis_read(const MicaDeck *deck, const char *element, SweepAxis *axes, 
   for (int b = 0; b < a; b++)
     MICA_CHECK(strcmp(axes[b].path, axis->path), MICA_ERR_INPUT, "%s: %s is varied twice (also by %s)",
                axis->where, axis->path, axes[b].where);
-  MICA_CALL(read_values(deck, element, axis));
+  MICA_CALL(read_values(deck, element, limit, axis));
   MICA_CALL(check_path(deck, group, axis, axis->values != NULL));
-  MICA_CALL(try_values(deck, element, axis));
+  return MICA_SUCCESS;
+}
+
+int sweep_axis_try(const MicaDeck *deck, const char *element, const SweepAxis *axis) {
+  return try_values(deck, element, axis);
+}
+
+int sweep_limit_read(const MicaDeck *deck, SweepLimit *limit) {
+  return mica_deck_int(deck, limit->setting, &limit->most);
+}
+
+int sweep_limit_check(const SweepLimit *limit, const SweepAxis *axes, int n, int zip, const char *where) {
+  double runs = n > 0 && zip ? axes[0].nvalues : 1; /* in double: 10^5 values on each of 3 axes is no overflow */
+  char factors[256] = "";
+  size_t used = 0;
+  for (int a = 0; a < n && !zip; a++) {
+    runs *= axes[a].nvalues;
+    const int w = snprintf(factors + used, sizeof factors - used, "%s%d", a ? " x " : "", axes[a].nvalues);
+    if (w > 0 && (size_t)w < sizeof factors - used) used += (size_t)w;
+  }
+  if (zip) snprintf(factors, sizeof factors, "zip of %d values", n > 0 ? axes[0].nvalues : 0);
+  MICA_CHECK(runs <= (double)limit->most, MICA_ERR_INPUT,
+             "%s: %.0f %s (%s), more than %s = %ld; use fewer values or raise %s", where, runs, limit->runs, factors,
+             limit->setting, limit->most, limit->setting);
   return MICA_SUCCESS;
 }
 
@@ -226,15 +260,21 @@ void sweep_axis_free(SweepAxis *axis) {
   memset(axis, 0, sizeof *axis);
 }
 
-static int read_axis(SweepSpec *spec, int a) {
+static int read_axis(SweepSpec *spec, const SweepLimit *limit, int a) {
   char element[64];
   snprintf(element, sizeof element, "sweep.parameters.[%d]", a);
-  return sweep_axis_read(spec->deck, element, spec->axes, a);
+  return sweep_axis_read(spec->deck, element, limit, spec->axes, a);
+}
+
+static int try_axis(SweepSpec *spec, int a) {
+  char element[64];
+  snprintf(element, sizeof element, "sweep.parameters.[%d]", a);
+  return sweep_axis_try(spec->deck, element, &spec->axes[a]);
 }
 
 /* ---- the points, the probe, the chart's x ----------------------------------------------------------- */
 
-static int count_points(SweepSpec *spec) {
+static int count_points(SweepSpec *spec, const SweepLimit *limit) {
   const char *mode;
   char where[SWEEP_WHERE_MAX];
   MICA_CALL(mica_deck_string(spec->deck, "sweep.mode", &mode));
@@ -248,12 +288,12 @@ static int count_points(SweepSpec *spec) {
                  "%s: mode = \"zip\" takes the i-th values together, but %s has %d value%s and %s %ld; give them "
                  "equal numbers of values, or use mode = \"grid\"", where, axis->path, axis->nvalues,
                  axis->nvalues == 1 ? "" : "s", spec->axes[0].path, spec->npoints);
-    } else {
-      spec->npoints *= axis->nvalues;
-      MICA_CHECK(spec->npoints <= SWEEP_MAX_POINTS, MICA_ERR_INPUT, "%s: the grid has more than %d points", where,
-                 SWEEP_MAX_POINTS);
     }
   }
+  char grid[SWEEP_WHERE_MAX];
+  where_of(spec->deck, "sweep.parameters", grid);
+  MICA_CALL(sweep_limit_check(limit, spec->axes, spec->naxes, spec->zip, grid));
+  for (int a = 0; a < spec->naxes && !spec->zip; a++) spec->npoints *= spec->axes[a].nvalues;
   return MICA_SUCCESS;
 }
 
@@ -336,8 +376,11 @@ int sweep_spec_read(const MicaDeck *deck, SweepSpec *spec) {
              where);
   MICA_CALL(MICA_CALLOC(spec->axes, spec->naxes));
   MICA_CALL(read_probes(spec));
-  for (int a = 0; a < spec->naxes; a++) MICA_CALL(read_axis(spec, a));
-  MICA_CALL(count_points(spec));
+  SweepLimit limit = {"limits.sweep_points", "points", 0};
+  MICA_CALL(sweep_limit_read(deck, &limit));
+  for (int a = 0; a < spec->naxes; a++) MICA_CALL(read_axis(spec, &limit, a));
+  MICA_CALL(count_points(spec, &limit));
+  for (int a = 0; a < spec->naxes; a++) MICA_CALL(try_axis(spec, a)); /* after the count: 10^5 values are slow */
   MICA_CALL(read_x(spec));
   MICA_CALL(read_options(spec));
   MICA_CALL(sweep_read_experiments(spec));

@@ -84,7 +84,8 @@ cat >> "$work/sweep.cfg" <<'EOF'
 sweep = { parameters = ( { path = "material.E"; range = [1.0, 2.0]; points = 100000; },
                          { path = "material.nu"; range = [0.1, 0.2]; points = 100000; } ); };
 EOF
-refused 2 "sweep.cfg.*the grid has more than 100000 points" -- "$MICA" sweep "$work/sweep.cfg" -o "$work/x"
+refused 2 "sweep.cfg:[0-9]+: 10000000000 points \(100000 x 100000\), more than limits.sweep_points = 100000; use fewer values or raise limits.sweep_points" \
+  -- "$MICA" sweep "$work/sweep.cfg" -o "$work/x"
 ok "a 10^10-point sweep refused"
 box2 "$work/study.cfg" 10
 cat >> "$work/study.cfg" <<'EOF'
@@ -92,8 +93,37 @@ study = { choices = ( { path = "material.E"; range = [1.0, 2.0]; points = 100000
                       { path = "material.nu"; range = [0.1, 0.2]; points = 100000; },
                       { path = "mls.dilation"; range = [2.0, 3.0]; points = 100000; } ); };
 EOF
-refused 2 "study.cfg.*the study has more than 100000 combinations" -- "$MICA" study "$work/study.cfg" -o "$work/x"
+refused 2 "study.cfg:[0-9]+: 1000000000000000 combinations \(100000 x 100000 x 100000\), more than limits.study_combinations = 100000; use fewer values or raise limits.study_combinations" \
+  -- "$MICA" study "$work/study.cfg" -o "$work/x"
 ok "a 10^15-combination study refused"
+# The caps are limits.* settings: a 2 x 3 grid is refused under a limit of 5 and runs, all 6 points, under 6;
+# one axis beyond the limit is refused before its values are made (points = 10^9 allocates nothing).
+box2 "$work/grid.cfg" 5
+cat >> "$work/grid.cfg" <<'EOF'
+sweep = { parameters = ( { path = "material.E"; values = [1.0, 2.0]; }, { path = "material.nu"; values = [0.1, 0.2, 0.3]; } ); };
+study = { choices = ( { path = "material.E"; values = [1.0, 2.0]; }, { path = "material.nu"; values = [0.1, 0.2, 0.3]; } );
+          error = "tip_ux"; reference = 1.0; };
+EOF
+refused 2 "grid.cfg:6: 6 points \(2 x 3\), more than limits.sweep_points = 5; use fewer values or raise limits.sweep_points" \
+  -- "$MICA" sweep "$work/grid.cfg" -o "$work/x" --set limits.sweep_points=5
+refused 2 "grid.cfg:7: 6 combinations \(2 x 3\), more than limits.study_combinations = 5; use fewer values or raise limits.study_combinations" \
+  -- "$MICA" study "$work/grid.cfg" -o "$work/x" --set limits.study_combinations=5
+"$MICA" sweep "$work/grid.cfg" -o "$work/grid_sweep" --set limits.sweep_points=6 > "$work/grid_sweep.log" 2>&1 \
+  || fail "a 6-point sweep under limits.sweep_points = 6: $(tail -n 3 "$work/grid_sweep.log")"
+[ "$(($(wc -l < "$work/grid_sweep/sweep.csv") - 1))" -eq 6 ] || fail "sweep.csv has not 6 points"
+"$MICA" study "$work/grid.cfg" -o "$work/grid_study" --set limits.study_combinations=6 > "$work/grid_study.log" 2>&1 \
+  || fail "a 6-combination study under limits.study_combinations = 6: $(tail -n 3 "$work/grid_study.log")"
+[ "$(json_value combinations "$work/grid_study/summary.json")" = 6 ] || fail "the study did not run 6 combinations"
+ok "limits.sweep_points and limits.study_combinations: refused at 5, all 6 run at 6"
+box2 "$work/axis.cfg" 5
+echo 'sweep = { parameters = ( { path = "material.E"; range = [1.0, 2.0]; points = 1000000000; } ); };' >> "$work/axis.cfg"
+refused 2 "axis.cfg:6: sweep.parameters.\\[0\\].points has 1000000000 values, more points than limits.sweep_points = 100000" \
+  -- "$MICA" sweep "$work/axis.cfg" -o "$work/x"
+start=$(date +%s.%N)
+refused 2 "10000000000 points" -- "$MICA" sweep "$work/sweep.cfg" -o "$work/x"
+elapsed=$(echo "$(date +%s.%N) - $start" | bc)
+less_than "$elapsed" 20 || fail "refusing a 10^10-point sweep took $elapsed s (before: minutes, every value tried first)"
+ok "a 10^10-point sweep refused in $elapsed s"
 cat > "$work/mls.cfg" <<'EOF'
 geometry = { lower = [0.0]; upper = [1.0]; };
 particles = { count = [11]; };

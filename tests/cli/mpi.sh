@@ -10,12 +10,10 @@ work="$(cd "$(dirname "$OUT_DIR")" 2>/dev/null && pwd)/$(basename "$OUT_DIR")/mp
 rm -rf "$work" && mkdir -p "$work/tmp"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm_rsh_agent=false
 export TMPDIR="$work/tmp" # ranks other than 0 run in scratch directories here, which must be gone afterwards
-# Under SAN=1, LeakSanitizer reports OpenMPI's allocations from plugins it has already unloaded at exit
-# ("<unknown module>" frames that no suppression can name): leak checks are off for the runs under mpirun
-# (AddressSanitizer and UBSan stay on); the serial runs of the other tests keep checking mica's own leaks.
-[ "${SAN:-}" = 1 ] && export ASAN_OPTIONS="detect_leaks=0:abort_on_error=0"
+# Under SAN=1 the runs under mpirun are leak-checked too (common.bash: the slow unwinder, tests/lsan.supp).
 MPIRUN=(timeout 300 mpirun --oversubscribe)
 [ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
+mpi_leak_checks # under SAN=1: the ranks leak-checked with the slow unwinder (common.bash)
 
 if ! out=$("${MPIRUN[@]}" -np 2 "$MICA" --version 2>&1) || [ "$(grep -c '^mica ' <<<"$out")" -lt 1 ]; then
   echo "#####################################################################################"

@@ -9,9 +9,9 @@ work="$(cd "$(dirname "$OUT_DIR")" 2>/dev/null && pwd)/$(basename "$OUT_DIR")/mp
 rm -rf "$work" && mkdir -p "$work/tmp"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm_rsh_agent=false
 export TMPDIR="$work/tmp"
-[ "${SAN:-}" = 1 ] && export ASAN_OPTIONS="detect_leaks=0:abort_on_error=0" # OpenMPI's plugin leaks; see mpi.sh
 MPIRUN=(timeout 300 mpirun --oversubscribe)
 [ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
+mpi_leak_checks # under SAN=1: the ranks leak-checked with the slow unwinder (common.bash)
 if ! out=$("${MPIRUN[@]}" -np 2 "$MICA" --version 2>&1) || [ "$(grep -c '^mica ' <<<"$out")" -lt 1 ]; then
   echo "### SKIPPED: mpirun cannot start 2 processes here, so the commands under mpirun are untested ###"
   echo "### mpirun said: $out"

@@ -101,9 +101,9 @@ ok "foreign files and the working directory refused (exit 2), untouched; an empt
 
 # ---- under mpirun ----
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-[ "${SAN:-}" = 1 ] && export ASAN_OPTIONS="detect_leaks=0:abort_on_error=0" # as in mpi.sh
 MPIRUN=(mpirun --oversubscribe -np 2)
 [ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
+mpi_leak_checks # under SAN=1: the ranks leak-checked with the slow unwinder (common.bash)
 if ! out=$(timeout 120 "${MPIRUN[@]}" "$MICA" --version 2>&1) || ! grep -q '^mica ' <<<"$out"; then
   echo "SKIPPED: mpirun cannot start 2 processes here, so the parallel part is untested: $out"
   exit 0

@@ -83,9 +83,9 @@ ok "wrong type: nothing written"
 
 # MPI: the solve's points are split among the ranks, so the option needs quadrature.error_order
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-[ "${SAN:-}" = 1 ] && export ASAN_OPTIONS="detect_leaks=0:abort_on_error=0" # OpenMPI's plugins (mpi.sh says why)
 MPIRUN=(timeout 300 mpirun --oversubscribe)
 [ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
+mpi_leak_checks # under SAN=1: the ranks leak-checked with the slow unwinder (common.bash)
 if out=$("${MPIRUN[@]}" -np 2 "$MICA" --version 2>&1) && [ "$(grep -c '^mica ' <<<"$out")" -ge 1 ]; then
   expect_failure 2 "output.quadrature_fields under MPI needs quadrature.error_order" -- "${MPIRUN[@]}" -np 2 \
     "$MICA" run input/timoshenko.cfg -o "$work/mpi_refused" --set output.quadrature_fields=true --set output.vtu=false
