@@ -5,6 +5,7 @@ set -u
 cd "$(dirname "$0")/.."
 : "${MICA_BIN:=bin/mica}" "${TEST_DIR:=build/tests}" "${OUT_DIR:=build/test-out}"
 export MICA_BIN OUT_DIR
+[ -z "${MICA_EXT_BIN:-}" ] || export MICA_EXT_BIN
 # OpenMPI's own one-time allocations are not ours to fix; everything else must be leak-free.
 export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0"
