@@ -2,9 +2,9 @@
  * each type is the word the deck uses, a description and the library's enum value. */
 #include "mica/mls.h"
 
-static const MlsKindOps support_box = {{"box", "a box: one radius per axis, Φ = Π_d w(r_d) (eq 3.29)", 0, NULL, NULL},
+static const MlsKindOps support_box = {{"box", "one radius per axis, Φ = Π_d w(r_d) (eq 3.29)", 0, NULL, NULL},
                                        MLS_SUPPORT_BOX};
-static const MlsKindOps support_ball = {{"ball", "a ball: one radius, Φ = w(|x − x_I|/ρ)", 0, NULL, NULL},
+static const MlsKindOps support_ball = {{"ball", "one radius, Φ = w(|x − x_I|/ρ)", 0, NULL, NULL},
                                         MLS_SUPPORT_BALL};
 static const MicaType *const builtin_supports[] = {&support_box.type, &support_ball.type, NULL};
 MicaRegistry mls_support_registry = {"support shape", "box", builtin_supports, NULL, 0, NULL};

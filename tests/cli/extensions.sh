@@ -26,6 +26,11 @@ for key in mls.weight:bump material.model:linear-scaled material.micro_model:lin
     && fail "plain mica help run offers $type for $path"
   ok "$path offers $type with the extensions only"
 done
+# each type's description follows its chooser's help
+grep -qF "bump: test extension: the bump (1 - r^2)^3, C2" "$work/help.txt" || fail "mica-ext help run lacks the bump's description"
+grep -qF "linear-scaled: test extension: linear elasticity with E doubled" "$work/help.txt" \
+  || fail "mica-ext help run lacks linear-scaled's description"
+ok "mica-ext help run describes bump and linear-scaled"
 # the docs check, run against mica-ext: the extensions add types, not settings, so docs/input.md still covers
 # every setting mica-ext lists
 MICA_BIN="$MICA_EXT_BIN" bash "$(dirname "$0")/docs.sh" > "$work/docs.log" 2>&1 || fail "docs.sh with mica-ext: $(cat "$work/docs.log")"
