@@ -32,7 +32,8 @@ const MicaModelOps *mica_model_find(const char *name) {
 int mica_model_check_args_(const MicaModelOps *model, const MicaMaterial *mat, int dim) {
   MICA_CHECK(dim == 2 || dim == 3, MICA_ERR_ARGUMENT, "model '%s': dimension %d (must be 2 or 3)", model->type.name,
              dim);
-  MICA_CHECK(dim == 3 || mat->plane != MICA_PLANE_STRESS || mica_type_has(&model->type, MICA_MODEL_PLANE_STRESS), MICA_ERR_ARGUMENT,
+  MICA_CHECK(dim == 3 || mat->plane != MICA_PLANE_STRESS || mica_type_has(&model->type, MICA_MODEL_PLANE_STRESS),
+             MICA_ERR_ARGUMENT,
              "model '%s' does not support plane stress (the material was not set by mica_material_set)",
              model->type.name);
   return MICA_SUCCESS;

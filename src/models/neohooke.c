@@ -55,7 +55,8 @@ static int neohooke_eval(const MicaMaterial *mat, int dim, const double *F, doub
 
 const MicaModelOps mica_model_neohooke = {
     .type = {.name = "neohooke",
-             .description = "compressible Neo-Hooke, W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2 (3-D, plane strain)",
+             .description = "compressible Neo-Hooke, W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2 "
+                            "(3-D, plane strain)",
              .flags = MICA_MODEL_FINITE_STRAIN},
     .eval = neohooke_eval,
 };

@@ -109,7 +109,8 @@ static int set_micromorph_kind(const MicaSettings *s, const char *group, int dim
   if (!strcmp(kind, "isochoric")) return mica_micromorph_isochoric_set(field, dim, micro, material, sizes);
   mica_settings_where(s, group, "micro_kind", where, sizeof where);
   MICA_CHECK(mica_settings_has(s, group, "N"), MICA_ERR_INPUT,
-             "%s: micro_kind = \"rotation\" needs the coupling number material.N in [0, 1) (κ_c = 2GN²/(1 − N²))", where);
+             "%s: micro_kind = \"rotation\" needs the coupling number material.N in [0, 1) (κ_c = 2GN²/(1 − N²))",
+             where);
   double N;
   MICA_CALL(mica_settings_float(s, group, "N", &N));
   const int no_axes = sizes[0] == 0 && sizes[1] == 0 && sizes[2] == 0;

@@ -65,8 +65,10 @@ const MicaDeckKey mica_run_schema[] = {
      "norms stay on the background Gauss points"},
     {"quadrature.cells", MICA_KEY_INTS, NULL, 1, 1e6, NULL, 2, 3,
      "background cells per parameter axis (default: particles.count − 1; other counts are placed along the particle lines, so k (count − 1) splits every spacing in k and a graded layout stays graded)"},
-    {.path = "material.model", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &mica_field_model_registry,
-     .help = "continuum model (docs/theory.md §models): a classical model (E, nu), or a field model of generalized kinematics"},
+    {.path = "material.model", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0,
+     .registry = &mica_field_model_registry,
+     .help = "continuum model (docs/theory.md §models): a classical model (E, nu), or a field model of generalized "
+             "kinematics"},
     {.path = "material.micro_model", .type = MICA_KEY_CHOICE, .def = "\"svk\"", .min = 1.0, .max = 0.0,
      .registry = &mica_model_registry,
      .help = "micromorph: the micro energy ψ (a classical model with material.E, material.nu)"},
