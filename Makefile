@@ -47,6 +47,14 @@ LIB_OBJ := $(LIB_SRC:%.c=$(OBJ)/%.o)
 CLI_OBJ := $(CLI_SRC:%.c=$(OBJ)/%.o)
 TEST_SRC := $(wildcard tests/unit/test_*.c)
 TEST_BIN := $(TEST_SRC:tests/unit/%.c=$(OUT)/tests/%)
+# Test-only types (tests/extensions/*.c, one file each, registering themselves): linked into a second CLI,
+# $(OUT)/tests/mica-ext, and into the _ext variants of the unit tests that loop over a registry, which are told
+# how many types the extensions add (EXT_COUNTS).
+EXT_SRC := $(wildcard tests/extensions/*.c)
+EXT_OBJ := $(EXT_SRC:%.c=$(OBJ)/%.o)
+EXT_COUNTS := -DEXTRA_WEIGHTS=1 -DEXTRA_MODELS=1
+EXT_TESTS := test_mls_weight test_models
+EXT_BIN := $(OUT)/tests/mica-ext $(EXT_TESTS:%=$(OUT)/tests/%_ext)
 BENCH_SRC := $(wildcard bench/bench_*.c)
 BENCH_BIN := $(BENCH_SRC:bench/%.c=$(OUT)/bench/%)
 
@@ -81,6 +89,14 @@ $(BIN)/mica: $(CLI_OBJ) $(LIB)/libmica.a
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $(CLI_OBJ) $(LIB)/libmica.a $(LDLIBS) -o $@
 
+$(OUT)/tests/mica-ext: $(CLI_OBJ) $(EXT_OBJ) $(LIB)/libmica.a
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $(CLI_OBJ) $(EXT_OBJ) $(LIB)/libmica.a $(LDLIBS) -o $@
+
+$(OUT)/tests/%_ext: tests/unit/%.c $(EXT_OBJ) $(LIB)/libmica.a | deps
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(EXT_COUNTS) -Itests/unit $< $(EXT_OBJ) $(LIB)/libmica.a $(LDFLAGS) -lcmocka $(LDLIBS) -o $@
+
 $(OUT)/tests/%: tests/unit/%.c $(LIB)/libmica.a | deps
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -Itests/unit $< $(LIB)/libmica.a $(LDFLAGS) -lcmocka $(LDLIBS) -o $@
@@ -94,8 +110,8 @@ run: all
 	@echo "--- out/quickstart/summary.json"; cat out/quickstart/summary.json
 	@echo "--- chart: out/quickstart/sweep.png; table: out/quickstart/sweep.csv"
 
-test: $(BIN)/mica $(TEST_BIN) | deps
-	@MICA_BIN=$(BIN)/mica TEST_DIR=$(OUT)/tests OUT_DIR=$(OUT)/test-out SAN=$(SAN) bash tests/run.sh
+test: $(BIN)/mica $(TEST_BIN) $(EXT_BIN) | deps
+	@MICA_BIN=$(BIN)/mica MICA_EXT_BIN=$(OUT)/tests/mica-ext TEST_DIR=$(OUT)/tests OUT_DIR=$(OUT)/test-out SAN=$(SAN) bash tests/run.sh
 
 bench: $(BIN)/mica $(BENCH_BIN) | deps
 	@for b in $(BENCH_BIN); do echo "== $$b"; $$b || exit 1; done
@@ -114,4 +130,4 @@ bench-peers: $(BIN)/mica | deps
 clean:
 	rm -rf build build-san bin lib out
 
--include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d)
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(EXT_OBJ:.o=.d)

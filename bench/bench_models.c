@@ -40,7 +40,7 @@ static int add_cases(int dim, Case *cases) {
   const MicaModelOps *classical[] = {&mica_model_linear, &mica_model_svk, &mica_model_neohooke, &mica_model_neohooke_cook};
   for (int k = 0; k < 4; k++) {
     mica_material_set(classical[k], 1000, 0.3, plane, &mat);
-    cases[n].name = classical[k]->name;
+    cases[n].name = classical[k]->type.name;
     mica_field_classical_set(&cases[n++].model, classical[k], &mat);
   }
   cases[n].name = "cosserat";

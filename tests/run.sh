@@ -5,6 +5,7 @@ set -u
 cd "$(dirname "$0")/.."
 : "${MICA_BIN:=bin/mica}" "${TEST_DIR:=build/tests}" "${OUT_DIR:=build/test-out}"
 export MICA_BIN OUT_DIR
+[ -z "${MICA_EXT_BIN:-}" ] || export MICA_EXT_BIN
 # OpenMPI's own one-time allocations are not ours to fix (tests/lsan.supp says which and why, and the MPI
 # tests add the slow unwinder its entries need); everything else must be leak-free (tests/cli/lsan_active.sh
 # proves the check is live).

@@ -42,7 +42,7 @@ static inline int mls_hess_index(int dim, int i, int j) {
  * polynomials of degree ≤ order per axis (order 1-3); Lagrange on equally spaced nodes in [−1, 1],
  * Bernstein in t = (s + 1)/2 ∈ [0, 1] (eq 3.40 with x^I for the misprinted x). */
 typedef struct MlsBasisOps {
-  const char *name;
+  MicaType type; /* name, description (no flags or settings of its own: mls.order is every basis's) */
   int min_order, max_order;
   int (*size)(int dim, int order); /* number of terms m */
   /* p[a] = P_a(s); if dp: dp[d*m + a] = ∂P_a/∂s_d; if ddp: ddp[h*m + a] = ∂²P_a/∂s_i∂s_j, h packed. */
@@ -50,8 +50,11 @@ typedef struct MlsBasisOps {
 } MlsBasisOps;
 
 extern const MlsBasisOps mls_basis_pascal, mls_basis_lagrange, mls_basis_bernstein;
-/* The registered bases, NULL-terminated; and lookup by name (NULL if unknown). */
-const MlsBasisOps *const *mls_basis_all(void);
+/* The bases: `mls.basis` chooses one; the default is named here only. */
+extern MicaRegistry mls_basis_registry;
+static inline const MlsBasisOps *mls_basis_of(const MicaType *type) { return (const MlsBasisOps *)type; }
+/* The i-th registered basis (NULL past the last), and lookup by name (NULL if unknown). */
+const MlsBasisOps *mls_basis_at(int i);
 const MlsBasisOps *mls_basis_find(const char *name);
 
 /* ---- Weights (ops table) --------------------------------------------------------------------------
@@ -84,6 +87,17 @@ typedef enum { MLS_SUPPORT_BOX = 0, MLS_SUPPORT_BALL = 1 } MlsSupportKind;
 typedef enum { MLS_SEARCH_KDTREE = 0, MLS_SEARCH_CELLS = 1 } MlsSearchKind;
 
 typedef struct MlsSearch MlsSearch;
+
+/* The support shapes, search structures and spacing rules as registries of tiny types (`mls.support`,
+ * `mls.search`, `mls.spacing` choose one; each registry names its default once): a name, a description and
+ * the enum value the library takes (MlsSupportKind, MlsSearchKind, MlsSpacingRule). */
+typedef struct MlsKindOps {
+  MicaType type;
+  int value;
+} MlsKindOps;
+
+extern MicaRegistry mls_support_registry, mls_search_registry, mls_spacing_registry;
+static inline int mls_kind_value(const MicaType *type) { return ((const MlsKindOps *)type)->value; }
 
 /* Builds the search structure over n particles x[n*dim] (copied). */
 int mls_search_create(int dim, long n, const double *x, MlsSearchKind kind, MlsSearch **search);

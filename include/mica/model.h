@@ -13,6 +13,7 @@
 #define MICA_MODEL_H
 
 #include "mica/error.h"
+#include "mica/registry.h"
 
 typedef enum { MICA_PLANE_NONE = 0, MICA_PLANE_STRAIN = 1, MICA_PLANE_STRESS = 2 } MicaPlaneKind;
 
@@ -23,18 +24,26 @@ typedef struct MicaMaterial {
   MicaPlaneKind plane; /* in 2-D: plane strain or plane stress */
 } MicaMaterial;
 
+/* Capability flags of a classical model (MicaType.flags). */
+enum {
+  MICA_MODEL_FINITE_STRAIN = 1u << 0, /* finite kinematics (else small strain: σ = P, ε = sym ∇u) */
+  MICA_MODEL_PLANE_STRESS = 1u << 1   /* supports MICA_PLANE_STRESS in 2-D */
+};
+
 typedef struct MicaModelOps {
-  const char *name;        /* "linear", "svk", "neohooke", "neohooke-cook" */
-  const char *description; /* one line */
-  int finite_strain;       /* 0: linear kinematics */
-  int plane_stress;        /* 1 if MICA_PLANE_STRESS is supported */
+  MicaType type; /* "linear", "svk", "neohooke", "neohooke-cook"; MICA_MODEL_* flags */
   /* W, P, A at F; P or A may be NULL when not needed. Returns MICA_ERR_NUMERIC when F is inadmissible
    * (det F ≤ 0 for models with ln J), so Newton can cut the load step back. */
   int (*eval)(const MicaMaterial *mat, int dim, const double *F, double *W, double *P, double *A);
 } MicaModelOps;
 
 extern const MicaModelOps mica_model_linear, mica_model_svk, mica_model_neohooke, mica_model_neohooke_cook;
-const MicaModelOps *const *mica_model_all(void); /* NULL-terminated */
+/* The classical models: `material.micro_model` chooses one, and they come first among the continuum models
+ * of `material.model` (mica_field_model_registry); the default is named here only. */
+extern MicaRegistry mica_model_registry;
+static inline const MicaModelOps *mica_model_of(const MicaType *type) { return (const MicaModelOps *)type; }
+/* The i-th registered classical model (NULL past the last), and lookup by name (NULL if unknown). */
+const MicaModelOps *mica_model_at(int i);
 const MicaModelOps *mica_model_find(const char *name);
 
 /* Derives λ, μ, κ from E, ν. MICA_ERR_INPUT with a message (no location: the caller prefixes the deck
@@ -58,11 +67,20 @@ int mica_model_stress_strain(const MicaModelOps *model, const MicaMaterial *mat,
  * with B_j(k,c) = N_k, N_k,J or N_k,h in the slots of component c. */
 typedef struct MicaFieldModel MicaFieldModel;
 
+/* Capability flags of a field model (MicaType.flags). */
+enum {
+  MICA_FIELD_FINITE = 1u << 0,        /* W is not quadratic in q (Newton iterates) */
+  MICA_FIELD_USES_VALUES = 1u << 1,   /* W depends on the values of the unknowns, not only their derivatives */
+  MICA_FIELD_CLASSICAL = 1u << 2,     /* the adapter of a classical kernel (m->classical: its P and A) */
+  MICA_FIELD_COUPLE_STRESS = 1u << 3  /* stress() reports a couple stress (the Cosserat models) */
+};
+
 typedef struct MicaFieldModelOps {
-  const char *name;         /* "cosserat", ... (the classical models appear under their own names) */
-  int order;                /* derivatives of the unknowns the energy needs: 1 or 2 */
-  int finite;               /* 1: W is not quadratic in q (Newton iterates) */
-  int uses_values;          /* 1: W depends on the values of the unknowns (not only their derivatives) */
+  /* name ("cosserat", ...; the classical models appear under their own names), description, MICA_FIELD_*
+   * flags, and from_settings: reads the model's constants from the material.* settings into a
+   * MicaFieldModelRead. */
+  MicaType type;
+  int order;                /* derivatives of the unknowns the energy needs: 1 or 2 (a number, like a basis order) */
   int (*ncomp)(int dim);    /* unknowns per particle in dim dimensions */
   const char *const *(*component_names)(int dim); /* "ux", "uy", "phiz", ... ; the deck's Dirichlet keys */
   const char *const *(*traction_names)(int dim);  /* "tx", "ty", "mz", ... ; the deck's traction keys */
@@ -83,6 +101,28 @@ struct MicaFieldModel {
 
 /* Number of entries of q for a model in dim dimensions. */
 int mica_field_model_nq(const MicaFieldModel *m, int dim);
+/* 1 if W is quadratic in q (linear equations: Newton converges in one step): a classical model of small
+ * strain, or a field model without MICA_FIELD_FINITE. */
+int mica_field_model_quadratic(const MicaFieldModel *m);
+
+/* ---- The continuum models of a deck (`material.model`) ----
+ * The registry lists the classical models first (its base, mica_model_registry: each is read by
+ * mica_model_classical_read and lifted by mica_field_classical), then the field models (cosserat,
+ * cosserat-finite, micromorph, strain-gradient, couple-stress). A field model's from_settings reads its
+ * constants (group "material") into a MicaFieldModelRead; the caller sets dim. */
+typedef struct MicaFieldModelRead {
+  int dim;               /* of the body: 2 (plane) or 3 */
+  MicaFieldModel *model; /* written on success */
+} MicaFieldModelRead;
+
+extern MicaRegistry mica_field_model_registry;
+/* The model that `name` names (a classical one adapted, or a field model), its settings read from group. */
+int mica_field_model_from_settings(const char *name, const MicaSettings *settings, const char *group, int dim,
+                                   MicaFieldModel *model);
+/* A classical model's material: E and ν, plane strain or stress in 2-D (group.plane), each checked with the
+ * setting's line. */
+int mica_model_material_from_settings(const MicaModelOps *model, const MicaSettings *settings, const char *group,
+                                      int dim, MicaMaterial *material);
 
 /* The classical models as field models (src/models/classical_field.c): ncomp = dim, order 1, and
  * W(q) = W(F = I + ∇u) through the classical kernel, whose P and A fill the gradient slots of s and D. */

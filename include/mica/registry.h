@@ -30,12 +30,17 @@ typedef struct MicaRegistry {
   /* types added at run time by mica_registry_add (an extension's file), after the built-in ones */
   const MicaType **added;
   int nadded;
+  /* NULL, or a registry whose types come first, before this one's: a family that extends another (the
+   * deck's continuum models are the classical models, which a field-model adapter lifts, then the field
+   * models). Lookup, counting and choices see both; mica_registry_add adds to this registry only. */
+  const struct MicaRegistry *base;
 } MicaRegistry;
 
 /* Adds a type (an extension: one file that defines the ops table and calls this, e.g. from a constructor).
  * A name already taken is MICA_ERR_ARGUMENT. The registry keeps the pointer: the type must outlive it. */
 int mica_registry_add(MicaRegistry *registry, const MicaType *type);
-/* Number of types, and the i-th (built-in ones first, in their order, then the added ones). */
+/* Number of types, and the i-th (the base registry's first, then the built-in ones in their order, then the
+ * added ones). */
 int mica_registry_count(const MicaRegistry *registry);
 const MicaType *mica_registry_type(const MicaRegistry *registry, int i);
 /* The type of that name, or NULL. */

@@ -22,8 +22,8 @@ typedef struct {
 
 static Layout layout_of(const MicaSolid *s) {
   const int dim = s->model_dim;
-  Layout L = {s->ncomp, dim, s->dim, dim * (dim + 1) / 2, s->opt.field.ops->order, s->opt.field.ops->uses_values,
-              s->opt.axisymmetric};
+  Layout L = {s->ncomp, dim, s->dim, dim * (dim + 1) / 2, s->opt.field.ops->order,
+              mica_type_has(&s->opt.field.ops->type, MICA_FIELD_USES_VALUES), s->opt.axisymmetric};
   return L;
 }
 
@@ -435,9 +435,9 @@ static int assemble_points(MicaSolid *s, double t, const double *u, double *R, M
 
 int mica_solid_linear(const MicaSolid *s) {
   const MicaFieldModel *m = &s->opt.field;
-  const int quadratic_energy = m->ops == &mica_field_classical ? !m->classical->finite_strain
-                                                               : m->ops == &mica_field_cosserat ||
-                                                                     m->ops == &mica_field_strain_gradient;
+  const int quadratic_energy = m->ops == &mica_field_classical
+                                   ? !mica_type_has(&m->classical->type, MICA_MODEL_FINITE_STRAIN)
+                                   : m->ops == &mica_field_cosserat || m->ops == &mica_field_strain_gradient;
   return quadratic_energy && !s->opt.parallel;
 }
 

@@ -156,7 +156,7 @@ static int check_axisymmetric(const MicaSolid *s) {
   MICA_CHECK(s->dim == 2, MICA_ERR_INPUT, "an axisymmetric solid needs a 2-D (r, z) section; this geometry is %d-D",
              s->dim);
   MICA_CHECK(opt->field.ops->order == 1 && s->ncomp % 3 == 0, MICA_ERR_INPUT,
-             "model '%s' has no axisymmetric form (it needs %s): use a 3-D run", opt->field.ops->name,
+             "model '%s' has no axisymmetric form (it needs %s): use a 3-D run", opt->field.ops->type.name,
              opt->field.ops->order == 1 ? "vector unknowns" : "second derivatives in cylindrical coordinates");
   MICA_CHECK(!opt->bc_method->needs_model_traction, MICA_ERR_INPUT,
              "bc.method = \"%s\" is not available for axisymmetric solids: use \"lagrange\" or \"penalty\"",
@@ -171,18 +171,18 @@ static int check_axisymmetric(const MicaSolid *s) {
  * point. */
 static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, int ncomp, int nq) {
   MICA_CHECK(ncomp <= MICA_MAX_COMP && nq <= 128, MICA_ERR_ARGUMENT, "model '%s' has too many unknowns",
-             opt->field.ops->name);
+             opt->field.ops->type.name);
   MICA_CHECK(opt->field.ops->order <= approx->ops->max_order, MICA_ERR_INPUT,
              "model '%s' needs derivatives of order %d, which the %s approximation does not provide (it is C%d)",
-             opt->field.ops->name, opt->field.ops->order, approx->ops->name, approx->ops->max_order - 1);
+             opt->field.ops->type.name, opt->field.ops->order, approx->ops->name, approx->ops->max_order - 1);
   MICA_CHECK(!opt->vci || approx->ops == &mica_approx_mls, MICA_ERR_INPUT,
              "quadrature.vci corrects MLS gradients; the %s approximation has none to correct", approx->ops->name);
   MICA_CHECK(!opt->vci || opt->field.ops->order == 1, MICA_ERR_INPUT,
              "quadrature.vci corrects first derivatives only; model '%s' uses second derivatives",
-             opt->field.ops->name);
+             opt->field.ops->type.name);
   MICA_CHECK(!(opt->scni && opt->vci), MICA_ERR_INPUT, "quadrature.vci does not combine with SCNI");
   MICA_CHECK(!opt->scni || (opt->field.ops->order == 1 && !opt->axisymmetric), MICA_ERR_INPUT,
-             "SCNI smooths first derivatives of plane or 3-D fields only; model '%s'%s", opt->field.ops->name,
+             "SCNI smooths first derivatives of plane or 3-D fields only; model '%s'%s", opt->field.ops->type.name,
              opt->axisymmetric ? " is axisymmetric" : " uses second derivatives");
   MICA_CHECK(!opt->vci || !opt->parallel, MICA_ERR_INPUT,
              "quadrature.vci is not available in parallel runs yet (its correction sums over every particle's "
@@ -190,7 +190,7 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
   MICA_CHECK(opt->field.ops->order == 1 || !opt->bc_method->needs_model_traction, MICA_ERR_INPUT,
              "bc.method = \"%s\" needs a classical model or a first-order field model; model '%s' uses second "
              "derivatives (its tractions include double tractions): use \"lagrange\" or \"penalty\"",
-             opt->bc_method->name, opt->field.ops->name);
+             opt->bc_method->name, opt->field.ops->type.name);
   return MICA_SUCCESS;
 }
 

@@ -117,7 +117,7 @@ static int nitsche_add(MicaSolid *s, const MicaDirichlet *c, double t, const dou
     const double beta = bc_beta(s, &bp);
     nitsche_residual(dim, c->mask, &bp, P, T, beta, R);
     if (!K) continue;
-    const int consistent = s->opt.field.classical->finite_strain;
+    const int consistent = mica_type_has(&s->opt.field.classical->type, MICA_MODEL_FINITE_STRAIN);
     if (consistent) MICA_CALL(third_derivative(s, c, &bp, F, D));
     nitsche_tangent(dim, c->mask, &bp, T, consistent ? D : NULL, beta, s->work);
     MICA_CALL(mica_sparse_add_clique(K, bp.n, bp.index, s->work));

@@ -169,7 +169,7 @@ static int field_point(MicaSolid *s, const MicaDirichlet *c, long p, double t, c
   tractions(bp.normal, sq, D, fp);
   field_residual(fp, &bp, R);
   if (K) {
-    const int curved = s->opt.field.ops->finite;
+    const int curved = mica_type_has(&s->opt.field.ops->type, MICA_FIELD_FINITE);
     if (curved) MICA_CALL(residual_curvature(s, fp, &bp, q, H));
     /* s->work holds Ke (m × m) and then at least m·nq ≥ m·nc doubles (solid.c), for T */
     double *Ke = s->work, *T = Ke + (bp.n * fp->ncomp) * (bp.n * fp->ncomp);
@@ -184,7 +184,7 @@ int bc_nitsche_field_add(MicaSolid *s, const MicaDirichlet *c, double t, const d
   FieldPoint fp = {.ncomp = s->ncomp, .dim = s->dim, .nq = s->nq, .mask = c->mask};
   MICA_CHECK(s->opt.field.ops->order == 1 && fp.nq == fp.ncomp * (1 + fp.dim) && fp.nq <= NQ_MAX,
              MICA_ERR_ARGUMENT, "Nitsche's method: model '%s' is not a first-order field model",
-             s->opt.field.ops->name);
+             s->opt.field.ops->type.name);
   MICA_CALL(stabilization(s, &fp));
   const long npoints = s->boundary[c->set]->npoints;
   for (long p = 0; p < npoints; p++) MICA_CALL(field_point(s, c, p, t, u, R, K, &fp));

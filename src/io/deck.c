@@ -10,6 +10,7 @@
 
 #include "deck_private.h"
 #include "mica/files.h"
+#include "mica/registry.h"
 #include "mica/text.h"
 
 static int copy_text(const char *text, size_t length, char **copy) {
@@ -482,6 +483,20 @@ static void print_key_help(const char *help, int width, FILE *stream) {
   mica_text_wrap(stream, help, HELP_INDENT, HELP_INDENT, width, NULL);
 }
 
+/* A chooser's types under its help, one "name: description" each (the registry's words for them), so that
+ * a type an extension registers is explained where it is offered. */
+static void print_key_types(const MicaDeckKey *key, int width, FILE *stream) {
+  if (key->type != MICA_KEY_CHOICE || !key->registry) return;
+  for (int i = 0; i < mica_registry_count(key->registry); i++) {
+    const MicaType *type = mica_registry_type(key->registry, i);
+    if (!type->description || !type->description[0]) continue;
+    char line[1024];
+    snprintf(line, sizeof line, "%s: %s", type->name, type->description);
+    fprintf(stream, "%*s", 2 * HELP_INDENT, "");
+    mica_text_wrap(stream, line, 2 * HELP_INDENT, 3 * HELP_INDENT, width, NULL);
+  }
+}
+
 int mica_deck_print_schema(const MicaDeckKey *base, int width, FILE *stream) {
   MicaSchema *composed;
   MICA_CALL(mica_schema_compose(base, &composed));
@@ -499,6 +514,7 @@ int mica_deck_print_schema(const MicaDeckKey *base, int width, FILE *stream) {
     KeyColumns columns = key_columns(key);
     print_key_line(key->path, columns.type, columns.def, columns.range, widths, width, stream);
     print_key_help(key->help, width, stream);
+    print_key_types(key, width, stream);
   }
   return mica_schema_destroy(&composed);
 }

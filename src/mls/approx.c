@@ -11,15 +11,15 @@
 
 void mls_options_default(MlsOptions *opt) {
   memset(opt, 0, sizeof *opt);
-  opt->basis = &mls_basis_pascal;
+  opt->basis = mls_basis_of(mica_registry_default(&mls_basis_registry));
   opt->order = 1;
   opt->weight = mls_weight_of(mica_registry_default(&mls_weight_registry));
-  opt->support = MLS_SUPPORT_BOX;
+  opt->support = (MlsSupportKind)mls_kind_value(mica_registry_default(&mls_support_registry));
   opt->dilation = 2.0;
   opt->alpha = 1.0;
   opt->rcond_min = 1e-13;
-  opt->search = MLS_SEARCH_KDTREE;
-  opt->spacing = MLS_SPACING_NEAR;
+  opt->search = (MlsSearchKind)mls_kind_value(mica_registry_default(&mls_search_registry));
+  opt->spacing = (MlsSpacingRule)mls_kind_value(mica_registry_default(&mls_spacing_registry));
 }
 
 static int check_options(int dim, long n, const MlsOptions *opt) {
@@ -27,7 +27,7 @@ static int check_options(int dim, long n, const MlsOptions *opt) {
   MICA_CHECK(n >= 1, MICA_ERR_ARGUMENT, "MLS needs at least one particle");
   MICA_CHECK(opt->basis && opt->weight, MICA_ERR_ARGUMENT, "MLS options need a basis and a weight");
   MICA_CHECK(opt->order >= opt->basis->min_order && opt->order <= opt->basis->max_order, MICA_ERR_INPUT,
-             "the %s basis has orders %d to %d, not %d", opt->basis->name, opt->basis->min_order,
+             "the %s basis has orders %d to %d, not %d", opt->basis->type.name, opt->basis->min_order,
              opt->basis->max_order, opt->order);
   MICA_CHECK(opt->basis->size(dim, opt->order) <= MLS_MAX_TERMS, MICA_ERR_ARGUMENT, "basis too large");
   MICA_CHECK(opt->support == MLS_SUPPORT_BOX || opt->support == MLS_SUPPORT_BALL, MICA_ERR_ARGUMENT,

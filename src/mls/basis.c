@@ -10,8 +10,6 @@
  * its 1-D values and two derivatives per axis (AxisFactors) and one routine combines them.
  * This runs per particle per evaluation point: no allocation and no pow().
  */
-#include <string.h>
-
 #include "mica/mls.h"
 
 #define MAX_ORDER 3
@@ -200,19 +198,29 @@ static void bernstein_eval(int dim, int order, const double *s, double *p, doubl
 
 /* ---- Registry ---- */
 
-const MlsBasisOps mls_basis_pascal = {"pascal", 0, 3, pascal_size, pascal_eval};
-const MlsBasisOps mls_basis_lagrange = {"lagrange", 1, 3, tensor_size, lagrange_eval};
-const MlsBasisOps mls_basis_bernstein = {"bernstein", 1, 3, tensor_size, bernstein_eval};
+const MlsBasisOps mls_basis_pascal = {
+    {"pascal", "complete polynomials of total degree <= order (eq 3.37), orders 0-3", 0, NULL, NULL}, 0, 3,
+    pascal_size, pascal_eval};
+const MlsBasisOps mls_basis_lagrange = {
+    {"lagrange", "tensor product of Lagrange polynomials on equally spaced nodes (eqs 3.38, 3.39), orders 1-3", 0,
+     NULL, NULL},
+    1, 3, tensor_size, lagrange_eval};
+const MlsBasisOps mls_basis_bernstein = {
+    {"bernstein", "tensor product of Bernstein polynomials (eq 3.40), orders 1-3", 0, NULL, NULL}, 1, 3,
+    tensor_size, bernstein_eval};
 
-static const MlsBasisOps *const basis_registry[] = {
-    &mls_basis_pascal, &mls_basis_lagrange, &mls_basis_bernstein, NULL,
+static const MicaType *const builtin_bases[] = {
+    &mls_basis_pascal.type, &mls_basis_lagrange.type, &mls_basis_bernstein.type, NULL,
 };
 
-const MlsBasisOps *const *mls_basis_all(void) { return basis_registry; }
+MicaRegistry mls_basis_registry = {"polynomial basis", "pascal", builtin_bases, NULL, 0, NULL};
+
+const MlsBasisOps *mls_basis_at(int i) {
+  const MicaType *type = mica_registry_type(&mls_basis_registry, i);
+  return type ? mls_basis_of(type) : NULL;
+}
 
 const MlsBasisOps *mls_basis_find(const char *name) {
-  if (!name) return NULL;
-  for (int i = 0; basis_registry[i]; i++)
-    if (strcmp(basis_registry[i]->name, name) == 0) return basis_registry[i];
-  return NULL;
+  const MicaType *type = mica_registry_find(&mls_basis_registry, name);
+  return type ? mls_basis_of(type) : NULL;
 }

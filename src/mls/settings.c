@@ -1,49 +1,55 @@
 /* The mls.* settings, declared once for every command that builds an MLS approximation (run, check, sweep,
  * study, stability, mls; docs/input.md), and read into MlsOptions with their cross-checks. The weight's
- * own settings (mls.alpha of the exponential weight) come from its registry (weight.c). */
-#include <string.h>
-
+ * own settings (mls.alpha of the exponential weight) come from its registry (weight.c); the basis, support,
+ * search and spacing choices and their defaults from theirs (basis.c, kinds.c). */
 #include "mica/mls.h"
 
-#define NOLIMIT 1.0, 0.0 /* min > max: no range check */
 
 MICA_SCHEMA_TABLES
 
 const MicaDeckKey mls_keys[] = {
-    {"basis", MICA_KEY_CHOICE, "\"pascal\"", NOLIMIT, "pascal|lagrange|bernstein", 0, 0,
-     "polynomial basis: complete (pascal) or tensor product (lagrange, bernstein)"},
+    {.path = "basis", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &mls_basis_registry,
+     .help = "polynomial basis: complete (pascal) or tensor product (lagrange, bernstein)"},
     {"order", MICA_KEY_INT, "1", 0, 3, NULL, 0, 0, "basis order: pascal 0-3, lagrange and bernstein 1-3"},
     {.path = "weight", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &mls_weight_registry,
      .help = "weight function (docs/theory.md §weights)"},
-    {"support", MICA_KEY_CHOICE, "\"box\"", NOLIMIT, "box|ball", 0, 0, "support shape: box (radius per axis) or ball"},
+    {.path = "support", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &mls_support_registry,
+     .help = "support shape: box (radius per axis) or ball"},
     {"radius", MICA_KEY_FLOATS, NULL, 1e-12, 1e12, NULL, 1, 3,
      "absolute support radius (one value, or one per axis for box supports)"},
     {"dilation", MICA_KEY_FLOAT, NULL, 1e-3, 1e3, NULL, 0, 0,
      "support radius as a multiple of the local particle spacing (default: order + 1)"},
-    {"spacing", MICA_KEY_CHOICE, "\"near\"", NOLIMIT, "near|far", 0, 0,
-     "the local spacing mls.dilation multiplies, per axis: near, the nearer neighbor's distance; far, the "
+    {.path = "spacing", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &mls_spacing_registry,
+     .help = "the local spacing mls.dilation multiplies, per axis: near, the nearer neighbor's distance; far, the "
      "farther side's (if at most twice the nearer), for graded clouds (docs/theory.md §supports)"},
     {"rcond_min", MICA_KEY_FLOAT, "1e-13", 0, 1e-2, NULL, 0, 0,
      "a moment matrix with a smaller reciprocal condition number is an error"},
-    {"search", MICA_KEY_CHOICE, "\"kdtree\"", NOLIMIT, "kdtree|cells", 0, 0, "neighbor search structure"},
+    {.path = "search", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &mls_search_registry,
+     .help = "neighbor search structure"},
     {NULL},
 };
 
+/* The type a chooser names, from its registry. */
+static int read_type(const MicaSettings *s, const char *group, const char *name, const MicaRegistry *registry,
+                     const MicaType **type) {
+  const char *word;
+  MICA_CALL(mica_settings_string(s, group, name, &word));
+  return mica_registry_get(registry, word, type);
+}
+
 static int read_choices(const MicaSettings *s, const char *group, MlsOptions *opt) {
-  const char *name;
-  MICA_CALL(mica_settings_string(s, group, "basis", &name));
-  opt->basis = mls_basis_find(name);
-  MICA_CALL(mica_settings_string(s, group, "weight", &name));
-  opt->weight = mls_weight_find(name);
-  MICA_CHECK(opt->basis && opt->weight, MICA_ERR_ARGUMENT, "schema and registry disagree on mls names");
-  MICA_CALL(mica_settings_string(s, group, "support", &name));
-  opt->support = strcmp(name, "ball") == 0 ? MLS_SUPPORT_BALL : MLS_SUPPORT_BOX;
-  MICA_CALL(mica_settings_string(s, group, "search", &name));
-  opt->search = strcmp(name, "cells") == 0 ? MLS_SEARCH_CELLS : MLS_SEARCH_KDTREE;
-  MICA_CALL(mica_settings_string(s, group, "spacing", &name));
-  opt->spacing = strcmp(name, "far") == 0 ? MLS_SPACING_FAR : MLS_SPACING_NEAR;
-  const MicaType *weight = &opt->weight->type;
-  if (weight->from_settings) MICA_CALL(weight->from_settings(weight, s, group, opt));
+  const MicaType *type;
+  MICA_CALL(read_type(s, group, "basis", &mls_basis_registry, &type));
+  opt->basis = mls_basis_of(type);
+  MICA_CALL(read_type(s, group, "support", &mls_support_registry, &type));
+  opt->support = (MlsSupportKind)mls_kind_value(type);
+  MICA_CALL(read_type(s, group, "search", &mls_search_registry, &type));
+  opt->search = (MlsSearchKind)mls_kind_value(type);
+  MICA_CALL(read_type(s, group, "spacing", &mls_spacing_registry, &type));
+  opt->spacing = (MlsSpacingRule)mls_kind_value(type);
+  MICA_CALL(read_type(s, group, "weight", &mls_weight_registry, &type));
+  opt->weight = mls_weight_of(type);
+  if (type->from_settings) MICA_CALL(type->from_settings(type, s, group, opt));
   return MICA_SUCCESS;
 }
 
@@ -54,7 +60,7 @@ static int read_order(const MicaSettings *s, const char *group, MlsOptions *opt)
   char where[256];
   mica_settings_where(s, group, "order", where, sizeof where);
   MICA_CHECK(order >= opt->basis->min_order && order <= opt->basis->max_order, MICA_ERR_INPUT,
-             "%s: the %s basis has orders %d to %d, not %ld", where, opt->basis->name, opt->basis->min_order,
+             "%s: the %s basis has orders %d to %d, not %ld", where, opt->basis->type.name, opt->basis->min_order,
              opt->basis->max_order, order);
   return MICA_SUCCESS;
 }

@@ -262,7 +262,7 @@ static int report_singular(const MlsApprox *mls, const double *x, long n, double
              "basis terms (%s order %d, %s support), reciprocal condition %.3g (limit %.3g). Remedy: enlarge "
              "the supports (mls.radius or mls.dilation; on a regular grid the radius must exceed %d particle "
              "spacing%s along every axis, and more is safer) or lower mls.order",
-             where, n, mls->m, mls->opt.basis->name, mls->opt.order,
+             where, n, mls->m, mls->opt.basis->type.name, mls->opt.order,
              mls->opt.support == MLS_SUPPORT_BOX ? "box" : "ball", rcond, mls->opt.rcond_min, order,
              order > 1 ? "s" : "");
 }

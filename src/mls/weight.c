@@ -150,7 +150,7 @@ static const MicaType *const builtin_weights[] = {
     &mls_weight_exponential.type, NULL,
 };
 
-MicaRegistry mls_weight_registry = {"weight function", "quartic-c3", builtin_weights, NULL, 0};
+MicaRegistry mls_weight_registry = {"weight function", "quartic-c3", builtin_weights, NULL, 0, NULL};
 
 const MlsWeightOps *mls_weight_at(int i) {
   const MicaType *type = mica_registry_type(&mls_weight_registry, i);

@@ -51,7 +51,9 @@ static int classical_stress(const MicaFieldModel *m, int dim, const double *q, d
 }
 
 const MicaFieldModelOps mica_field_classical = {
-    "classical", 1, 1, 0, classical_ncomp, classical_components, classical_tractions, classical_eval, classical_stress,
+    {"classical", "a classical point kernel as a field model (u, q = [u | grad u])",
+     MICA_FIELD_FINITE | MICA_FIELD_CLASSICAL, NULL, NULL},
+    1, classical_ncomp, classical_components, classical_tractions, classical_eval, classical_stress,
     NULL,
 };
 

@@ -185,10 +185,11 @@ const char *const *mica_rotation_model_tractions_(int dim) {
 }
 
 const MicaFieldModelOps mica_field_cosserat = {
-    .name = "cosserat",
+    .type = {.name = "cosserat",
+             .description = "small-strain micropolar continuum (u, φ)",
+             .flags = MICA_FIELD_USES_VALUES | MICA_FIELD_COUPLE_STRESS, /* φ enters ε */
+             .from_settings = mica_cosserat_from_settings_},
     .order = 1,
-    .finite = 0,
-    .uses_values = 1, /* φ enters ε */
     .ncomp = ncomp_of,
     .component_names = mica_rotation_model_components_,
     .traction_names = mica_rotation_model_tractions_,

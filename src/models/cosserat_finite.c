@@ -285,10 +285,11 @@ static int finite_stress(const MicaFieldModel *m, int dim, const double *q, doub
 }
 
 const MicaFieldModelOps mica_field_cosserat_finite = {
-    .name = "cosserat-finite",
+    .type = {.name = "cosserat-finite",
+             .description = "the Cosserat constants with finite rotations (u, total rotation vector Φ)",
+             .flags = MICA_FIELD_FINITE | MICA_FIELD_USES_VALUES | MICA_FIELD_COUPLE_STRESS, /* R depends on Φ */
+             .from_settings = mica_cosserat_finite_from_settings_},
     .order = 1,
-    .finite = 1,
-    .uses_values = 1, /* R depends on Φ */
     .ncomp = ncomp_of,
     .component_names = mica_rotation_model_components_,
     .traction_names = mica_rotation_model_tractions_,

@@ -15,3 +15,9 @@ int mica_field_model_nq(const MicaFieldModel *m, int dim) {
   if (m->ops->order == 2) nq += ncomp * dim * (dim + 1) / 2;
   return nq;
 }
+
+int mica_field_model_quadratic(const MicaFieldModel *m) {
+  if (mica_type_has(&m->ops->type, MICA_FIELD_CLASSICAL))
+    return !mica_type_has(&m->classical->type, MICA_MODEL_FINITE_STRAIN);
+  return !mica_type_has(&m->ops->type, MICA_FIELD_FINITE);
+}

@@ -34,9 +34,8 @@ static int linear_eval(const MicaMaterial *mat, int dim, const double *F, double
 }
 
 const MicaModelOps mica_model_linear = {
-    .name = "linear",
-    .description = "linear elasticity, small strain (3-D, plane strain, plane stress)",
-    .finite_strain = 0,
-    .plane_stress = 1,
+    .type = {.name = "linear",
+             .description = "linear elasticity, small strain (3-D, plane strain, plane stress)",
+             .flags = MICA_MODEL_PLANE_STRESS},
     .eval = linear_eval,
 };

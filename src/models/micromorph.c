@@ -20,6 +20,7 @@
 #include "mica/geom.h"
 #include "mica/model.h"
 #include "micromorph_private.h"
+#include "models_private.h"
 
 static int micromorph_ncomp(int dim) { return dim; }
 
@@ -132,7 +133,9 @@ static int micromorph_chi(const MicaFieldModel *m, int dim, const double *q, dou
 }
 
 const MicaFieldModelOps mica_field_micromorph = {
-    "micromorph", 2, 1, 0, micromorph_ncomp, micromorph_components, micromorph_tractions, micromorph_eval,
+    {"micromorph", "gradient micromorph, χ = F, J^(−1/3) F or R(Φ) (material.micro_kind)", MICA_FIELD_FINITE, NULL,
+     mica_micromorph_from_settings_},
+    2, micromorph_ncomp, micromorph_components, micromorph_tractions, micromorph_eval,
     micromorph_stress, micromorph_chi,
 };
 

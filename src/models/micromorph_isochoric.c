@@ -253,7 +253,8 @@ static int isochoric_chi(const MicaFieldModel *m, int dim, const double *q, doub
 }
 
 const MicaFieldModelOps mica_field_micromorph_isochoric = {
-    "micromorph-isochoric", 2, 1, 0, isochoric_ncomp, isochoric_components, isochoric_tractions, isochoric_eval,
+    {"micromorph-isochoric", "gradient micromorph with χ = J^(−1/3) F", MICA_FIELD_FINITE, NULL, NULL},
+    2, isochoric_ncomp, isochoric_components, isochoric_tractions, isochoric_eval,
     isochoric_stress, isochoric_chi,
 };
 

@@ -281,10 +281,10 @@ static int rotation_chi(const MicaFieldModel *m, int dim, const double *q, doubl
 }
 
 const MicaFieldModelOps mica_field_micromorph_rotation = {
-    .name = "micromorph-rotation",
+    .type = {.name = "micromorph-rotation",
+             .description = "micromorph with χ = R(Φ), an independent rotation field",
+             .flags = MICA_FIELD_FINITE | MICA_FIELD_USES_VALUES}, /* Φ enters R */
     .order = 1,
-    .finite = 1,
-    .uses_values = 1, /* Φ enters R */
     .ncomp = rotation_ncomp,
     .component_names = mica_rotation_model_components_,
     .traction_names = mica_rotation_model_tractions_,

@@ -12,26 +12,30 @@
 
 #include "models_private.h"
 
-static const MicaModelOps *const model_registry[] = {&mica_model_linear, &mica_model_svk, &mica_model_neohooke,
-                                                     &mica_model_neohooke_cook, NULL};
+static const MicaType *const builtin_models[] = {&mica_model_linear.type, &mica_model_svk.type,
+                                                 &mica_model_neohooke.type, &mica_model_neohooke_cook.type, NULL};
 
-const MicaModelOps *const *mica_model_all(void) { return model_registry; }
+MicaRegistry mica_model_registry = {"classical model", "linear", builtin_models, NULL, 0, NULL};
+
+const MicaModelOps *mica_model_at(int i) {
+  const MicaType *type = mica_registry_type(&mica_model_registry, i);
+  return type ? mica_model_of(type) : NULL;
+}
 
 const MicaModelOps *mica_model_find(const char *name) {
-  if (!name) return NULL;
-  for (int i = 0; model_registry[i]; i++)
-    if (strcmp(model_registry[i]->name, name) == 0) return model_registry[i];
-  return NULL;
+  const MicaType *type = mica_registry_find(&mica_model_registry, name);
+  return type ? mica_model_of(type) : NULL;
 }
 
 /* ---- checks shared by the kernels ---- */
 
 int mica_model_check_args_(const MicaModelOps *model, const MicaMaterial *mat, int dim) {
-  MICA_CHECK(dim == 2 || dim == 3, MICA_ERR_ARGUMENT, "model '%s': dimension %d (must be 2 or 3)", model->name,
+  MICA_CHECK(dim == 2 || dim == 3, MICA_ERR_ARGUMENT, "model '%s': dimension %d (must be 2 or 3)", model->type.name,
              dim);
-  MICA_CHECK(dim == 3 || mat->plane != MICA_PLANE_STRESS || model->plane_stress, MICA_ERR_ARGUMENT,
+  MICA_CHECK(dim == 3 || mat->plane != MICA_PLANE_STRESS || mica_type_has(&model->type, MICA_MODEL_PLANE_STRESS),
+             MICA_ERR_ARGUMENT,
              "model '%s' does not support plane stress (the material was not set by mica_material_set)",
-             model->name);
+             model->type.name);
   return MICA_SUCCESS;
 }
 
@@ -40,7 +44,7 @@ int mica_model_check_jacobian_(const MicaModelOps *model, double J) {
   MICA_CHECK(J > 0.0, MICA_ERR_NUMERIC,
              "det F = %.3g at a quadrature point: model '%s' needs det F > 0 (the material is inverted); "
              "the load step is too large",
-             J, model->name);
+             J, model->type.name);
   return MICA_SUCCESS;
 }
 
@@ -50,9 +54,10 @@ int mica_model_check_jacobian_(const MicaModelOps *model, double J) {
 static void list_plane_stress_models(char *buf, size_t size) {
   size_t used = 0;
   buf[0] = '\0';
-  for (int i = 0; model_registry[i] && used < size; i++) {
-    if (!model_registry[i]->plane_stress) continue;
-    int n = snprintf(buf + used, size - used, "%s'%s'", used ? ", " : "", model_registry[i]->name);
+  for (int i = 0; mica_model_at(i) && used < size; i++) {
+    const MicaType *type = &mica_model_at(i)->type;
+    if (!mica_type_has(type, MICA_MODEL_PLANE_STRESS)) continue;
+    int n = snprintf(buf + used, size - used, "%s'%s'", used ? ", " : "", type->name);
     if (n < 0) break;
     used += (size_t)n;
   }
@@ -60,12 +65,12 @@ static void list_plane_stress_models(char *buf, size_t size) {
 
 static int check_poisson(const MicaModelOps *model, double nu) {
   MICA_CHECK(!(nu >= 0.5), MICA_ERR_INPUT,
-             "Poisson's ratio ν = %g makes the compressible model '%s' %s; use ν < 0.5", nu, model->name,
+             "Poisson's ratio ν = %g makes the compressible model '%s' %s; use ν < 0.5", nu, model->type.name,
              nu == 0.5 ? "singular (λ = ∞)" : "unstable (λ < 0 and κ < 0)");
   MICA_CHECK(nu > -1.0, MICA_ERR_INPUT,
              "Poisson's ratio ν = %g is not above −1: the shear modulus μ = E/(2(1 + ν)) of model '%s' %s; "
              "use −1 < ν < 0.5",
-             nu, model->name, nu == -1.0 ? "is infinite" : "is negative");
+             nu, model->type.name, nu == -1.0 ? "is infinite" : "is negative");
   return MICA_SUCCESS;
 }
 
@@ -75,11 +80,11 @@ int mica_material_set(const MicaModelOps *model, double E, double nu, MicaPlaneK
   MICA_CHECK(isfinite(E), MICA_ERR_INPUT, "Young's modulus E = %g must be finite", E);
   MICA_CHECK(isfinite(nu), MICA_ERR_INPUT, "Poisson's ratio ν = %g must be a number in (−1, 0.5)", nu);
   MICA_CALL(check_poisson(model, nu));
-  if (plane == MICA_PLANE_STRESS && !model->plane_stress) {
+  if (plane == MICA_PLANE_STRESS && !mica_type_has(&model->type, MICA_MODEL_PLANE_STRESS)) {
     char supported[256];
     list_plane_stress_models(supported, sizeof supported);
     MICA_ERROR(MICA_ERR_INPUT, "model '%s' does not support plane stress (only %s do%s); use plane strain or 3-D",
-               model->name, supported, strchr(supported, ',') ? "" : "es");
+               model->type.name, supported, strchr(supported, ',') ? "" : "es");
   }
   MICA_CHECK(plane == MICA_PLANE_NONE || plane == MICA_PLANE_STRAIN || plane == MICA_PLANE_STRESS,
              MICA_ERR_ARGUMENT, "mica_material_set: unknown plane kind %d", (int)plane);
@@ -118,7 +123,7 @@ int mica_model_stress_strain(const MicaModelOps *model, const MicaMaterial *mat,
   double F3[9], P3[9], W;
   t3_embed(dim, F, F3);
   MICA_CALL(model->eval(mat, 3, F3, &W, P3, NULL));
-  if (model->finite_strain) {
+  if (mica_type_has(&model->type, MICA_MODEL_FINITE_STRAIN)) {
     double J = t3_det(F3), tau[9], C[9];
     MICA_CALL(mica_model_check_jacobian_(model, J));
     t3_mul_nt(P3, F3, tau); /* Kirchhoff stress τ = P Fᵀ = J σ */

@@ -128,6 +128,17 @@ int mica_rotation_model_ncomp_(int dim);
 const char *const *mica_rotation_model_components_(int dim);
 const char *const *mica_rotation_model_tractions_(int dim);
 
+/* ---- The readers of the field models' settings (settings.c): each a MicaType.from_settings, options a
+ * MicaFieldModelRead ---- */
+int mica_cosserat_from_settings_(const MicaType *type, const MicaSettings *s, const char *group, void *options);
+int mica_cosserat_finite_from_settings_(const MicaType *type, const MicaSettings *s, const char *group,
+                                        void *options);
+int mica_micromorph_from_settings_(const MicaType *type, const MicaSettings *s, const char *group, void *options);
+int mica_strain_gradient_from_settings_(const MicaType *type, const MicaSettings *s, const char *group,
+                                        void *options);
+int mica_couple_stress_from_settings_(const MicaType *type, const MicaSettings *s, const char *group, void *options);
+extern const MicaFieldModelOps mica_field_couple_stress;
+
 /* ---- Checks (model.c) ---- */
 
 /* dim is 2 or 3; in 2-D, plane stress only for a model that supports it. MICA_ERR_ARGUMENT otherwise: a

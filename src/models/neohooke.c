@@ -54,10 +54,10 @@ static int neohooke_eval(const MicaMaterial *mat, int dim, const double *F, doub
 }
 
 const MicaModelOps mica_model_neohooke = {
-    .name = "neohooke",
-    .description = "compressible Neo-Hooke, W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2 (3-D, plane strain)",
-    .finite_strain = 1,
-    .plane_stress = 0,
+    .type = {.name = "neohooke",
+             .description = "compressible Neo-Hooke, W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2 "
+                            "(3-D, plane strain)",
+             .flags = MICA_MODEL_FINITE_STRAIN},
     .eval = neohooke_eval,
 };
 
@@ -88,10 +88,9 @@ static int neohooke_cook_eval(const MicaMaterial *mat, int dim, const double *F,
 }
 
 const MicaModelOps mica_model_neohooke_cook = {
-    .name = "neohooke-cook",
-    .description = "Neo-Hooke of Cook's membrane, W = mu/2 (J^(-2/3) I1 - 3) + kappa/4 (J^2 - 1 - 2 ln J) "
+    .type = {.name = "neohooke-cook",
+             .description = "Neo-Hooke of Cook's membrane, W = mu/2 (J^(-2/3) I1 - 3) + kappa/4 (J^2 - 1 - 2 ln J) "
                    "(3-D, plane strain)",
-    .finite_strain = 1,
-    .plane_stress = 0,
+             .flags = MICA_MODEL_FINITE_STRAIN},
     .eval = neohooke_cook_eval,
 };

@@ -11,7 +11,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "mica/model.h"
+#include "models_private.h"
 
 static int sg_ncomp(int dim) { return dim; }
 
@@ -119,7 +119,17 @@ static int sg_stress(const MicaFieldModel *m, int dim, const double *q, double *
 }
 
 const MicaFieldModelOps mica_field_strain_gradient = {
-    "strain-gradient", 2, 0, 0, sg_ncomp, sg_components, sg_tractions, sg_eval, sg_stress, NULL,
+    {"strain-gradient", "first strain gradient elasticity, small strain, length material.l", 0, NULL,
+     mica_strain_gradient_from_settings_},
+    2, sg_ncomp, sg_components, sg_tractions, sg_eval, sg_stress, NULL,
+};
+
+/* The modified couple-stress theory: the same kernel with param[1] = 1. As a deck's type it only reads the
+ * settings: the model it makes has the strain-gradient table (mica_strain_gradient_set). */
+const MicaFieldModelOps mica_field_couple_stress = {
+    {"couple-stress", "modified couple-stress theory, small strain, length material.l", 0, NULL,
+     mica_couple_stress_from_settings_},
+    2, sg_ncomp, sg_components, sg_tractions, sg_eval, sg_stress, NULL,
 };
 
 int mica_strain_gradient_set(MicaFieldModel *m, const MicaMaterial *material, double l, int couple_stress) {

@@ -36,9 +36,8 @@ static int svk_eval(const MicaMaterial *mat, int dim, const double *F, double *W
 }
 
 const MicaModelOps mica_model_svk = {
-    .name = "svk",
-    .description = "St. Venant-Kirchhoff, S = lambda tr(E) I + 2 mu E in the Green strain (3-D, plane strain)",
-    .finite_strain = 1,
-    .plane_stress = 0,
+    .type = {.name = "svk",
+             .description = "St. Venant-Kirchhoff, S = lambda tr(E) I + 2 mu E in the Green strain (3-D, plane strain)",
+             .flags = MICA_MODEL_FINITE_STRAIN},
     .eval = svk_eval,
 };

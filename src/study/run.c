@@ -327,7 +327,7 @@ static int check_axisymmetric_model(const MicaDeck *deck, const MicaFieldModel *
   char where[256];
   mica_deck_where(deck, "material.model", where, sizeof where);
   MICA_ERROR(MICA_ERR_INPUT, "%s: model '%s' has no axisymmetric form (it needs second derivatives in cylindrical "
-             "coordinates): use a plane or 3-D run", where, m->ops->name);
+             "coordinates): use a plane or 3-D run", where, m->ops->type.name);
 }
 
 /* Nitsche needs the model's traction s·n: first-order models (checked after the integration settings, whose
@@ -338,7 +338,7 @@ static int check_nitsche_model(const MicaDeck *deck, const MicaSolidOptions *opt
   mica_deck_where(deck, "bc.method", where, sizeof where);
   MICA_ERROR(MICA_ERR_INPUT, "%s: bc.method = \"%s\" needs a classical model or a first-order field model; model "
              "'%s' uses second derivatives (its tractions include double tractions): use \"lagrange\" or "
-             "\"penalty\"", where, opt->bc_method->name, opt->field.ops->name);
+             "\"penalty\"", where, opt->bc_method->name, opt->field.ops->type.name);
 }
 
 /* quadrature.vci: first-order models only, and boundary sets that cover the whole boundary once. */
@@ -349,7 +349,7 @@ static int read_vci(const MicaDeck *deck, const MicaDiscretization *disc, MicaSo
   mica_deck_where(deck, "quadrature.vci", where, sizeof where);
   MICA_CHECK(opt->field.ops->order == 1, MICA_ERR_INPUT,
              "%s: quadrature.vci corrects first derivatives only, and model '%s' uses second derivatives", where,
-             opt->field.ops->name);
+             opt->field.ops->type.name);
   MICA_CHECK(!opt->axisymmetric, MICA_ERR_INPUT,
              "%s: quadrature.vci is not available for axisymmetric solids (the divergence identity would need the "
              "hoop terms and 2πr weights)", where);
@@ -663,8 +663,9 @@ static int add_counts(RunProblem *rp, const RunTotals *c, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "cache_bytes", c->cache_bytes));
   MICA_CALL(mica_json_int(summary, "matrix_bytes", (long)(c->nnz * 16 + (s->ndof + 1) * 8)));
   MICA_CALL(mica_json_number(summary, "volume", rp->disc->volume));
-  MICA_CALL(mica_json_string(summary, "model", s->opt.field.ops == &mica_field_classical ? s->opt.field.classical->name
-                                                                                       : s->opt.field.ops->name));
+  MICA_CALL(mica_json_string(summary, "model", s->opt.field.ops == &mica_field_classical
+                                                   ? s->opt.field.classical->type.name
+                                                   : s->opt.field.ops->type.name));
   MICA_CALL(mica_json_int(summary, "unknowns_per_particle", s->ncomp));
   MICA_CALL(mica_json_string(summary, "bc_method", s->opt.bc_method->name));
   MICA_CALL(mica_json_number(summary, "bc_alpha", s->opt.bc_alpha));

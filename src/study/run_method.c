@@ -78,7 +78,7 @@ int run_check_fe_model(const MicaDeck *deck, const RunProblem *rp, const MicaSol
   mica_deck_where(deck, "material.model", where, sizeof where);
   MICA_CHECK(opt->field.ops->order <= rp->approx.ops->max_order, MICA_ERR_INPUT,
              "%s: model '%s' needs second derivatives of C1 shape functions; the finite elements of problem.method = "
-             "\"fe\" are C0: use problem.method = \"efg\"", where, opt->field.ops->name);
+             "\"fe\" are C0: use problem.method = \"efg\"", where, opt->field.ops->type.name);
   MICA_CALL(mica_deck_bool(deck, "quadrature.vci", &vci));
   mica_deck_where(deck, "quadrature.vci", where, sizeof where);
   MICA_CHECK(!vci, MICA_ERR_INPUT,
@@ -181,7 +181,7 @@ int run_read_scni(const MicaDeck *deck, RunProblem *rp, MicaSolidOptions *opt) {
   MICA_ERROR(MICA_ERR_INPUT,
              "%s: quadrature.mode = \"scni\" smooths first derivatives only, and model '%s' uses second derivatives; "
              "use quadrature.mode = \"nodal\" (MLS Hessians at the particles) or \"gauss\"", where,
-             opt->field.ops->name);
+             opt->field.ops->type.name);
 }
 
 /* The measuring sticks of issue 5 run on one process: the FE baseline and the nodal integration modes keep

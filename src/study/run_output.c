@@ -88,8 +88,7 @@ static void fields_free(PointFields *f) {
 /* The Cosserat models report a couple stress; the micromorph kinds' stress op leaves it 0 (their double stress
  * is not reported), and a field of zeros would claim otherwise. */
 static int reports_couple_stress(const RunProblem *rp) {
-  const MicaFieldModelOps *ops = rp->solid->opt.field.ops;
-  return ops == &mica_field_cosserat || ops == &mica_field_cosserat_finite;
+  return mica_type_has(&rp->solid->opt.field.ops->type, MICA_FIELD_COUPLE_STRESS);
 }
 
 static int fields_alloc(const RunProblem *rp, long n, PointFields *f) {

@@ -489,8 +489,8 @@ static int stability_run(const MicaDeck *deck, const char *outdir, MicaJson *sum
   if (need_problem) {
     MICA_CALL_CLEANUP(run_problem_build(deck, &rp));
     printf("%ld particles, %ld volume quadrature points, %ld unknowns (%s, bc.method %s)\n", rp.disc->nparticles,
-           rp.disc->nquad, rp.solid->ndof, rp.solid->opt.field.classical ? rp.solid->opt.field.classical->name
-                                                                          : rp.solid->opt.field.ops->name,
+           rp.disc->nquad, rp.solid->ndof, rp.solid->opt.field.classical ? rp.solid->opt.field.classical->type.name
+                                                                          : rp.solid->opt.field.ops->type.name,
            rp.solid->opt.bc_method->name);
     MICA_CALL_CLEANUP(mica_json_int(summary, "dim", rp.disc->dim));
     MICA_CALL_CLEANUP(mica_json_int(summary, "particles", rp.disc->nparticles));

@@ -6,10 +6,13 @@
 int mica_registry_count(const MicaRegistry *registry) {
   int n = 0;
   while (registry->builtin && registry->builtin[n]) n++;
-  return n + registry->nadded;
+  return n + registry->nadded + (registry->base ? mica_registry_count(registry->base) : 0);
 }
 
 const MicaType *mica_registry_type(const MicaRegistry *registry, int i) {
+  const int nbase = registry->base ? mica_registry_count(registry->base) : 0;
+  if (i >= 0 && i < nbase) return mica_registry_type(registry->base, i);
+  i -= nbase;
   int nbuiltin = 0;
   while (registry->builtin && registry->builtin[nbuiltin]) nbuiltin++;
   if (i < 0 || i >= nbuiltin + registry->nadded) return NULL;

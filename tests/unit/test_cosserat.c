@@ -139,10 +139,10 @@ static void test_nq(void **state) {
 static void test_ops_table(void **state) {
   (void)state;
   const MicaFieldModelOps *ops = &mica_field_cosserat;
-  assert_string_equal(ops->name, "cosserat");
+  assert_string_equal(ops->type.name, "cosserat");
   assert_int_equal(ops->order, 1);
-  assert_int_equal(ops->finite, 0);
-  assert_int_equal(ops->uses_values, 1);
+  assert_int_equal(mica_type_has(&ops->type, MICA_FIELD_FINITE), 0);
+  assert_int_equal(mica_type_has(&ops->type, MICA_FIELD_USES_VALUES), 1);
   assert_int_equal(ops->ncomp(2), 3);
   assert_int_equal(ops->ncomp(3), 6);
   const char *n2[] = {"ux", "uy", "phiz"}, *t2[] = {"tx", "ty", "mz"};

@@ -326,7 +326,7 @@ static void test_bad_input(void **state) {
   mica_error_clear();
   assert_int_equal(m.ops->eval(&m, 4, q, &W, NULL, NULL), MICA_ERR_ARGUMENT);
   mica_error_clear();
-  assert_string_equal(m.ops->name, "cosserat-finite");
+  assert_string_equal(m.ops->type.name, "cosserat-finite");
   assert_int_equal(mica_field_model_nq(&m, 2), 9);
   assert_int_equal(mica_field_model_nq(&m, 3), 24);
 }

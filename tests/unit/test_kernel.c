@@ -172,7 +172,7 @@ typedef struct {
 /* The slots of model.h's q layout: value c; gradient ncomp + c·dim + J; Hessian ncomp(1 + dim) + c·nh + h —
  * written here from the layout's definition, not taken from the assembly. */
 static int field_slot(const FieldCase *f, int comp, int i) {
-  const int values = f->solid.opt.field.ops->uses_values, nh = f->dim * (f->dim + 1) / 2;
+  const int values = mica_type_has(&f->solid.opt.field.ops->type, MICA_FIELD_USES_VALUES), nh = f->dim * (f->dim + 1) / 2;
   if (values && i == 0) return comp;
   i -= values;
   if (i < f->dim) return f->nc + comp * f->dim + i;
@@ -184,7 +184,7 @@ static void field_case_init(FieldCase *f, const MicaFieldModelOps *ops, int dim,
   memset(f, 0, sizeof *f);
   const int nh = dim * (dim + 1) / 2;
   f->dim = dim, f->n = n, f->nc = ops->ncomp(dim);
-  f->nd = ops->uses_values + dim + (ops->order >= 2 ? nh : 0);
+  f->nd = mica_type_has(&ops->type, MICA_FIELD_USES_VALUES) + dim + (ops->order >= 2 ? nh : 0);
   f->nq = f->nc * (1 + dim + (ops->order >= 2 ? nh : 0));
   for (long k = 0; k < n; k++) {
     f->index[k] = k, f->N[k] = symmetric_uniform(&rng);
@@ -267,7 +267,7 @@ static void test_field_kernel_equals_general(void **state) {
       for (long e = 0; e < (long)n * nc * n * nc; e++) f[0].general[e] += f[2].general[e]; /* same members */
       const double even = field_difference(&f[0], loc[0], np, 1.0, Ke), odd = field_difference(&f[1], loc[1], np, 1.0, Ke);
       print_message("%s %d-D (nc %d, nd %d): one point %.1e; chunk of 3, even members %.1e, odd %.1e (ISA %s)\n",
-                    models[mi].ops->name, models[mi].dim, nc, nd, one, even, odd, mica_kernel_isa());
+                    models[mi].ops->type.name, models[mi].dim, nc, nd, one, even, odd, mica_kernel_isa());
       assert_true(one <= 1e-12);
       assert_true(even <= 1e-12);
       assert_true(odd <= 1e-12);

@@ -22,6 +22,15 @@
 
 #include "mica/mls.h"
 
+/* The registered bases as a NULL-terminated array (the registry's order). */
+static const MlsBasisOps *const *bases_all(void) {
+  static const MlsBasisOps *all[64];
+  int n = 0;
+  for (; n < 63 && mls_basis_at(n); n++) all[n] = mls_basis_at(n);
+  all[n] = NULL;
+  return all;
+}
+
 #define MAX_TERMS 64 /* (3 + 1)^3 */
 #define FD_STEP 1e-5
 #define FD_TOL 1e-7
@@ -61,7 +70,7 @@ static void random_point(uint64_t *state, int dim, double *s) {
 static void assert_close(double expected, double actual, double tol, const char *what, const MlsBasisOps *b,
                          int dim, int order, int term) {
   if (!(fabs(expected - actual) <= tol)) {
-    print_error("%s %s dim %d order %d term %d: expected %.17g, got %.17g (tolerance %.3g)\n", b->name, what,
+    print_error("%s %s dim %d order %d term %d: expected %.17g, got %.17g (tolerance %.3g)\n", b->type.name, what,
                 dim, order, term, expected, actual, tol);
     fail();
   }
@@ -83,14 +92,67 @@ static int binomial(int n, int k) {
 
 /* ---- lookup and sizes ---- */
 
+/* The composed mls.* key at path: its choices and default come from the registry of its chooser. */
+static const MicaDeckKey *mls_key(MicaSchema **schema, const char *path) {
+  MICA_SCHEMA_TABLES
+  static const MicaDeckKey base[] = {{.path = "mls", .type = MICA_KEY_FRAGMENT, .fragment = mls_keys}, {NULL}};
+  assert_int_equal(mica_schema_compose(base, schema), MICA_SUCCESS);
+  const MicaDeckKey *key = mica_schema_find(mica_schema_keys(*schema), path);
+  assert_non_null(key);
+  return key;
+}
+
+/* The choices of mls.basis, mls.support, mls.search and mls.spacing, their defaults in the schema and in
+ * mls_options_default, all follow the registries: a type added at run time is offered, and a registry's
+ * default (its one place) moves both defaults. */
+static void test_registries_give_choices_and_defaults(void **state) {
+  (void)state;
+  static MlsBasisOps copy = {{"pascal-copy", "the Pascal basis again", 0, NULL, NULL}, 0, 3, NULL, NULL};
+  copy.size = mls_basis_pascal.size, copy.eval = mls_basis_pascal.eval; /* usable by any later loop */
+  assert_int_equal(mica_registry_add(&mls_basis_registry, &copy.type), MICA_SUCCESS);
+  assert_int_equal(mica_registry_add(&mls_basis_registry, &copy.type), MICA_ERR_ARGUMENT); /* name taken */
+  assert_ptr_equal(mls_basis_find("pascal-copy"), &copy);
+  MicaSchema *schema;
+  assert_string_equal(mls_key(&schema, "mls.basis")->choices, "pascal|lagrange|bernstein|pascal-copy");
+  mica_schema_destroy(&schema);
+  assert_string_equal(mls_key(&schema, "mls.support")->choices, "box|ball");
+  mica_schema_destroy(&schema);
+  assert_string_equal(mls_key(&schema, "mls.search")->choices, "kdtree|cells");
+  mica_schema_destroy(&schema);
+  assert_string_equal(mls_key(&schema, "mls.spacing")->choices, "near|far");
+  mica_schema_destroy(&schema);
+  MlsOptions opt;
+  mls_options_default(&opt);
+  assert_ptr_equal(opt.basis, &mls_basis_pascal);
+  assert_int_equal(opt.support, MLS_SUPPORT_BOX);
+  assert_int_equal(opt.search, MLS_SEARCH_KDTREE);
+  assert_int_equal(opt.spacing, MLS_SPACING_NEAR);
+  /* move each default: the schema and the options follow */
+  const char *defaults[4] = {mls_basis_registry.def, mls_support_registry.def, mls_search_registry.def,
+                             mls_spacing_registry.def};
+  mls_basis_registry.def = "lagrange", mls_support_registry.def = "ball", mls_search_registry.def = "cells",
+  mls_spacing_registry.def = "far";
+  mls_options_default(&opt);
+  assert_ptr_equal(opt.basis, &mls_basis_lagrange);
+  assert_int_equal(opt.support, MLS_SUPPORT_BALL);
+  assert_int_equal(opt.search, MLS_SEARCH_CELLS);
+  assert_int_equal(opt.spacing, MLS_SPACING_FAR);
+  assert_string_equal(mls_key(&schema, "mls.support")->def, "\"ball\"");
+  mica_schema_destroy(&schema);
+  assert_string_equal(mls_key(&schema, "mls.basis")->def, "\"lagrange\"");
+  mica_schema_destroy(&schema);
+  mls_basis_registry.def = defaults[0], mls_support_registry.def = defaults[1], mls_search_registry.def = defaults[2],
+  mls_spacing_registry.def = defaults[3];
+}
+
 static void test_find(void **state) {
   (void)state;
   const char *names[] = {"pascal", "lagrange", "bernstein"};
-  const MlsBasisOps *const *all = mls_basis_all();
+  const MlsBasisOps *const *all = bases_all();
   for (int i = 0; i < 3; i++) {
     assert_ptr_equal(mls_basis_find(names[i]), all_bases[i]);
     assert_ptr_equal(all[i], all_bases[i]);
-    assert_string_equal(all_bases[i]->name, names[i]);
+    assert_string_equal(all_bases[i]->type.name, names[i]);
   }
   assert_null(all[3]);
   assert_null(mls_basis_find("Pascal"));
@@ -413,6 +475,7 @@ static void test_bernstein_corners(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_find),
+      cmocka_unit_test(test_registries_give_choices_and_defaults),
       cmocka_unit_test(test_sizes),
       cmocka_unit_test(test_derivatives_vs_fd),
       cmocka_unit_test(test_pascal_at_origin),

@@ -60,7 +60,7 @@ static MicaMaterial make_material(const Case *c, double E, double nu) {
   MicaMaterial mat;
   int ierr = mica_material_set(c->model, E, nu, c->plane, &mat);
   if (ierr) {
-    print_error("mica_material_set(%s, E = %g, ν = %g): %s\n", c->model->name, E, nu, mica_error_message());
+    print_error("mica_material_set(%s, E = %g, ν = %g): %s\n", c->model->type.name, E, nu, mica_error_message());
     fail();
   }
   return mat;
@@ -69,7 +69,7 @@ static MicaMaterial make_material(const Case *c, double E, double nu) {
 static void eval_ok(const Case *c, const MicaMaterial *mat, const double *F, double *W, double *P, double *A) {
   int ierr = c->model->eval(mat, c->dim, F, W, P, A);
   if (ierr) {
-    print_error("%s (%s): eval failed: %s\n", c->model->name, plane_name(c->dim, c->plane), mica_error_message());
+    print_error("%s (%s): eval failed: %s\n", c->model->type.name, plane_name(c->dim, c->plane), mica_error_message());
     fail();
   }
 }
@@ -132,6 +132,20 @@ static void for_each_F(const Case *c, const MicaMaterial *mat, FCheck check, dou
 
 /* ---- registry ---- */
 
+/* Types an extension adds to the registry when the test is linked with tests/extensions (test_models_ext). */
+#ifndef EXTRA_MODELS
+#define EXTRA_MODELS 0
+#endif
+
+/* The registered classical models as a NULL-terminated array (the registry's order). */
+static const MicaModelOps *const *models_all(void) {
+  static const MicaModelOps *all[64];
+  int n = 0;
+  for (; n < 63 && mica_model_at(n); n++) all[n] = mica_model_at(n);
+  all[n] = NULL;
+  return all;
+}
+
 static void test_registry(void **state) {
   (void)state;
   static const struct {
@@ -144,17 +158,17 @@ static void test_registry(void **state) {
       {"neohooke", &mica_model_neohooke, 1, 0},
       {"neohooke-cook", &mica_model_neohooke_cook, 1, 0},
   };
-  const MicaModelOps *const *all = mica_model_all();
+  const MicaModelOps *const *all = models_all();
   for (int i = 0; i < 4; i++) {
     assert_ptr_equal(all[i], expected[i].ops);
     assert_ptr_equal(mica_model_find(expected[i].name), expected[i].ops);
-    assert_string_equal(expected[i].ops->name, expected[i].name);
-    assert_int_equal(expected[i].ops->finite_strain, expected[i].finite_strain);
-    assert_int_equal(expected[i].ops->plane_stress, expected[i].plane_stress);
-    assert_non_null(expected[i].ops->description);
+    assert_string_equal(expected[i].ops->type.name, expected[i].name);
+    assert_int_equal(mica_type_has(&expected[i].ops->type, MICA_MODEL_FINITE_STRAIN), expected[i].finite_strain);
+    assert_int_equal(mica_type_has(&expected[i].ops->type, MICA_MODEL_PLANE_STRESS), expected[i].plane_stress);
+    assert_non_null(expected[i].ops->type.description);
     assert_non_null(expected[i].ops->eval);
   }
-  assert_null(all[4]);
+  assert_null(all[4 + EXTRA_MODELS]);
   assert_null(mica_model_find("neo-hooke"));
   assert_null(mica_model_find(""));
   assert_null(mica_model_find(NULL));
@@ -177,7 +191,7 @@ static void check_P_against_W(const Case *c, const MicaMaterial *mat, const doub
   }
   err /= max_abs(P, n);
   if (!(err <= FD_TOL)) {
-    print_error("%s (%s, E = %g, ν = %g): P differs from the differences of W by %.3g relative\n", c->model->name,
+    print_error("%s (%s, E = %g, ν = %g): P differs from the differences of W by %.3g relative\n", c->model->type.name,
                 plane_name(c->dim, c->plane), mat->E, mat->nu, err);
     fail();
   }
@@ -199,7 +213,7 @@ static void check_A_against_P(const Case *c, const MicaMaterial *mat, const doub
   }
   err /= max_abs(A, n * n);
   if (!(err <= FD_TOL)) {
-    print_error("%s (%s, E = %g, ν = %g): A differs from the differences of P by %.3g relative\n", c->model->name,
+    print_error("%s (%s, E = %g, ν = %g): A differs from the differences of P by %.3g relative\n", c->model->type.name,
                 plane_name(c->dim, c->plane), mat->E, mat->nu, err);
     fail();
   }
@@ -214,14 +228,14 @@ static void check_A_symmetry(const Case *c, const MicaMaterial *mat, const doubl
   for (int a = 0; a < n; a++)
     for (int b = 0; b < n; b++) {
       err = fmax(err, fabs(A[a * n + b] - A[b * n + a]));
-      if (!c->model->finite_strain) { /* a = (i, J) ↔ (J, i) */
+      if (!mica_type_has(&c->model->type, MICA_MODEL_FINITE_STRAIN)) { /* a = (i, J) ↔ (J, i) */
         int i = a / dim, J = a % dim;
         err = fmax(err, fabs(A[a * n + b] - A[(J * dim + i) * n + b]));
       }
     }
   err /= max_abs(A, n * n);
   if (!(err <= EXACT_TOL)) {
-    print_error("%s (%s): A is not symmetric: %.3g relative\n", c->model->name, plane_name(c->dim, c->plane), err);
+    print_error("%s (%s): A is not symmetric: %.3g relative\n", c->model->type.name, plane_name(c->dim, c->plane), err);
     fail();
   }
   *worst = fmax(*worst, err);
@@ -245,6 +259,27 @@ static void test_P_is_dW_dF(void **state) {
 static void test_A_is_dP_dF(void **state) {
   (void)state;
   run_over_cases(check_A_against_P, "|A − FD(P)| / max|A|");
+}
+
+/* The same differences for every model of the registry, each in 3-D, plane strain and (if it has it) plane
+ * stress: a model an extension registers is checked too. */
+static void test_registry_tangents(void **state) {
+  (void)state;
+  double worst_P = 0.0, worst_A = 0.0;
+  int checked = 0;
+  for (const MicaModelOps *const *model = models_all(); *model; model++, checked++) {
+    const Case cases[] = {{*model, 3, MICA_PLANE_NONE}, {*model, 2, MICA_PLANE_STRAIN}, {*model, 2, MICA_PLANE_STRESS}};
+    const int ncases = mica_type_has(&(*model)->type, MICA_MODEL_PLANE_STRESS) ? 3 : 2;
+    for (int k = 0; k < ncases; k++)
+      for (size_t m = 0; m < NUM_MATERIALS; m++) {
+        MicaMaterial mat = make_material(&cases[k], materials[m][0], materials[m][1]);
+        for_each_F(&cases[k], &mat, check_P_against_W, &worst_P);
+        for_each_F(&cases[k], &mat, check_A_against_P, &worst_A);
+      }
+  }
+  assert_int_equal(checked, 4 + EXTRA_MODELS);
+  print_message("%d registered models: worst |P − FD(W)| / max|P| %.3g, |A − FD(P)| / max|A| %.3g\n", checked,
+                worst_P, worst_A);
 }
 
 static void test_A_symmetric(void **state) {
@@ -302,7 +337,7 @@ static void check_W_reference(const Case *c, const MicaMaterial *mat, const doub
   double expected = reference_W(c->model, mat, F3), W = eval_W(c, mat, F);
   double err = fabs(W - expected) / fabs(expected);
   if (!(err <= EXACT_TOL)) {
-    print_error("%s (%s): W = %.17g, its definition gives %.17g\n", c->model->name, plane_name(c->dim, c->plane),
+    print_error("%s (%s): W = %.17g, its definition gives %.17g\n", c->model->type.name, plane_name(c->dim, c->plane),
                 W, expected);
     fail();
   }
@@ -373,10 +408,10 @@ static double objectivity_error(const Case *c, const MicaMaterial *mat, const do
 }
 
 static void check_objective(const Case *c, const MicaMaterial *mat, const double *F, double *worst) {
-  if (!c->model->finite_strain) return;
+  if (!mica_type_has(&c->model->type, MICA_MODEL_FINITE_STRAIN)) return;
   double err = objectivity_error(c, mat, F);
   if (!(err <= EXACT_TOL)) {
-    print_error("%s (%s): W(QF) ≠ W(F) or P(QF) ≠ Q P(F): %.3g relative\n", c->model->name,
+    print_error("%s (%s): W(QF) ≠ W(F) or P(QF) ≠ Q P(F): %.3g relative\n", c->model->type.name,
                 plane_name(c->dim, c->plane), err);
     fail();
   }
@@ -400,7 +435,7 @@ static void test_small_strain_limit(void **state) {
   double worst = 0.0;
   for (size_t k = 0; k < NUM_CASES; k++) {
     const Case *c = &all_cases[k];
-    if (!c->model->finite_strain) continue;
+    if (!mica_type_has(&c->model->type, MICA_MODEL_FINITE_STRAIN)) continue;
     const Case lin = {&mica_model_linear, c->dim, c->plane};
     for (size_t m = 0; m < NUM_MATERIALS; m++) {
       MicaMaterial mat = make_material(c, materials[m][0], materials[m][1]);
@@ -416,7 +451,7 @@ static void test_small_strain_limit(void **state) {
         double err = 0.0, scale = max_abs(CH, n);
         for (int a = 0; a < n; a++) err = fmax(err, fabs(P[a] / SMALL_STRAIN - CH[a]) / scale);
         if (!(err <= SMALL_STRAIN_TOL)) {
-          print_error("%s (%s): P/ε differs from C : sym H by %.3g relative\n", c->model->name,
+          print_error("%s (%s): P/ε differs from C : sym H by %.3g relative\n", c->model->type.name,
                       plane_name(c->dim, c->plane), err);
           fail();
         }
@@ -619,7 +654,7 @@ static void test_material_errors(void **state) {
   const MicaModelOps *no_plane_stress[] = {&mica_model_svk, &mica_model_neohooke, &mica_model_neohooke_cook};
   for (int i = 0; i < 3; i++)
     expect_input_error(no_plane_stress[i], 1.0, 0.3, MICA_PLANE_STRESS,
-                       (const char *const[]){no_plane_stress[i]->name, "plane stress", "'linear'", NULL});
+                       (const char *const[]){no_plane_stress[i]->type.name, "plane stress", "'linear'", NULL});
   /* the valid edges */
   MicaMaterial mat;
   assert_int_equal(mica_material_set(&mica_model_linear, 1.0, 0.3, MICA_PLANE_STRESS, &mat), MICA_SUCCESS);
@@ -693,6 +728,7 @@ int main(void) {
       cmocka_unit_test(test_registry),
       cmocka_unit_test(test_P_is_dW_dF),
       cmocka_unit_test(test_A_is_dP_dF),
+      cmocka_unit_test(test_registry_tangents),
       cmocka_unit_test(test_A_symmetric),
       cmocka_unit_test(test_energy_values),
       cmocka_unit_test(test_stress_free_reference),
