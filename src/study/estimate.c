@@ -136,7 +136,10 @@ static int read_solver(const MicaDeck *deck, RunEstimate *est) {
   MICA_CALL(mica_deck_string(deck, "solver.linear", &linear));
   MICA_CALL(mica_deck_string(deck, "bc.method", &bc));
   MICA_CALL(mica_deck_bool(deck, "quadrature.vci", &vci));
-  est->solver = strcmp(linear, "auto") ? linear : (!strcmp(bc, "lagrange") || vci) ? "umfpack" : "cholmod";
+  const MicaType *method;
+  MICA_CALL(mica_registry_get(&mica_bc_method_registry, bc, &method));
+  const int spd = mica_type_has(method, MICA_BC_SYMMETRIC_DEFINITE) && !vci;
+  est->solver = strcmp(linear, "auto") ? linear : spd ? "cholmod" : "umfpack";
   return MICA_SUCCESS;
 }
 

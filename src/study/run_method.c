@@ -93,7 +93,7 @@ int run_check_fe_model(const MicaDeck *deck, const RunProblem *rp, const MicaSol
  * affected; neither are penalty and Nitsche). */
 int run_check_fe_multipliers(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt, int n,
                                 const MicaDirichlet *c) {
-  if (!rp->fe || rp->fe->order != 1 || !opt->bc_method->needs_multipliers) return MICA_SUCCESS;
+  if (!rp->fe || rp->fe->order != 1 || !mica_bc_method_has(opt->bc_method, MICA_BC_MULTIPLIERS)) return MICA_SUCCESS;
   const int dim = rp->disc->dim;
   for (int i = 0; i < n; i++)
     for (int j = i + 1; j < n; j++) {

@@ -90,11 +90,8 @@ const MicaDeckKey mica_run_schema[] = {
     {"material.gamma", MICA_KEY_FLOAT, NULL, NOLIMIT, NULL, 0, 0, "cosserat, Eringen: γ (the only couple modulus in 2-D)"},
     {"material.plane", MICA_KEY_CHOICE, "\"strain\"", NOLIMIT, "strain|stress", 0, 0,
      "2-D: plane strain or plane stress (plane stress: linear model only)"},
-    {"bc.method", MICA_KEY_CHOICE, "\"nitsche\"", NOLIMIT, "penalty|nitsche|lagrange", 0, 0,
-     "how Dirichlet conditions are imposed (docs/verification.md says why nitsche is the default)"},
-    {"bc.alpha", MICA_KEY_FLOAT, NULL, 1e-6, 1e12, NULL, 0, 0,
-     "penalty / Nitsche factor α in β = α E / h (Cosserat and other field models: β_b = α k_b / h per unknown, "
-     "docs/theory.md; default: 1e3 penalty, 100 Nitsche)"},
+    {.path = "bc.method", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &mica_bc_method_registry,
+     .help = "how Dirichlet conditions are imposed (docs/verification.md says why nitsche is the default)"},
     {"bcs.dirichlet", MICA_KEY_LIST, NULL, NOLIMIT, NULL, 0, 0,
      "prescribed displacements: ( { set = \"left\"; ux = \"0\"; uy = \"0\"; }, ... ); omitted components are free"},
     {"bcs.dirichlet.[].set", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, 0, "boundary set name"},
@@ -131,13 +128,11 @@ const MicaDeckKey mica_run_schema[] = {
     {"loads.btheta", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric: body force, θ"},
     {"loads.cr", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric cosserat: body couple, r"},
     {"loads.ctheta", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric cosserat: body couple, θ"},
-    {"solver.linear", MICA_KEY_CHOICE, "\"auto\"", NOLIMIT, "auto|cholmod|umfpack|cg", 0, 0,
-     "auto: CHOLMOD for symmetric positive definite tangents, UMFPACK otherwise; cg: preconditioned conjugate "
-     "gradients (SPD tangents, no factorization: for problems whose factor does not fit; under solver.parallel = "
-     "schwarz, CG is the outer iteration and CHOLMOD factors the subdomains)"},
-    {"solver.preconditioner", MICA_KEY_CHOICE, "\"jacobi\"", NOLIMIT, "jacobi|sgs", 0, 0,
-     "cg: block Jacobi on each particle's unknowns, or symmetric block Gauss–Seidel (fewer iterations, 3 matrix "
-     "passes each)"},
+    {.path = "solver.linear", .type = MICA_KEY_CHOICE, .def = "\"auto\"", .min = 1.0, .max = 0.0, .choices = "auto",
+     .registry = &mica_linear_solver_registry,
+     .help = "auto: CHOLMOD for symmetric positive definite tangents, UMFPACK otherwise; cg: preconditioned "
+             "conjugate gradients (SPD tangents, no factorization: for problems whose factor does not fit; under "
+             "solver.parallel = schwarz, CG is the outer iteration and CHOLMOD factors the subdomains)"},
     {"solver.parallel", MICA_KEY_CHOICE, "\"gather\"", NOLIMIT, "gather|schwarz", 0, 0,
      "MPI runs: gather the tangent to rank 0 for CHOLMOD/UMFPACK, or additive Schwarz CG/GMRES"},
     {"solver.overlap", MICA_KEY_INT, "2", 0, 100, NULL, 0, 0,

@@ -478,7 +478,7 @@ static int stability_run(const MicaDeck *deck, const char *outdir, MicaJson *sum
     printf("%ld particles, %ld volume quadrature points, %ld unknowns (%s, bc.method %s)\n", rp.disc->nparticles,
            rp.disc->nquad, rp.solid->ndof, rp.solid->opt.field.classical ? rp.solid->opt.field.classical->name
                                                                           : rp.solid->opt.field.ops->name,
-           rp.solid->opt.bc_method->name);
+           rp.solid->opt.bc_method->type.name);
     MICA_CALL_CLEANUP(mica_json_int(summary, "dim", rp.disc->dim));
     MICA_CALL_CLEANUP(mica_json_int(summary, "particles", rp.disc->nparticles));
     MICA_CALL_CLEANUP(mica_json_int(summary, "quadrature_points", rp.disc->nquad));
