@@ -39,14 +39,19 @@ typedef struct MicaShapeCache {
 
 #define MICA_MAX_COMP 6 /* unknowns per particle: 3-D Cosserat */
 
-/* ---- Approximations: where the shape functions come from (ops table) ------------------------------------ */
+/* ---- Approximations: where the shape functions come from (a registry of types) --------------------------- */
 
 /* An approximation fills shape caches: MLS (EFG, mica_approx_mls, ctx a const MlsApprox *) or finite
  * elements on the same nodes (mica_approx_fe of mica/fe.h, ctx a const MicaFe *). The solid, the boundary
  * methods and the outputs see only the caches. */
+enum {
+  MICA_APPROX_INTERPOLATING = 1u << 0, /* N_I(x_J) = δ_IJ: the unknowns are the values at the particles (FE) */
+  MICA_APPROX_MLS = 1u << 1            /* ctx is a const MlsApprox * (VCI corrects its gradients; it extends
+                                          beyond the body; nodal integration at its particles) */
+};
+
 typedef struct MicaApproxOps {
-  const char *name;   /* "efg", "fe": problem.method */
-  int interpolating;  /* 1: N_I(x_J) = δ_IJ, the unknowns are the values at the particles (FE) */
+  MicaType type;      /* "efg", "fe": problem.method; flags MICA_APPROX_* */
   int max_order;      /* highest derivative order it provides: 2 (MLS, Hessians), 1 (C0 finite elements) */
   /* N, ∇N (order 2: and ∇∇N) at x[npoints*dim]; cell[p] is the cell (element) point p lies in, or cell is
    * NULL and the approximation finds it if it needs it; an error names the point (label and number). */
@@ -64,6 +69,9 @@ typedef struct MicaApprox {
 } MicaApprox;
 
 extern const MicaApproxOps mica_approx_mls;
+/* problem.method: efg (the default), fe (src/assemble/cache.c). */
+extern MicaRegistry mica_approx_registry;
+static inline int mica_approx_has(const MicaApproxOps *ops, unsigned flag) { return mica_type_has(&ops->type, flag); }
 
 /* Evaluates shape functions with gradients (order 1) or with gradients and Hessians (order 2) at
  * x[npoints*dim]; an MLS failure names the point (label and number). */

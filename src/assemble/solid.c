@@ -174,9 +174,9 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
              opt->field.ops->name);
   MICA_CHECK(opt->field.ops->order <= approx->ops->max_order, MICA_ERR_INPUT,
              "model '%s' needs derivatives of order %d, which the %s approximation does not provide (it is C%d)",
-             opt->field.ops->name, opt->field.ops->order, approx->ops->name, approx->ops->max_order - 1);
-  MICA_CHECK(!opt->vci || approx->ops == &mica_approx_mls, MICA_ERR_INPUT,
-             "quadrature.vci corrects MLS gradients; the %s approximation has none to correct", approx->ops->name);
+             opt->field.ops->name, opt->field.ops->order, approx->ops->type.name, approx->ops->max_order - 1);
+  MICA_CHECK(!opt->vci || mica_approx_has(approx->ops, MICA_APPROX_MLS), MICA_ERR_INPUT,
+             "quadrature.vci corrects MLS gradients; the %s approximation has none to correct", approx->ops->type.name);
   MICA_CHECK(!opt->vci || opt->field.ops->order == 1, MICA_ERR_INPUT,
              "quadrature.vci corrects first derivatives only; model '%s' uses second derivatives",
              opt->field.ops->name);
@@ -267,7 +267,7 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
   int ierr = MICA_SUCCESS;
   s->disc = disc;
   s->approx = *approx;
-  s->mls = approx->ops == &mica_approx_mls ? approx->ctx : NULL;
+  s->mls = mica_approx_has(approx->ops, MICA_APPROX_MLS) ? approx->ctx : NULL;
   s->opt = *opt;
   s->dim = disc->dim;
   s->model_dim = opt->axisymmetric ? 3 : s->dim;

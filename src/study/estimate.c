@@ -66,13 +66,14 @@ static int model_unknowns(const MicaDeck *deck, int dim, int *ncomp, int *second
  * 2 ceil(2δ) − 1 of them (a ball: the ball of radius 2δ). */
 static int support_counts(const MicaDeck *deck, const MicaShapeSpec *shape, const double *count, int dim,
                           double *support, double *coupled) {
-  const char *kind, *method;
+  const char *kind;
   long order;
+  int fe;
   MICA_CALL(mica_deck_string(deck, "mls.support", &kind));
-  MICA_CALL(mica_deck_string(deck, "problem.method", &method));
+  MICA_CALL(run_is_fe(deck, &fe));
   MICA_CALL(mica_deck_int(deck, "mls.order", &order));
   double delta[3] = {(double)order + 1, (double)order + 1, (double)order + 1};
-  if (!strcmp(method, "fe")) { /* Lagrange elements: (order + 1)^dim nodes, (2 order + 1)^dim coupled */
+  if (fe) { /* Lagrange elements: (order + 1)^dim nodes, (2 order + 1)^dim coupled */
     *support = pow((double)order + 1, dim), *coupled = pow(2.0 * (double)order + 1, dim);
     return MICA_SUCCESS;
   }

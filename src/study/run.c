@@ -639,7 +639,7 @@ static int count_totals(const RunProblem *rp, RunTotals *c) {
 static int add_counts(RunProblem *rp, const RunTotals *c, MicaJson *summary) {
   const MicaSolid *s = rp->solid;
   if (!rp->error_disc) MICA_CALL(run_error_discretization(rp, &rp->error_disc)); /* NULL without error_order */
-  MICA_CALL(mica_json_string(summary, "method", rp->approx.ops->name));
+  MICA_CALL(mica_json_string(summary, "method", rp->approx.ops->type.name));
   if (rp->fe) MICA_CALL(mica_json_string(summary, "element", mica_fe_element_name(rp->fe->dim, rp->fe->order)));
   MICA_CALL(mica_json_int(summary, "dim", rp->disc->dim));
   MICA_CALL(mica_json_int(summary, "particles", rp->disc->nparticles));

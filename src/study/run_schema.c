@@ -15,10 +15,11 @@ const MicaDeckKey mica_run_schema[] = {
     {"parameters", MICA_KEY_PARAMETERS, NULL, NOLIMIT, NULL, 0, 0,
      "named numbers (or expressions of earlier ones) usable in any numeric setting and expression"},
     {"problem.title", MICA_KEY_STRING, "\"\"", NOLIMIT, NULL, 0, 0, "a title for the summary"},
-    {"problem.method", MICA_KEY_CHOICE, "\"efg\"", NOLIMIT, "efg|fe", 0, 0,
-     "the approximation: efg (MLS shape functions, background-cell quadrature) or fe, the finite-element baseline: "
-     "Lagrange elements of order mls.order (1: Q1 / hex8, 2: Q2 / hex27) with the particles of a regular, graded or "
-     "jittered layout of a built-in shape as nodes, quadrature.order Gauss points per direction per element"},
+    {.path = "problem.method", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &mica_approx_registry,
+     .help = "the approximation: efg (MLS shape functions, background-cell quadrature) or fe, the finite-element "
+             "baseline: Lagrange elements of order mls.order (1: Q1 / hex8, 2: Q2 / hex27) with the particles of a "
+             "regular, graded or jittered layout of a built-in shape as nodes, quadrature.order Gauss points per "
+             "direction per element"},
     {"geometry.shape", MICA_KEY_CHOICE, "\"box\"", NOLIMIT, "box|polygon|plate_hole|annulus|cylinder|gmsh", 0, 0,
      "the body: a built-in shape or a Gmsh mesh"},
     {"geometry.lower", MICA_KEY_FLOATS, NULL, NOLIMIT, NULL, 2, 3, "box: lower corner (its length sets the dimension)"},
@@ -57,8 +58,8 @@ const MicaDeckKey mica_run_schema[] = {
     {"quadrature.vci", MICA_KEY_BOOL, "false", NOLIMIT, NULL, 0, 0,
      "variationally consistent integration: corrected test gradients pass the patch test of the basis order "
      "(first-order models; unsymmetric tangent)"},
-    {"quadrature.mode", MICA_KEY_CHOICE, "\"gauss\"", NOLIMIT, "gauss|nodal|scni", 0, 0,
-     "gauss: Gauss points of the background cells; nodal: direct nodal integration at the particles, weighted by "
+    {.path = "quadrature.mode", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &run_integration_registry,
+     .help = "gauss: Gauss points of the background cells; nodal: direct nodal integration at the particles, weighted by "
      "their nodal cells' volumes (unstable: spurious zero-energy modes; shown, not cured); scni: stabilized "
      "conforming nodal integration, smoothed gradients on the nodal cells (passes the linear patch test; "
      "first-order models). nodal and scni need a built-in shape with a regular, graded or jittered layout; error "
