@@ -863,8 +863,8 @@ cleanup:
 }
 
 const MicaCommand mica_command_run = {
-    "run",
-    "solve a solid: EFG with MLS, background-cell quadrature, weak boundary conditions, Newton",
+    {"run",
+     "solve a solid: EFG with MLS, background-cell quadrature, weak boundary conditions, Newton", 0, NULL, NULL},
     "Builds the body, particles and background cells, the MLS approximation, the model and the boundary\n"
     "conditions of the deck, and solves with Newton's method over load steps (CHOLMOD or UMFPACK). Writes\n"
     "fields per load step (VTU + PVD, at the particles and on the cells) and summary.json: counts, per-phase\n"
@@ -874,8 +874,8 @@ const MicaCommand mica_command_run = {
 };
 
 const MicaCommand mica_command_check = {
-    "check",
-    "validate a run deck and print its cost (particles, quadrature points, dofs, nnz, memory) without solving",
+    {"check",
+     "validate a run deck and print its cost (particles, quadrature points, dofs, nnz, memory) without solving", 0, NULL, NULL},
     "Reads and checks the deck like `mica run`, builds the discretization, shape-function cache and sparsity\n"
     "pattern, and reports their sizes and a cost class. Nothing is solved.",
     mica_run_schema,
