@@ -715,7 +715,8 @@ static int read_newton(const MicaDeck *deck, const MicaSolid *s, MicaNewtonOptio
   const int spd_only = opt->linear && mica_linear_solver_has(opt->linear, MICA_LINEAR_SPD_ONLY);
   MICA_CHECK(!(spd_only && !mica_solid_symmetric_definite(s)), MICA_ERR_INPUT,
              "%s: %s needs a symmetric positive definite tangent, which bc.method = \"%s\"%s does not give; "
-             "use \"umfpack\" or \"auto\"", where, spd_only && mica_linear_solver_iterative(opt->linear) ? "cg" : "CHOLMOD",
+             "use \"umfpack\" or \"auto\"", where,
+             spd_only && mica_linear_solver_iterative(opt->linear) ? "cg" : "CHOLMOD",
              s->opt.bc_method->type.name, s->opt.vci ? " with quadrature.vci (unsymmetric: Petrov–Galerkin)" : "");
   return run_read_krylov(deck, opt);
 }
@@ -875,7 +876,8 @@ const MicaCommand mica_command_run = {
 
 const MicaCommand mica_command_check = {
     {"check",
-     "validate a run deck and print its cost (particles, quadrature points, dofs, nnz, memory) without solving", 0, NULL, NULL},
+     "validate a run deck and print its cost (particles, quadrature points, dofs, nnz, memory) without solving",
+     0, NULL, NULL},
     "Reads and checks the deck like `mica run`, builds the discretization, shape-function cache and sparsity\n"
     "pattern, and reports their sizes and a cost class. Nothing is solved.",
     mica_run_schema,

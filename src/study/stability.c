@@ -504,7 +504,8 @@ cleanup:
 
 const MicaCommand mica_command_stability = {
     {"stability",
-     "stability and consistency of a deck's discretization: tangent eigenmodes, patch tests, inf-sup, MLS conditioning", 0, NULL, NULL},
+     "stability and consistency of a deck's discretization: tangent eigenmodes, patch tests, inf-sup, MLS conditioning",
+     0, NULL, NULL},
     "On the run deck as it stands (its particles, MLS, quadrature, boundary method, VCI): (1) eigenvalues of the\n"
     "tangent at u = 0 with the deck's conditions (a free body without them): zero modes, rigid modes (the span of\n"
     "the exact rigid motions), spurious zero modes = zero − rigid, low-energy modes (below the lowest nonzero\n"
