@@ -1,16 +1,16 @@
-/* Commands of the `mica` program (ops table): each names its deck schema and runs one study or solve
- * on a checked deck, writing into outdir and adding its results to the summary. Adding a command is one
- * new file that fills one MicaCommand and one line in src/cli/commands.c. */
+/* Commands of the `mica` program, a registry of types (mica/registry.h): each names its deck schema and runs
+ * one study or solve on a checked deck, writing into outdir and adding its results to the summary. Adding a
+ * command is one new file that fills one MicaCommand and one line in src/cli/commands.c. */
 #ifndef MICA_COMMAND_H
 #define MICA_COMMAND_H
 
 #include "mica/deck.h"
 #include "mica/json.h"
+#include "mica/registry.h"
 
 typedef struct MicaCommand {
-  const char *name;        /* "mls" */
-  const char *summary;     /* one line for `mica --help` */
-  const char *description; /* a paragraph for `mica help <command>` */
+  MicaType type;           /* name "mls"; description: one line for `mica --help` */
+  const char *text;        /* a paragraph for `mica help <command>` */
   const MicaDeckKey *schema;
   int (*run)(const MicaDeck *deck, const char *outdir, MicaJson *summary);
 } MicaCommand;
@@ -19,7 +19,10 @@ extern const MicaCommand mica_command_mls, mica_command_run, mica_command_check,
     mica_command_study;
 extern const MicaCommand mica_command_stability;
 
-const MicaCommand *const *mica_commands(void); /* NULL-terminated */
+/* run (the default), check, mls, sweep, study, stability (src/cli/commands.c) */
+extern MicaRegistry mica_command_registry;
 const MicaCommand *mica_command_find(const char *name);
+/* The i-th command (registry order), or NULL past the last. */
+const MicaCommand *mica_command_at(int i);
 
 #endif

@@ -52,6 +52,13 @@ int mica_registry_choices(const MicaRegistry *registry, char *buf, size_t size);
 /* The type of that name, or MICA_ERR_ARGUMENT naming the family: for names a checked deck gave. */
 int mica_registry_get(const MicaRegistry *registry, const char *name, const MicaType **type);
 
+/* The type's own key of that path (relative to its chooser's group, "alpha"), or NULL. */
+const MicaDeckKey *mica_type_key(const MicaType *type, const char *path);
+/* A number setting of the type, for its from_settings: the deck's value if given, else the default the type
+ * declares in its keys (several types may declare one key with different defaults: bc.alpha). */
+int mica_type_float(const MicaType *type, const MicaSettings *settings, const char *group, const char *name,
+                    double *value);
+
 static inline int mica_type_has(const MicaType *type, unsigned flag) { return (type->flags & flag) == flag; }
 
 #endif

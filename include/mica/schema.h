@@ -5,7 +5,10 @@
  * when a deck is loaded against it (mica_schema_compose):
  *   - a CHOICE key with a `registry`: its choices are the registry's type names, its default the
  *     registry's default, and each type's own keys follow it, under the key's group, marked as owned by
- *     that type (`owner`, `chooser`): "mls.weight" chooses, the exponential weight owns "mls.alpha";
+ *     that type (`owner`, `chooser`): "mls.weight" chooses, the exponential weight owns "mls.alpha". The
+ *     key's own `choices`, if any, come before the types' ("auto" of solver.linear), and its own `def`, if
+ *     any, wins. A key that several types declare with different defaults has none (its help lists them);
+ *     each type reads its own with mica_type_float;
  *   - a FRAGMENT key: the keys of `fragment` are inserted in its place, each path under the key's path
  *     (the mls.* keys, which the run and mls commands share, are declared once this way).
  * So a choice list, a default and a type's settings are written once, by the type, and the help, the
@@ -42,7 +45,7 @@ typedef struct MicaDeckKey {
   MicaKeyType type;
   const char *def;     /* default in libconfig syntax ("2", "\"pascal\"", "[1.0, 1.0]"), NULL: none */
   double min, max;     /* inclusive range for numbers and array elements (min > max: unchecked) */
-  const char *choices; /* MICA_KEY_CHOICE without a registry */
+  const char *choices; /* MICA_KEY_CHOICE: the words; with a registry, words before its types' ("auto") */
   int len_min, len_max; /* values of INTS/FLOATS/LIST; for STRING len_max is the most bytes (0: MICA_DECK_TEXT_MAX) */
   const char *help;    /* one line for `mica help <command>` and docs/input.md */
   const struct MicaRegistry *registry; /* MICA_KEY_CHOICE: choose one of its types */

@@ -13,6 +13,7 @@
 #include "mica/geom.h"
 #include "mica/mls.h"
 #include "mica/model.h"
+#include "mica/registry.h"
 #include "mica/sparse.h"
 
 /* ---- Shape-function cache ------------------------------------------------------------------------------ */
@@ -38,14 +39,19 @@ typedef struct MicaShapeCache {
 
 #define MICA_MAX_COMP 6 /* unknowns per particle: 3-D Cosserat */
 
-/* ---- Approximations: where the shape functions come from (ops table) ------------------------------------ */
+/* ---- Approximations: where the shape functions come from (a registry of types) --------------------------- */
 
 /* An approximation fills shape caches: MLS (EFG, mica_approx_mls, ctx a const MlsApprox *) or finite
  * elements on the same nodes (mica_approx_fe of mica/fe.h, ctx a const MicaFe *). The solid, the boundary
  * methods and the outputs see only the caches. */
+enum {
+  MICA_APPROX_INTERPOLATING = 1u << 0, /* N_I(x_J) = δ_IJ: the unknowns are the values at the particles (FE) */
+  MICA_APPROX_MLS = 1u << 1            /* ctx is a const MlsApprox * (VCI corrects its gradients; it extends
+                                          beyond the body; nodal integration at its particles) */
+};
+
 typedef struct MicaApproxOps {
-  const char *name;   /* "efg", "fe": problem.method */
-  int interpolating;  /* 1: N_I(x_J) = δ_IJ, the unknowns are the values at the particles (FE) */
+  MicaType type;      /* "efg", "fe": problem.method; flags MICA_APPROX_* */
   int max_order;      /* highest derivative order it provides: 2 (MLS, Hessians), 1 (C0 finite elements) */
   /* N, ∇N (order 2: and ∇∇N) at x[npoints*dim]; cell[p] is the cell (element) point p lies in, or cell is
    * NULL and the approximation finds it if it needs it; an error names the point (label and number). */
@@ -63,6 +69,9 @@ typedef struct MicaApprox {
 } MicaApprox;
 
 extern const MicaApproxOps mica_approx_mls;
+/* problem.method: efg (the default), fe (src/assemble/cache.c). */
+extern MicaRegistry mica_approx_registry;
+static inline int mica_approx_has(const MicaApproxOps *ops, unsigned flag) { return mica_type_has(&ops->type, flag); }
 
 /* Evaluates shape functions with gradients (order 1) or with gradients and Hessians (order 2) at
  * x[npoints*dim]; an MLS failure names the point (label and number). */
@@ -108,19 +117,26 @@ typedef struct MicaTraction {
 } MicaTraction;
 
 struct MicaSolid;
+struct MicaSolidOptions;
 
-/* Ways to impose Dirichlet conditions weakly (ops table). Each adds its terms for one Dirichlet condition
- * to the residual and tangent; Lagrange multipliers also own extra unknowns. */
+/* Ways to impose Dirichlet conditions weakly: a registry of types (mica/registry.h). Each adds its terms for
+ * one Dirichlet condition to the residual and tangent; Lagrange multipliers also own extra unknowns. A
+ * method's own settings (penalty and nitsche: bc.alpha, each with its default) are read by its
+ * type.from_settings into a MicaSolidOptions. */
+enum {
+  MICA_BC_SYMMETRIC_DEFINITE = 1u << 0, /* the tangent stays symmetric positive definite (CHOLMOD can be used) */
+  MICA_BC_MULTIPLIERS = 1u << 1,        /* multiplier nodes on the constrained sets */
+  MICA_BC_MODEL_TRACTION = 1u << 2      /* uses the model's traction s·n (Nitsche): first-order models only */
+};
+
 typedef struct MicaBoundaryMethodOps {
-  const char *name;        /* "penalty", "nitsche", "lagrange" */
-  double default_alpha;    /* β = α E / h (penalty, Nitsche stabilization); unused by lagrange */
-  int symmetric_definite;  /* 1 if the tangent stays symmetric positive definite (CHOLMOD can be used) */
-  int needs_multipliers;   /* 1: multiplier nodes on the constrained sets */
-  int needs_model_traction; /* 1: uses the model's traction s·n (Nitsche): first-order models only */
+  MicaType type; /* "penalty", "nitsche", "lagrange"; flags MICA_BC_* */
   /* Adds the residual (into R, over all dofs) and, if K, the tangent of condition c at load factor t. */
   int (*add)(struct MicaSolid *s, const MicaDirichlet *c, double t, const double *u, double *R, MicaSparse *K);
 } MicaBoundaryMethodOps;
 
+/* bc.method: penalty, nitsche (the default), lagrange (src/bc/bc.c). */
+extern MicaRegistry mica_bc_method_registry;
 extern const MicaBoundaryMethodOps mica_bc_penalty, mica_bc_nitsche, mica_bc_lagrange;
 
 /* The rigid motions (translations, rotations; axisymmetric: along and about the axis) that no Dirichlet condition
@@ -131,6 +147,12 @@ extern const MicaBoundaryMethodOps mica_bc_penalty, mica_bc_nitsche, mica_bc_lag
 int mica_dirichlet_check_rigid(const MicaDiscretization *disc, int axisymmetric, int ncomp, const char *const *names,
                                int ndirichlet, const MicaDirichlet *dirichlet, const char *where);
 const MicaBoundaryMethodOps *mica_bc_method_find(const char *name);
+/* The method chosen by bc.method and its own settings (bc.alpha) into opt (bc_method, bc_alpha: 0 for a
+ * method without one). */
+int mica_bc_method_from_settings(const MicaSettings *settings, struct MicaSolidOptions *opt);
+static inline int mica_bc_method_has(const MicaBoundaryMethodOps *ops, unsigned flag) {
+  return mica_type_has(&ops->type, flag);
+}
 
 /* ---- The problem ---------------------------------------------------------------------------------------- */
 

@@ -11,6 +11,7 @@
 #define MICA_SPARSE_H
 
 #include "mica/error.h"
+#include "mica/registry.h"
 
 typedef struct MicaSparse {
   long n;       /* rows = columns = nnodes × ndof */
@@ -74,8 +75,15 @@ typedef struct MicaKrylovOptions {
 
 typedef struct MicaLinearSolver MicaLinearSolver;
 
+/* Linear solvers: a registry of types (mica/registry.h), solver.linear. A solver's own settings (cg:
+ * solver.preconditioner) are read by its type.from_settings into a MicaKrylovOptions. */
+enum {
+  MICA_LINEAR_SPD_ONLY = 1u << 0, /* symmetric positive definite matrices only (cholmod, cg) */
+  MICA_LINEAR_ITERATIVE = 1u << 1 /* iterates to a tolerance instead of factoring (cg) */
+};
+
 typedef struct MicaLinearSolverOps {
-  const char *name; /* "cholmod" (supernodal Cholesky, symmetric positive definite), "umfpack" (LU), "cg" */
+  MicaType type; /* "cholmod" (supernodal Cholesky), "umfpack" (LU), "cg"; flags MICA_LINEAR_* */
   int (*create)(MicaLinearSolver *solver);
   /* Numeric factorization of A; the symbolic analysis of the first call is reused while the pattern
    * (the same MicaSparse object) is unchanged. CHOLMOD returns MICA_ERR_NUMERIC, with a message saying so,
@@ -95,7 +103,13 @@ struct MicaLinearSolver {
 /* "cg": preconditioned conjugate gradients (linear_cg.c) for symmetric positive definite matrices, no
  * factorization: O(n) memory besides the matrix; MICA_ERR_NUMERIC when pᵀAp ≤ 0 or not converged. */
 extern const MicaLinearSolverOps mica_linear_cholmod, mica_linear_umfpack, mica_linear_cg;
+/* cholmod, umfpack, cg (linear_solver.c). The deck's solver.linear also offers "auto", its default: CHOLMOD
+ * for symmetric positive definite tangents, UMFPACK otherwise (the registry's default is the former). */
+extern MicaRegistry mica_linear_solver_registry;
 const MicaLinearSolverOps *mica_linear_solver_find(const char *name);
+static inline int mica_linear_solver_has(const MicaLinearSolverOps *ops, unsigned flag) {
+  return mica_type_has(&ops->type, flag);
+}
 
 int mica_linear_solver_create(const MicaLinearSolverOps *ops, MicaLinearSolver **solver);
 int mica_linear_solver_factor(MicaLinearSolver *solver, const MicaSparse *A);
@@ -103,7 +117,7 @@ int mica_linear_solver_solve(MicaLinearSolver *solver, const double *b, double *
 int mica_linear_solver_destroy(MicaLinearSolver **solver);
 /* The iterative solvers' settings (copied; direct solvers ignore them). */
 int mica_linear_solver_set_krylov(MicaLinearSolver *solver, const MicaKrylovOptions *opt);
-/* 1 for solvers that iterate to a tolerance instead of factoring (cg). */
+/* 1 for solvers that iterate to a tolerance instead of factoring (cg): the MICA_LINEAR_ITERATIVE flag. */
 int mica_linear_solver_iterative(const MicaLinearSolverOps *ops);
 
 #endif

@@ -78,7 +78,7 @@ static int build_boundary_caches(MicaSolid *s, const MicaSolid *donor) {
 static int number_multipliers(MicaSolid *s) {
   MICA_CALL(MICA_CALLOC(s->multiplier_offset, s->ndirichlet > 0 ? s->ndirichlet : 1));
   s->nmultiplier_nodes = 0;
-  if (!s->opt.bc_method->needs_multipliers) return MICA_SUCCESS;
+  if (!mica_bc_method_has(s->opt.bc_method, MICA_BC_MULTIPLIERS)) return MICA_SUCCESS;
   for (int c = 0; c < s->ndirichlet; c++) {
     s->multiplier_offset[c] = s->nparticles + s->nmultiplier_nodes;
     s->nmultiplier_nodes += s->disc->sets[s->dirichlet[c].set].nvertices;
@@ -104,7 +104,7 @@ static void clique_fill(const MicaSolid *s, const MicaShapeCache *c, long p, int
 }
 
 static int build_pattern(MicaSolid *s) {
-  const int with_multipliers = s->opt.bc_method->needs_multipliers;
+  const int with_multipliers = mica_bc_method_has(s->opt.bc_method, MICA_BC_MULTIPLIERS);
   long ncliques = s->volume->npoints, total = s->volume->ptr[s->volume->npoints];
   /* parallel: every multiplier node's own block, which rank 0 pins whether or not its points touch the node */
   const long nsingle = s->opt.parallel ? s->nmultiplier_nodes : 0;
@@ -158,9 +158,9 @@ static int check_axisymmetric(const MicaSolid *s) {
   MICA_CHECK(opt->field.ops->order == 1 && s->ncomp % 3 == 0, MICA_ERR_INPUT,
              "model '%s' has no axisymmetric form (it needs %s): use a 3-D run", opt->field.ops->type.name,
              opt->field.ops->order == 1 ? "vector unknowns" : "second derivatives in cylindrical coordinates");
-  MICA_CHECK(!opt->bc_method->needs_model_traction, MICA_ERR_INPUT,
+  MICA_CHECK(!mica_bc_method_has(opt->bc_method, MICA_BC_MODEL_TRACTION), MICA_ERR_INPUT,
              "bc.method = \"%s\" is not available for axisymmetric solids: use \"lagrange\" or \"penalty\"",
-             opt->bc_method->name);
+             opt->bc_method->type.name);
   for (long p = 0; p < s->disc->nquad; p++)
     MICA_CHECK(s->disc->qx[p * 2] > 0, MICA_ERR_INPUT,
                "an axisymmetric section lies in x = r ≥ 0; quadrature point %ld has r = %g", p + 1, s->disc->qx[p * 2]);
@@ -174,9 +174,9 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
              opt->field.ops->type.name);
   MICA_CHECK(opt->field.ops->order <= approx->ops->max_order, MICA_ERR_INPUT,
              "model '%s' needs derivatives of order %d, which the %s approximation does not provide (it is C%d)",
-             opt->field.ops->type.name, opt->field.ops->order, approx->ops->name, approx->ops->max_order - 1);
-  MICA_CHECK(!opt->vci || approx->ops == &mica_approx_mls, MICA_ERR_INPUT,
-             "quadrature.vci corrects MLS gradients; the %s approximation has none to correct", approx->ops->name);
+             opt->field.ops->type.name, opt->field.ops->order, approx->ops->type.name, approx->ops->max_order - 1);
+  MICA_CHECK(!opt->vci || mica_approx_has(approx->ops, MICA_APPROX_MLS), MICA_ERR_INPUT,
+             "quadrature.vci corrects MLS gradients; the %s approximation has none to correct", approx->ops->type.name);
   MICA_CHECK(!opt->vci || opt->field.ops->order == 1, MICA_ERR_INPUT,
              "quadrature.vci corrects first derivatives only; model '%s' uses second derivatives",
              opt->field.ops->type.name);
@@ -187,10 +187,10 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
   MICA_CHECK(!opt->vci || !opt->parallel, MICA_ERR_INPUT,
              "quadrature.vci is not available in parallel runs yet (its correction sums over every particle's "
              "support); run on one process");
-  MICA_CHECK(opt->field.ops->order == 1 || !opt->bc_method->needs_model_traction, MICA_ERR_INPUT,
+  MICA_CHECK(opt->field.ops->order == 1 || !mica_bc_method_has(opt->bc_method, MICA_BC_MODEL_TRACTION), MICA_ERR_INPUT,
              "bc.method = \"%s\" needs a classical model or a first-order field model; model '%s' uses second "
              "derivatives (its tractions include double tractions): use \"lagrange\" or \"penalty\"",
-             opt->bc_method->name, opt->field.ops->type.name);
+             opt->bc_method->type.name, opt->field.ops->type.name);
   return MICA_SUCCESS;
 }
 
@@ -203,7 +203,7 @@ static int apply_vci(MicaSolid *s) {
 }
 
 int mica_solid_symmetric_definite(const MicaSolid *s) {
-  return s->opt.bc_method->symmetric_definite && !s->volume->dN_test;
+  return mica_bc_method_has(s->opt.bc_method, MICA_BC_SYMMETRIC_DEFINITE) && !s->volume->dN_test;
 }
 
 /* The volume cache: the donor's when it was built for the same discretization, approximation, derivative
@@ -267,7 +267,7 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
   int ierr = MICA_SUCCESS;
   s->disc = disc;
   s->approx = *approx;
-  s->mls = approx->ops == &mica_approx_mls ? approx->ctx : NULL;
+  s->mls = mica_approx_has(approx->ops, MICA_APPROX_MLS) ? approx->ctx : NULL;
   s->opt = *opt;
   s->dim = disc->dim;
   s->model_dim = opt->axisymmetric ? 3 : s->dim;

@@ -3,11 +3,29 @@
 
 #include "bc_private.h"
 
+static const MicaType *const builtin_methods[] = {&mica_bc_penalty.type, &mica_bc_nitsche.type,
+                                                  &mica_bc_lagrange.type, NULL};
+
+/* docs/verification.md says why nitsche is the default */
+MicaRegistry mica_bc_method_registry = {"boundary method", "nitsche", builtin_methods, NULL, 0, NULL};
+
 const MicaBoundaryMethodOps *mica_bc_method_find(const char *name) {
-  const MicaBoundaryMethodOps *all[] = {&mica_bc_penalty, &mica_bc_nitsche, &mica_bc_lagrange};
-  for (size_t i = 0; i < sizeof all / sizeof *all; i++)
-    if (strcmp(all[i]->name, name) == 0) return all[i];
-  return NULL;
+  return (const MicaBoundaryMethodOps *)mica_registry_find(&mica_bc_method_registry, name);
+}
+
+int bc_alpha_from_settings(const MicaType *type, const MicaSettings *settings, const char *group, void *options) {
+  return mica_type_float(type, settings, group, "alpha", &((MicaSolidOptions *)options)->bc_alpha);
+}
+
+int mica_bc_method_from_settings(const MicaSettings *settings, MicaSolidOptions *opt) {
+  const char *name;
+  const MicaType *type;
+  MICA_CALL(mica_settings_string(settings, "bc", "method", &name));
+  MICA_CALL(mica_registry_get(&mica_bc_method_registry, name, &type));
+  opt->bc_method = (const MicaBoundaryMethodOps *)type;
+  opt->bc_alpha = 0.0;
+  if (type->from_settings) MICA_CALL(type->from_settings(type, settings, "bc", opt));
+  return MICA_SUCCESS;
 }
 
 int bc_point(const MicaSolid *s, const MicaDirichlet *c, long p, double t, const double *u, BcPoint *bp) {

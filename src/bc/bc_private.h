@@ -23,6 +23,14 @@ static inline double bc_beta(const MicaSolid *s, const BcPoint *bp) {
   return s->opt.bc_alpha * s->opt.field.material.E / bp->h;
 }
 
+/* bc.alpha, which penalty and nitsche declare each with its own default ("1e3", "100"), and the
+ * from_settings both use: the factor into MicaSolidOptions.bc_alpha. */
+#define BC_ALPHA_KEY(value)                                                                                   \
+  {.path = "alpha", .type = MICA_KEY_FLOAT, .def = value, .min = 1e-6, .max = 1e12,                            \
+   .help = "penalty / Nitsche factor α in β = α E / h (Cosserat and other field models: β_b = α k_b / h per "  \
+           "unknown, docs/theory.md)"}
+int bc_alpha_from_settings(const MicaType *type, const MicaSettings *settings, const char *group, void *options);
+
 /* Symmetric Nitsche for first-order field models (nitsche_field.c): the generalized tractions from the
  * model's s and D. */
 int bc_nitsche_field_add(MicaSolid *s, const MicaDirichlet *c, double t, const double *u, double *R, MicaSparse *K);

@@ -98,4 +98,7 @@ static int lagrange_add(MicaSolid *s, const MicaDirichlet *c, double t, const do
   return MICA_SUCCESS;
 }
 
-const MicaBoundaryMethodOps mica_bc_lagrange = {"lagrange", 0.0, 0, 1, 0, lagrange_add};
+const MicaBoundaryMethodOps mica_bc_lagrange = {
+    {"lagrange", "Lagrange multipliers on the constrained sets: exact, indefinite tangent", MICA_BC_MULTIPLIERS,
+     NULL, NULL},
+    lagrange_add};

@@ -125,4 +125,9 @@ static int nitsche_add(MicaSolid *s, const MicaDirichlet *c, double t, const dou
   return MICA_SUCCESS;
 }
 
-const MicaBoundaryMethodOps mica_bc_nitsche = {"nitsche", 100.0, 1, 0, 1, nitsche_add};
+static const MicaDeckKey nitsche_keys[] = {BC_ALPHA_KEY("100"), {0}};
+
+const MicaBoundaryMethodOps mica_bc_nitsche = {
+    {"nitsche", "symmetric Nitsche: consistent, stabilized by β = α E / h (first-order models)",
+     MICA_BC_SYMMETRIC_DEFINITE | MICA_BC_MODEL_TRACTION, nitsche_keys, bc_alpha_from_settings},
+    nitsche_add};

@@ -32,4 +32,9 @@ static int penalty_add(MicaSolid *s, const MicaDirichlet *c, double t, const dou
   return MICA_SUCCESS;
 }
 
-const MicaBoundaryMethodOps mica_bc_penalty = {"penalty", 1e3, 1, 0, 0, penalty_add};
+static const MicaDeckKey penalty_keys[] = {BC_ALPHA_KEY("1e3"), {0}};
+
+const MicaBoundaryMethodOps mica_bc_penalty = {
+    {"penalty", "penalty: β = α E (L/h)^(p−1) / h on u − ū (symmetric positive definite, inconsistent)",
+     MICA_BC_SYMMETRIC_DEFINITE, penalty_keys, bc_alpha_from_settings},
+    penalty_add};

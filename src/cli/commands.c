@@ -1,14 +1,14 @@
 /* The registry of commands: one line per command. */
-#include <string.h>
-
 #include "mica/command.h"
 
-static const MicaCommand *const commands[] = {&mica_command_run, &mica_command_check, &mica_command_mls, &mica_command_sweep, &mica_command_study, &mica_command_stability, NULL};
+static const MicaType *const builtin_commands[] = {
+    &mica_command_run.type,   &mica_command_check.type, &mica_command_mls.type, &mica_command_sweep.type,
+    &mica_command_study.type, &mica_command_stability.type, NULL};
 
-const MicaCommand *const *mica_commands(void) { return commands; }
+MicaRegistry mica_command_registry = {"command", "run", builtin_commands, NULL, 0, NULL};
 
 const MicaCommand *mica_command_find(const char *name) {
-  for (int i = 0; commands[i]; i++)
-    if (strcmp(commands[i]->name, name) == 0) return commands[i];
-  return NULL;
+  return (const MicaCommand *)mica_registry_find(&mica_command_registry, name);
 }
+
+const MicaCommand *mica_command_at(int i) { return (const MicaCommand *)mica_registry_type(&mica_command_registry, i); }

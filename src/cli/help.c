@@ -19,14 +19,15 @@ static void paragraph(const char *text, FILE *out) { mica_text_wrap(out, text, 0
 
 static void print_commands(FILE *out) {
   int column = 0;
-  for (const MicaCommand *const *c = mica_commands(); *c; c++) {
-    int width = mica_text_width((*c)->name, strlen((*c)->name)) + 5;
+  const MicaCommand *c;
+  for (int i = 0; (c = mica_command_at(i)); i++) {
+    int width = mica_text_width(c->type.name, strlen(c->type.name)) + 5;
     if (width > column) column = width;
   }
-  for (const MicaCommand *const *c = mica_commands(); *c; c++) {
+  for (int i = 0; (c = mica_command_at(i)); i++) {
     fputs("  ", out);
-    mica_text_pad(out, (*c)->name, column - 2);
-    mica_text_wrap(out, (*c)->summary, column, column, CLI_WIDTH, NULL);
+    mica_text_pad(out, c->type.name, column - 2);
+    mica_text_wrap(out, c->type.description, column, column, CLI_WIDTH, NULL);
   }
 }
 
@@ -57,17 +58,17 @@ void cli_print_program_help(FILE *out) {
 }
 
 void cli_print_command_usage(const MicaCommand *command, FILE *out) {
-  fprintf(out, "usage: mica %s", command->name);
+  fprintf(out, "usage: mica %s", command->type.name);
   cli_print_option_synopsis(cli_command_options, out);
   fputs(" [--] DECK\n", out);
 }
 
 int cli_print_command_help(const MicaCommand *command, FILE *out) {
   cli_print_command_usage(command, out);
-  fprintf(out, "       mica %s --help   (the same as mica help %s)\n\n", command->name, command->name);
-  paragraph(command->summary, out);
+  fprintf(out, "       mica %s --help   (the same as mica help %s)\n\n", command->type.name, command->type.name);
+  paragraph(command->type.description, out);
   fputc('\n', out);
-  paragraph(command->description, out);
+  paragraph(command->text, out);
   fputs("\noptions:\n", out);
   cli_print_options(cli_command_options, out);
   fputc('\n', out);

@@ -96,7 +96,7 @@ static const MicaCommand *find_command(const char *who, const char *name) {
   if (command) return command;
   const char *names[64] = {"help"};
   int n = 1;
-  for (const MicaCommand *const *c = mica_commands(); *c && n < 63; c++) names[n++] = (*c)->name;
+  for (const MicaCommand *c; n < 63 && (c = mica_command_at(n - 1)); n++) names[n] = c->type.name;
   names[n] = NULL;
   const char *closest = cli_closest(name, names);
   fprintf(stderr, "%s: unknown command '%s'%s%s%s (`mica --help` lists the commands)\n", who, name,
@@ -129,7 +129,7 @@ static int print_help_topic(int argc, char **argv) {
 /* The command's own arguments, argv[0] being its name. */
 static int parse_command(int argc, char **argv, Invocation *inv, int *done) {
   char who[64];
-  snprintf(who, sizeof who, "mica %s", inv->command->name);
+  snprintf(who, sizeof who, "mica %s", inv->command->type.name);
   int status = cli_parse(argc, argv, who, cli_command_options, inv, take_deck, NULL);
   if (status) return status;
   if (inv->help) {
@@ -247,7 +247,7 @@ static int run_command(const Invocation *inv) {
   ierr = prepare_outdir(inv, deck, &outdir, &staging);
   if (!ierr) ierr = mica_json_create(&summary);
   if (!ierr) ierr = mica_json_string(summary, "status", "ok");
-  if (!ierr) ierr = mica_json_string(summary, "command", inv->command->name);
+  if (!ierr) ierr = mica_json_string(summary, "command", inv->command->type.name);
   if (!ierr) ierr = mica_json_string(summary, "deck", inv->deck_path);
   if (!ierr && mica_parallel_active()) ierr = mica_json_int(summary, "ranks", mica_parallel_size());
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));

@@ -160,4 +160,7 @@ cleanup:
 
 static const double *fe_spacing(const void *ctx) { return ((const MicaFe *)ctx)->spacing; }
 
-const MicaApproxOps mica_approx_fe = {"fe", 1, 1, fe_points, fe_particles, fe_spacing};
+const MicaApproxOps mica_approx_fe = {
+    {"fe", "Lagrange finite elements (Q1 / hex8, Q2 / hex27) on the particles, C⁰: the baseline",
+     MICA_APPROX_INTERPOLATING, NULL, NULL},
+    1, fe_points, fe_particles, fe_spacing};

@@ -84,7 +84,9 @@ static int gather_solve(MicaLinearSolver *solver, const double *b, double *x) {
   return mica_parallel_broadcast(ierr, x, n, 0);
 }
 
-const MicaLinearSolverOps mica_linear_gather = {"gather", parallel_create, gather_factor, gather_solve,
+const MicaLinearSolverOps mica_linear_gather = {
+    {"gather", "the tangent gathered to rank 0 for its solver", 0, NULL, NULL},
+    parallel_create, gather_factor, gather_solve,
                                                 parallel_destroy};
 
 int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOps *inner, MicaLinearSolver **solver) {

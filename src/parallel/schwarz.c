@@ -91,7 +91,7 @@ static int schwarz_setup(ParallelSolver *ps, const MicaSparse *L) {
     if (!ierr) ierr = MICA_MALLOC(k->rs, k->nsub + 1);
     if (!ierr) ierr = MICA_MALLOC(k->zs, k->nsub + 1);
     /* CG keeps 4 vectors, GMRES(m) 2m + 4 (64 n doubles: 0.5 GB per rank at 10⁶ dofs) */
-    const long nvectors = ps->inner_ops == &mica_linear_cholmod ? 4 : 2L * RESTART + 4;
+    const long nvectors = mica_linear_solver_has(ps->inner_ops, MICA_LINEAR_SPD_ONLY) ? 4 : 2L * RESTART + 4;
     if (!ierr) ierr = MICA_MALLOC(k->work, nvectors * L->n);
     long d = 0;
     for (long i = 0; i < nnodes && !ierr; i++)
@@ -269,7 +269,7 @@ static int schwarz_solve(MicaLinearSolver *solver, const double *b, double *x) {
   ParallelSolver *ps = solver->data;
   MicaParallelStats *st = &ps->dist->stats;
   const MicaParallelOptions *opt = &ps->dist->opt;
-  const int use_cg = ps->inner_ops == &mica_linear_cholmod;
+  const int use_cg = mica_linear_solver_has(ps->inner_ops, MICA_LINEAR_SPD_ONLY); /* SPD subdomains: CG */
   const double tol = opt->rtol * sqrt(dot(ps->L->n, b, b));
   int iterations = 0;
   double residual = 0;
@@ -290,5 +290,7 @@ static void schwarz_destroy(MicaLinearSolver *solver) {
   parallel_solver_destroy(solver);
 }
 
-const MicaLinearSolverOps mica_linear_schwarz = {"schwarz", parallel_solver_create, schwarz_factor, schwarz_solve,
+const MicaLinearSolverOps mica_linear_schwarz = {
+    {"schwarz", "additive Schwarz CG (SPD subdomains) or GMRES", MICA_LINEAR_ITERATIVE, NULL, NULL},
+    parallel_solver_create, schwarz_factor, schwarz_solve,
                                                  schwarz_destroy};

@@ -295,7 +295,7 @@ int mica_eigen_shift_invert(const MicaSparse *K, const MicaEigenOptions *opt, do
   MICA_CALL_CLEANUP(shifted_copy(K, opt->sigma, &A));
   MICA_CALL_CLEANUP(factor_shifted(opt, A, &solver));
   stats->time_factor = mica_wtime() - start;
-  stats->linear_name = solver->ops->name;
+  stats->linear_name = solver->ops->type.name;
   stats->nnz_factor = solver->stats.nnz_factor;
   start = mica_wtime();
   MICA_CALL_CLEANUP(subspace_alloc(n, p, q, &s));

@@ -265,4 +265,25 @@ static int cg_solve(MicaLinearSolver *solver, const double *b, double *x) {
   return MICA_SUCCESS;
 }
 
-const MicaLinearSolverOps mica_linear_cg = {"cg", cg_create, cg_factor, cg_solve, cg_destroy};
+/* cg's own setting: solver.preconditioner (solver.linear_rtol and .linear_max_iterations serve Schwarz too). */
+static const MicaDeckKey cg_keys[] = {
+    {.path = "preconditioner", .type = MICA_KEY_CHOICE, .def = "\"jacobi\"", .min = 1.0, .max = 0.0,
+     .choices = "jacobi|sgs",
+     .help = "block Jacobi on each particle's unknowns, or symmetric block Gauss–Seidel (fewer iterations, 3 "
+             "matrix passes each)"},
+    {0},
+};
+
+static int cg_from_settings(const MicaType *type, const MicaSettings *settings, const char *group, void *options) {
+  (void)type;
+  const char *name;
+  MICA_CALL(mica_settings_string(settings, group, "preconditioner", &name));
+  ((MicaKrylovOptions *)options)->preconditioner =
+      strcmp(name, "sgs") ? MICA_PRECONDITIONER_JACOBI : MICA_PRECONDITIONER_SGS;
+  return MICA_SUCCESS;
+}
+
+const MicaLinearSolverOps mica_linear_cg = {
+    {"cg", "preconditioned conjugate gradients (symmetric positive definite, no factorization)",
+     MICA_LINEAR_SPD_ONLY | MICA_LINEAR_ITERATIVE, cg_keys, cg_from_settings},
+    cg_create, cg_factor, cg_solve, cg_destroy};

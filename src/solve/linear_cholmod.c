@@ -146,5 +146,7 @@ static void cholmod_destroy(MicaLinearSolver *solver) {
   solver->data = NULL;
 }
 
-const MicaLinearSolverOps mica_linear_cholmod = {"cholmod", cholmod_create, cholmod_factor_matrix,
+const MicaLinearSolverOps mica_linear_cholmod = {
+    {"cholmod", "CHOLMOD supernodal Cholesky (symmetric positive definite)", MICA_LINEAR_SPD_ONLY, NULL, NULL},
+    cholmod_create, cholmod_factor_matrix,
                                                  cholmod_solve_system, cholmod_destroy};

@@ -1,4 +1,4 @@
-/* The direct-solver registry and the create / factor / solve / destroy wrappers (sparse.h).
+/* The linear-solver registry and the create / factor / solve / destroy wrappers (sparse.h).
  *
  * The wrappers check arguments, time the phases and count them, so each solver's ops only do the work:
  * an op's factor adds its own symbolic-analysis time to stats.time_analyze and counts analyses; the
@@ -12,14 +12,13 @@
 #include "mica/sparse.h"
 #include "mica/timer.h"
 
-static const MicaLinearSolverOps *const solvers_all[] = {&mica_linear_cholmod, &mica_linear_umfpack, &mica_linear_cg,
-                                                                   NULL};
+static const MicaType *const builtin_solvers[] = {&mica_linear_cholmod.type, &mica_linear_umfpack.type,
+                                                  &mica_linear_cg.type, NULL};
+
+MicaRegistry mica_linear_solver_registry = {"linear solver", "cholmod", builtin_solvers, NULL, 0, NULL};
 
 const MicaLinearSolverOps *mica_linear_solver_find(const char *name) {
-  if (!name) return NULL;
-  for (int k = 0; solvers_all[k]; k++)
-    if (strcmp(solvers_all[k]->name, name) == 0) return solvers_all[k];
-  return NULL;
+  return (const MicaLinearSolverOps *)mica_registry_find(&mica_linear_solver_registry, name);
 }
 
 int mica_linear_solver_create(const MicaLinearSolverOps *ops, MicaLinearSolver **solver_out) {
@@ -73,7 +72,9 @@ int mica_linear_solver_set_krylov(MicaLinearSolver *solver, const MicaKrylovOpti
   return MICA_SUCCESS;
 }
 
-int mica_linear_solver_iterative(const MicaLinearSolverOps *ops) { return ops == &mica_linear_cg; }
+int mica_linear_solver_iterative(const MicaLinearSolverOps *ops) {
+  return mica_linear_solver_has(ops, MICA_LINEAR_ITERATIVE);
+}
 
 /* ---- Pattern keys (linear_private.h) ------------------------------------------------------------------ */
 

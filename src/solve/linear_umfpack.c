@@ -120,5 +120,7 @@ static void umfpack_destroy(MicaLinearSolver *solver) {
   solver->data = NULL;
 }
 
-const MicaLinearSolverOps mica_linear_umfpack = {"umfpack", umfpack_create, umfpack_factor_matrix,
+const MicaLinearSolverOps mica_linear_umfpack = {
+    {"umfpack", "UMFPACK sparse LU (any nonsingular matrix)", 0, NULL, NULL},
+    umfpack_create, umfpack_factor_matrix,
                                                  umfpack_solve_system, umfpack_destroy};

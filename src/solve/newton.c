@@ -65,7 +65,7 @@ static int choose_linear_solver(Newton *nw) {
   nw->auto_linear = ops == NULL;
   if (!ops) ops = mica_solid_symmetric_definite(nw->s) ? &mica_linear_cholmod : &mica_linear_umfpack;
   MICA_CALL(create_linear(nw, ops));
-  nw->stats->linear_name = ops->name;
+  nw->stats->linear_name = ops->type.name;
   return MICA_SUCCESS;
 }
 

@@ -66,13 +66,14 @@ static int model_unknowns(const MicaDeck *deck, int dim, int *ncomp, int *second
  * 2 ceil(2δ) − 1 of them (a ball: the ball of radius 2δ). */
 static int support_counts(const MicaDeck *deck, const MicaShapeSpec *shape, const double *count, int dim,
                           double *support, double *coupled) {
-  const char *kind, *method;
+  const char *kind;
   long order;
+  int fe;
   MICA_CALL(mica_deck_string(deck, "mls.support", &kind));
-  MICA_CALL(mica_deck_string(deck, "problem.method", &method));
+  MICA_CALL(run_is_fe(deck, &fe));
   MICA_CALL(mica_deck_int(deck, "mls.order", &order));
   double delta[3] = {(double)order + 1, (double)order + 1, (double)order + 1};
-  if (!strcmp(method, "fe")) { /* Lagrange elements: (order + 1)^dim nodes, (2 order + 1)^dim coupled */
+  if (fe) { /* Lagrange elements: (order + 1)^dim nodes, (2 order + 1)^dim coupled */
     *support = pow((double)order + 1, dim), *coupled = pow(2.0 * (double)order + 1, dim);
     return MICA_SUCCESS;
   }
@@ -136,7 +137,10 @@ static int read_solver(const MicaDeck *deck, RunEstimate *est) {
   MICA_CALL(mica_deck_string(deck, "solver.linear", &linear));
   MICA_CALL(mica_deck_string(deck, "bc.method", &bc));
   MICA_CALL(mica_deck_bool(deck, "quadrature.vci", &vci));
-  est->solver = strcmp(linear, "auto") ? linear : (!strcmp(bc, "lagrange") || vci) ? "umfpack" : "cholmod";
+  const MicaType *method;
+  MICA_CALL(mica_registry_get(&mica_bc_method_registry, bc, &method));
+  const int spd = mica_type_has(method, MICA_BC_SYMMETRIC_DEFINITE) && !vci;
+  est->solver = strcmp(linear, "auto") ? linear : spd ? "cholmod" : "umfpack";
   return MICA_SUCCESS;
 }
 

@@ -382,8 +382,8 @@ cleanup:
 }
 
 const MicaCommand mica_command_mls = {
-    "mls",
-    "MLS approximation accuracy study: a function and its derivatives against exact values",
+    {"mls",
+     "MLS approximation accuracy study: a function and its derivatives against exact values", 0, NULL, NULL},
     "Particles on a regular or jittered grid carry the values of function.f; the MLS approximation and\n"
     "its first and second derivatives along sample.axis are compared with the exact ones (differentiated\n"
     "symbolically) on a sample line and at random points. Variants (study.variants) compare bases, orders,\n"

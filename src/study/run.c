@@ -284,12 +284,9 @@ static int read_body_force(const MicaDeck *deck, const RunProblem *rp, const Mic
 }
 
 static int read_bc_method(const MicaDeck *deck, MicaSolidOptions *opt) {
-  const char *name;
-  MICA_CALL(mica_deck_string(deck, "bc.method", &name));
-  opt->bc_method = mica_bc_method_find(name);
-  MICA_CHECK(opt->bc_method, MICA_ERR_ARGUMENT, "schema and boundary-method registry disagree on '%s'", name);
-  opt->bc_alpha = opt->bc_method->default_alpha;
-  if (mica_deck_has(deck, "bc.alpha")) MICA_CALL(mica_deck_float(deck, "bc.alpha", &opt->bc_alpha));
+  MicaSettings settings;
+  mica_deck_settings(deck, &settings);
+  MICA_CALL(mica_bc_method_from_settings(&settings, opt)); /* bc.method, and its bc.alpha */
   MICA_CALL(mica_deck_bool(deck, "solver.ramp", &opt->ramp));
   return MICA_SUCCESS;
 }
@@ -333,12 +330,12 @@ static int check_axisymmetric_model(const MicaDeck *deck, const MicaFieldModel *
 /* Nitsche needs the model's traction s·n: first-order models (checked after the integration settings, whose
  * refusals of second-order models say more). */
 static int check_nitsche_model(const MicaDeck *deck, const MicaSolidOptions *opt) {
-  if (!opt->bc_method->needs_model_traction || opt->field.ops->order == 1) return MICA_SUCCESS;
+  if (!mica_bc_method_has(opt->bc_method, MICA_BC_MODEL_TRACTION) || opt->field.ops->order == 1) return MICA_SUCCESS;
   char where[256];
   mica_deck_where(deck, "bc.method", where, sizeof where);
   MICA_ERROR(MICA_ERR_INPUT, "%s: bc.method = \"%s\" needs a classical model or a first-order field model; model "
              "'%s' uses second derivatives (its tractions include double tractions): use \"lagrange\" or "
-             "\"penalty\"", where, opt->bc_method->name, opt->field.ops->type.name);
+             "\"penalty\"", where, opt->bc_method->type.name, opt->field.ops->type.name);
 }
 
 /* quadrature.vci: first-order models only, and boundary sets that cover the whole boundary once. */
@@ -370,11 +367,11 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   MICA_CALL_CLEANUP(run_check_fe_model(deck, rp, &opt));
   if (rp->axisymmetric) MICA_CALL_CLEANUP(check_axisymmetric_model(deck, &opt.field));
   MICA_CALL_CLEANUP(read_bc_method(deck, &opt));
-  if (rp->axisymmetric && opt.bc_method->needs_model_traction) {
+  if (rp->axisymmetric && mica_bc_method_has(opt.bc_method, MICA_BC_MODEL_TRACTION)) {
     char where[256];
     mica_deck_where(deck, "bc.method", where, sizeof where);
     MICA_ERROR(MICA_ERR_INPUT, "%s: bc.method = \"%s\" is not available for axisymmetric solids: use \"lagrange\" or "
-               "\"penalty\"", where, opt.bc_method->name);
+               "\"penalty\"", where, opt.bc_method->type.name);
   }
   MICA_CALL_CLEANUP(read_body_force(deck, rp, &opt.field, opt.body));
   MICA_CALL_CLEANUP(read_dirichlet(deck, rp, &opt.field, &ndirichlet, &dirichlet));
@@ -643,7 +640,7 @@ static int count_totals(const RunProblem *rp, RunTotals *c) {
 static int add_counts(RunProblem *rp, const RunTotals *c, MicaJson *summary) {
   const MicaSolid *s = rp->solid;
   if (!rp->error_disc) MICA_CALL(run_error_discretization(rp, &rp->error_disc)); /* NULL without error_order */
-  MICA_CALL(mica_json_string(summary, "method", rp->approx.ops->name));
+  MICA_CALL(mica_json_string(summary, "method", rp->approx.ops->type.name));
   if (rp->fe) MICA_CALL(mica_json_string(summary, "element", mica_fe_element_name(rp->fe->dim, rp->fe->order)));
   MICA_CALL(mica_json_int(summary, "dim", rp->disc->dim));
   MICA_CALL(mica_json_int(summary, "particles", rp->disc->nparticles));
@@ -667,7 +664,7 @@ static int add_counts(RunProblem *rp, const RunTotals *c, MicaJson *summary) {
                                                    ? s->opt.field.classical->type.name
                                                    : s->opt.field.ops->type.name));
   MICA_CALL(mica_json_int(summary, "unknowns_per_particle", s->ncomp));
-  MICA_CALL(mica_json_string(summary, "bc_method", s->opt.bc_method->name));
+  MICA_CALL(mica_json_string(summary, "bc_method", s->opt.bc_method->type.name));
   MICA_CALL(mica_json_number(summary, "bc_alpha", s->opt.bc_alpha));
   MICA_CALL(mica_json_number(summary, "time_discretize", rp->time_discretize));
   MICA_CALL(mica_json_number(summary, "time_mls_setup", rp->time_mls));
@@ -717,11 +714,12 @@ static int read_newton(const MicaDeck *deck, const MicaSolid *s, MicaNewtonOptio
   opt->linear = strcmp(linear, "auto") ? mica_linear_solver_find(linear) : NULL;
   char where[256];
   mica_deck_where(deck, "solver.linear", where, sizeof where);
-  const int spd_only = opt->linear == &mica_linear_cholmod || opt->linear == &mica_linear_cg;
+  const int spd_only = opt->linear && mica_linear_solver_has(opt->linear, MICA_LINEAR_SPD_ONLY);
   MICA_CHECK(!(spd_only && !mica_solid_symmetric_definite(s)), MICA_ERR_INPUT,
              "%s: %s needs a symmetric positive definite tangent, which bc.method = \"%s\"%s does not give; "
-             "use \"umfpack\" or \"auto\"", where, opt->linear == &mica_linear_cg ? "cg" : "CHOLMOD",
-             s->opt.bc_method->name, s->opt.vci ? " with quadrature.vci (unsymmetric: Petrov–Galerkin)" : "");
+             "use \"umfpack\" or \"auto\"", where,
+             spd_only && mica_linear_solver_iterative(opt->linear) ? "cg" : "CHOLMOD",
+             s->opt.bc_method->type.name, s->opt.vci ? " with quadrature.vci (unsymmetric: Petrov–Galerkin)" : "");
   return run_read_krylov(deck, opt);
 }
 
@@ -912,8 +910,8 @@ cleanup:
 }
 
 const MicaCommand mica_command_run = {
-    "run",
-    "solve a solid: EFG with MLS, background-cell quadrature, weak boundary conditions, Newton",
+    {"run",
+     "solve a solid: EFG with MLS, background-cell quadrature, weak boundary conditions, Newton", 0, NULL, NULL},
     "Builds the body, particles and background cells, the MLS approximation, the model and the boundary\n"
     "conditions of the deck, and solves with Newton's method over load steps (CHOLMOD or UMFPACK). Writes\n"
     "fields per load step (VTU + PVD, at the particles and on the cells) and summary.json: counts, per-phase\n"
@@ -925,8 +923,9 @@ const MicaCommand mica_command_run = {
 };
 
 const MicaCommand mica_command_check = {
-    "check",
-    "validate a run deck and print its cost (particles, quadrature points, dofs, nnz, memory) without solving",
+    {"check",
+     "validate a run deck and print its cost (particles, quadrature points, dofs, nnz, memory) without solving",
+     0, NULL, NULL},
     "Reads and checks the deck like `mica run`, builds the discretization, shape-function cache and sparsity\n"
     "pattern, and reports their sizes and a cost class. Nothing is solved.",
     mica_run_schema,

@@ -80,6 +80,14 @@ int run_read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt);
  * "nodal" and "scni" (run_read_integration, with the discretization), opt->scni and its restrictions
  * (run_read_scni). run_check_serial_only refuses both measuring sticks under MPI. All with the deck line. */
 int run_is_fe(const MicaDeck *deck, int *fe);
+/* quadrature.mode: a registry of types (gauss, the default; nodal; scni), flags RUN_INTEGRATION_*. */
+enum {
+  RUN_INTEGRATION_NODAL = 1u << 0,   /* at the particles, weighted by their nodal cells (needs a logical grid) */
+  RUN_INTEGRATION_SMOOTHED = 1u << 1 /* smoothed (SCNI) gradients on the nodal cells: first derivatives only */
+};
+extern MicaRegistry run_integration_registry;
+/* The flags of the deck's quadrature.mode. */
+int run_integration_flags(const MicaDeck *deck, unsigned *flags);
 int run_check_fe_deck(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
                       const MicaCellSpec *cells, int *order);
 int run_build_fe(const MicaLayoutSpec *layout, const MicaCellSpec *cells, int order, RunProblem *rp);

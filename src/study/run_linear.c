@@ -6,20 +6,25 @@
 #include "run.h"
 
 int run_read_krylov(const MicaDeck *deck, MicaNewtonOptions *opt) {
-  const char *preconditioner;
   long iterations;
   MICA_CALL(mica_deck_float(deck, "solver.linear_rtol", &opt->krylov.rtol));
   MICA_CALL(mica_deck_int(deck, "solver.linear_max_iterations", &iterations));
-  MICA_CALL(mica_deck_string(deck, "solver.preconditioner", &preconditioner));
   opt->krylov.max_iterations = (int)iterations;
-  opt->krylov.preconditioner = strcmp(preconditioner, "sgs") ? MICA_PRECONDITIONER_JACOBI : MICA_PRECONDITIONER_SGS;
+  /* the chosen solver's own settings (cg: solver.preconditioner); "auto" (NULL) chooses a direct solver */
+  const MicaType *type = opt->linear ? &opt->linear->type : NULL;
+  if (type && type->from_settings) {
+    MicaSettings settings;
+    mica_deck_settings(deck, &settings);
+    MICA_CALL(type->from_settings(type, &settings, "solver", &opt->krylov));
+  }
   opt->krylov.verbose = opt->verbose;
   return MICA_SUCCESS;
 }
 
 /* cg's iterations (a Schwarz run reports its own in run_parallel_solver_stats). */
 int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson *summary) {
-  if (!st->linear_name || strcmp(st->linear_name, "cg") != 0) return MICA_SUCCESS;
+  const MicaLinearSolverOps *ops = mica_linear_solver_find(st->linear_name);
+  if (!ops || !mica_linear_solver_iterative(ops)) return MICA_SUCCESS;
   if (rp->dist && rp->dist->opt.solver == MICA_PARALLEL_SCHWARZ) return MICA_SUCCESS;
   const MicaLinearSolverStats *ls = &st->linear;
   MICA_CALL(mica_json_int(summary, "krylov_solves", ls->solves));

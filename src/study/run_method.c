@@ -9,10 +9,33 @@
 #include "mica/timer.h"
 #include "run.h"
 
+static const MicaType integration_gauss = {"gauss", "Gauss points of the background cells", 0, NULL, NULL};
+static const MicaType integration_nodal = {
+    "nodal", "direct nodal integration at the particles (unstable: spurious zero-energy modes)",
+    RUN_INTEGRATION_NODAL, NULL, NULL};
+static const MicaType integration_scni = {
+    "scni", "stabilized conforming nodal integration: smoothed gradients on the nodal cells",
+    RUN_INTEGRATION_NODAL | RUN_INTEGRATION_SMOOTHED, NULL, NULL};
+static const MicaType *const builtin_integrations[] = {&integration_gauss, &integration_nodal, &integration_scni,
+                                                       NULL};
+
+MicaRegistry run_integration_registry = {"integration mode", "gauss", builtin_integrations, NULL, 0, NULL};
+
+int run_integration_flags(const MicaDeck *deck, unsigned *flags) {
+  const char *mode;
+  const MicaType *type;
+  MICA_CALL(mica_deck_string(deck, "quadrature.mode", &mode));
+  MICA_CALL(mica_registry_get(&run_integration_registry, mode, &type));
+  *flags = type->flags;
+  return MICA_SUCCESS;
+}
+
 int run_is_fe(const MicaDeck *deck, int *fe) {
   const char *method;
+  const MicaType *type;
   MICA_CALL(mica_deck_string(deck, "problem.method", &method));
-  *fe = !strcmp(method, "fe");
+  MICA_CALL(mica_registry_get(&mica_approx_registry, method, &type));
+  *fe = !mica_type_has(type, MICA_APPROX_MLS); /* the run builds an MLS approximation or elements */
   return MICA_SUCCESS;
 }
 
@@ -93,7 +116,7 @@ int run_check_fe_model(const MicaDeck *deck, const RunProblem *rp, const MicaSol
  * affected; neither are penalty and Nitsche). */
 int run_check_fe_multipliers(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt, int n,
                                 const MicaDirichlet *c) {
-  if (!rp->fe || rp->fe->order != 1 || !opt->bc_method->needs_multipliers) return MICA_SUCCESS;
+  if (!rp->fe || rp->fe->order != 1 || !mica_bc_method_has(opt->bc_method, MICA_BC_MULTIPLIERS)) return MICA_SUCCESS;
   const int dim = rp->disc->dim;
   for (int i = 0; i < n; i++)
     for (int j = i + 1; j < n; j++) {
@@ -142,8 +165,10 @@ static int check_nodal_mode(const MicaDeck *deck, const char *mode, const MicaSh
  * cell) is reported at the mode's line. */
 int run_read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
                             const MicaCellSpec *cells, RunProblem *rp) {
+  unsigned flags;
   MICA_CALL(mica_deck_string(deck, "quadrature.mode", &rp->integration));
-  if (!strcmp(rp->integration, "gauss")) return MICA_SUCCESS;
+  MICA_CALL(run_integration_flags(deck, &flags));
+  if (!(flags & RUN_INTEGRATION_NODAL)) return MICA_SUCCESS;
   if (rp->fe) {
     char where[256];
     mica_deck_where(deck, "quadrature.mode", where, sizeof where);
@@ -167,8 +192,10 @@ int run_read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const
  * consistency argument assumes (a quadratic patch stays inexact, docs/verification.md), and for a linear basis
  * SCNI already satisfies the linear integration constraint that VCI would impose. */
 int run_read_scni(const MicaDeck *deck, RunProblem *rp, MicaSolidOptions *opt) {
+  unsigned flags;
   MICA_CALL(mica_deck_string(deck, "quadrature.mode", &rp->integration));
-  opt->scni = !strcmp(rp->integration, "scni");
+  MICA_CALL(run_integration_flags(deck, &flags));
+  opt->scni = (flags & RUN_INTEGRATION_SMOOTHED) != 0;
   if (!opt->scni) return MICA_SUCCESS;
   char where[256];
   mica_deck_where(deck, "quadrature.vci", where, sizeof where);

@@ -15,10 +15,11 @@ const MicaDeckKey mica_run_schema[] = {
     {"parameters", MICA_KEY_PARAMETERS, NULL, NOLIMIT, NULL, 0, 0,
      "named numbers (or expressions of earlier ones) usable in any numeric setting and expression"},
     {"problem.title", MICA_KEY_STRING, "\"\"", NOLIMIT, NULL, 0, 0, "a title for the summary"},
-    {"problem.method", MICA_KEY_CHOICE, "\"efg\"", NOLIMIT, "efg|fe", 0, 0,
-     "the approximation: efg (MLS shape functions, background-cell quadrature) or fe, the finite-element baseline: "
-     "Lagrange elements of order mls.order (1: Q1 / hex8, 2: Q2 / hex27) with the particles of a regular, graded or "
-     "jittered layout of a built-in shape as nodes, quadrature.order Gauss points per direction per element"},
+    {.path = "problem.method", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &mica_approx_registry,
+     .help = "the approximation: efg (MLS shape functions, background-cell quadrature) or fe, the finite-element "
+             "baseline: Lagrange elements of order mls.order (1: Q1 / hex8, 2: Q2 / hex27) with the particles of a "
+             "regular, graded or jittered layout of a built-in shape as nodes, quadrature.order Gauss points per "
+             "direction per element"},
     {"geometry.shape", MICA_KEY_CHOICE, "\"box\"", NOLIMIT, "box|polygon|plate_hole|annulus|cylinder|gmsh", 0, 0,
      "the body: a built-in shape or a Gmsh mesh"},
     {"geometry.lower", MICA_KEY_FLOATS, NULL, NOLIMIT, NULL, 2, 3, "box: lower corner (its length sets the dimension)"},
@@ -57,9 +58,9 @@ const MicaDeckKey mica_run_schema[] = {
     {"quadrature.vci", MICA_KEY_BOOL, "false", NOLIMIT, NULL, 0, 0,
      "variationally consistent integration: corrected test gradients pass the patch test of the basis order "
      "(first-order models; unsymmetric tangent)"},
-    {"quadrature.mode", MICA_KEY_CHOICE, "\"gauss\"", NOLIMIT, "gauss|nodal|scni", 0, 0,
-     "gauss: Gauss points of the background cells; nodal: direct nodal integration at the particles, weighted by "
-     "their nodal cells' volumes (unstable: spurious zero-energy modes; shown, not cured); scni: stabilized "
+    {.path = "quadrature.mode", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &run_integration_registry,
+     .help = "gauss: Gauss points of the background cells; nodal: direct nodal integration at the particles, "
+     "weighted by their nodal cells' volumes (unstable: spurious zero-energy modes; shown, not cured); scni: stabilized "
      "conforming nodal integration, smoothed gradients on the nodal cells (passes the linear patch test; "
      "first-order models). nodal and scni need a built-in shape with a regular, graded or jittered layout; error "
      "norms stay on the background Gauss points"},
@@ -93,11 +94,8 @@ const MicaDeckKey mica_run_schema[] = {
     {"material.gamma", MICA_KEY_FLOAT, NULL, NOLIMIT, NULL, 0, 0, "cosserat, Eringen: γ (the only couple modulus in 2-D)"},
     {"material.plane", MICA_KEY_CHOICE, "\"strain\"", NOLIMIT, "strain|stress", 0, 0,
      "2-D: plane strain or plane stress (plane stress: linear model only)"},
-    {"bc.method", MICA_KEY_CHOICE, "\"nitsche\"", NOLIMIT, "penalty|nitsche|lagrange", 0, 0,
-     "how Dirichlet conditions are imposed (docs/verification.md says why nitsche is the default)"},
-    {"bc.alpha", MICA_KEY_FLOAT, NULL, 1e-6, 1e12, NULL, 0, 0,
-     "penalty / Nitsche factor α in β = α E / h (Cosserat and other field models: β_b = α k_b / h per unknown, "
-     "docs/theory.md; default: 1e3 penalty, 100 Nitsche)"},
+    {.path = "bc.method", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &mica_bc_method_registry,
+     .help = "how Dirichlet conditions are imposed (docs/verification.md says why nitsche is the default)"},
     {"bcs.dirichlet", MICA_KEY_LIST, NULL, NOLIMIT, NULL, 0, 0,
      "prescribed displacements: ( { set = \"left\"; ux = \"0\"; uy = \"0\"; }, ... ); omitted components are free"},
     {"bcs.dirichlet.[].set", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, 0, "boundary set name"},
@@ -134,13 +132,11 @@ const MicaDeckKey mica_run_schema[] = {
     {"loads.btheta", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric: body force, θ"},
     {"loads.cr", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric cosserat: body couple, r"},
     {"loads.ctheta", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric cosserat: body couple, θ"},
-    {"solver.linear", MICA_KEY_CHOICE, "\"auto\"", NOLIMIT, "auto|cholmod|umfpack|cg", 0, 0,
-     "auto: CHOLMOD for symmetric positive definite tangents, UMFPACK otherwise; cg: preconditioned conjugate "
-     "gradients (SPD tangents, no factorization: for problems whose factor does not fit; under solver.parallel = "
-     "schwarz, CG is the outer iteration and CHOLMOD factors the subdomains)"},
-    {"solver.preconditioner", MICA_KEY_CHOICE, "\"jacobi\"", NOLIMIT, "jacobi|sgs", 0, 0,
-     "cg: block Jacobi on each particle's unknowns, or symmetric block Gauss–Seidel (fewer iterations, 3 matrix "
-     "passes each)"},
+    {.path = "solver.linear", .type = MICA_KEY_CHOICE, .def = "\"auto\"", .min = 1.0, .max = 0.0, .choices = "auto",
+     .registry = &mica_linear_solver_registry,
+     .help = "auto: CHOLMOD for symmetric positive definite tangents, UMFPACK otherwise; cg: preconditioned "
+             "conjugate gradients (SPD tangents, no factorization: for problems whose factor does not fit; under "
+             "solver.parallel = schwarz, CG is the outer iteration and CHOLMOD factors the subdomains)"},
     {"solver.parallel", MICA_KEY_CHOICE, "\"gather\"", NOLIMIT, "gather|schwarz", 0, 0,
      "MPI runs: gather the tangent to rank 0 for CHOLMOD/UMFPACK, or additive Schwarz CG/GMRES"},
     {"solver.overlap", MICA_KEY_INT, "2", 0, 100, NULL, 0, 0,

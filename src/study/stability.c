@@ -491,7 +491,7 @@ static int stability_run(const MicaDeck *deck, const char *outdir, MicaJson *sum
     printf("%ld particles, %ld volume quadrature points, %ld unknowns (%s, bc.method %s)\n", rp.disc->nparticles,
            rp.disc->nquad, rp.solid->ndof, rp.solid->opt.field.classical ? rp.solid->opt.field.classical->type.name
                                                                           : rp.solid->opt.field.ops->type.name,
-           rp.solid->opt.bc_method->name);
+           rp.solid->opt.bc_method->type.name);
     MICA_CALL_CLEANUP(mica_json_int(summary, "dim", rp.disc->dim));
     MICA_CALL_CLEANUP(mica_json_int(summary, "particles", rp.disc->nparticles));
     MICA_CALL_CLEANUP(mica_json_int(summary, "quadrature_points", rp.disc->nquad));
@@ -517,8 +517,9 @@ cleanup:
 }
 
 const MicaCommand mica_command_stability = {
-    "stability",
-    "stability and consistency of a deck's discretization: tangent eigenmodes, patch tests, inf-sup, MLS conditioning",
+    {"stability",
+     "stability and consistency of a deck's discretization: tangent eigenmodes, patch tests, inf-sup, MLS conditioning",
+     0, NULL, NULL},
     "On the run deck as it stands (its particles, MLS, quadrature, boundary method, VCI): (1) eigenvalues of the\n"
     "tangent at u = 0 with the deck's conditions (a free body without them): zero modes, rigid modes (the span of\n"
     "the exact rigid motions), spurious zero modes = zero − rigid, low-energy modes (below the lowest nonzero\n"

@@ -176,7 +176,7 @@ static int patch_one(RunProblem *rp, int degree, const MicaMaterial *mat, double
   MICA_CALL_CLEANUP(mica_newton_solve(patch.solid, &nopt, u, NULL, NULL, &stats));
   MICA_CALL_CLEANUP(run_error_values(&patch, u, l2, h1, &energy));
   printf("patch test, degree %d (%s, %s): relative L2 error %.3e, H1 seminorm %.3e\n", degree, stats.linear_name,
-         patch.solid->opt.bc_method->name, *l2, *h1);
+         patch.solid->opt.bc_method->type.name, *l2, *h1);
 cleanup:
   if (ierr) mica_error_prefix("stability patch test of degree %d", degree);
   free(u);

@@ -20,13 +20,13 @@
 
 /* Is the deck's own rule an adequate reference? Gauss points (or elements), order ≥ the reference order. */
 static int deck_is_reference(const StabilityOptions *o, const MicaDeck *deck, int *self) {
-  const char *mode;
+  unsigned mode;
   long order;
   int vci;
-  MICA_CALL(mica_deck_string(deck, "quadrature.mode", &mode));
+  MICA_CALL(run_integration_flags(deck, &mode));
   MICA_CALL(mica_deck_int(deck, "quadrature.order", &order));
   MICA_CALL(mica_deck_bool(deck, "quadrature.vci", &vci));
-  *self = !strcmp(mode, "gauss") && order >= o->reference_order && !vci;
+  *self = !(mode & RUN_INTEGRATION_NODAL) && order >= o->reference_order && !vci;
   return MICA_SUCCESS;
 }
 

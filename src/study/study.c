@@ -412,8 +412,9 @@ cleanup:
 }
 
 const MicaCommand mica_command_study = {
-    "study",
-    "speed against accuracy: solve every combination of some settings; errors, costs, Pareto front, fastest",
+    {"study",
+     "speed against accuracy: solve every combination of some settings; errors, costs, Pareto front, fastest",
+     0, NULL, NULL},
     "The deck is a run deck with an exact solution (or a probe with a reference value) plus a `study` group\n"
     "listing choices: settings and their values (numbers, words or a range, as in a sweep). Every combination\n"
     "is solved like `mica run` with the values as --set overrides, `repeat` times (the minimum time of each\n"

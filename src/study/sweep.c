@@ -387,8 +387,9 @@ cleanup:
 }
 
 const MicaCommand mica_command_sweep = {
-    "sweep",
-    "solve a run deck at every point of a grid of values of its settings; CSV, chart, model comparison",
+    {"sweep",
+     "solve a run deck at every point of a grid of values of its settings; CSV, chart, model comparison",
+     0, NULL, NULL},
     "The deck is a run deck plus a `sweep` group naming settings and their values (numbers, words or a\n"
     "range). Every combination (mode = \"grid\") or every i-th tuple (mode = \"zip\") is solved like\n"
     "`mica run` with the values as --set overrides, into DIR/points/<n>/. A failing point is recorded and the\n"

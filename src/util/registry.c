@@ -1,6 +1,7 @@
 /* Registries of types (mica/registry.h): lookup by name, the default, the choice list, run-time additions. */
 #include "mica/registry.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 int mica_registry_count(const MicaRegistry *registry) {
@@ -60,5 +61,24 @@ int mica_registry_get(const MicaRegistry *registry, const char *name, const Mica
   *type = mica_registry_find(registry, name);
   MICA_CHECK(*type, MICA_ERR_ARGUMENT, "no %s is called '%s' (the deck's schema and the registry disagree)",
              registry->family, name ? name : "(null)");
+  return MICA_SUCCESS;
+}
+
+const MicaDeckKey *mica_type_key(const MicaType *type, const char *path) {
+  for (const MicaDeckKey *key = type->keys; key && key->path; key++)
+    if (!strcmp(key->path, path)) return key;
+  return NULL;
+}
+
+int mica_type_float(const MicaType *type, const MicaSettings *settings, const char *group, const char *name,
+                    double *value) {
+  if (mica_settings_has(settings, group, name)) return mica_settings_float(settings, group, name, value);
+  const MicaDeckKey *key = mica_type_key(type, name);
+  MICA_CHECK(key && key->def, MICA_ERR_ARGUMENT, "the %s type '%s' declares no default for %s", group, type->name,
+             name);
+  char *end;
+  *value = strtod(key->def, &end);
+  MICA_CHECK(end != key->def && *end == '\0', MICA_ERR_ARGUMENT, "the default of %s.%s of '%s' is not a number: %s",
+             group, name, type->name, key->def);
   return MICA_SUCCESS;
 }

@@ -111,6 +111,30 @@ static int add_type_keys(MicaSchema *schema, const char *chooser, const MicaType
   return MICA_SUCCESS;
 }
 
+/* A key that several types declare with different defaults (bc.alpha: 1e3 with penalty, 100 with nitsche)
+ * has none in the schema, since the default depends on the chooser: its help lists them, and each type
+ * reads its own (mica_type_float). */
+static int note_type_defaults(MicaSchema *schema, MicaDeckKey *key, const MicaRegistry *registry) {
+  char group[512];
+  group_of(key->chooser, group, sizeof group);
+  const char *relative = key->path + strlen(group) + (group[0] != '\0');
+  char list[1024] = "";
+  size_t used = 0;
+  int differ = 0;
+  for (int i = 0; i < mica_registry_count(registry); i++) {
+    const MicaType *type = mica_registry_type(registry, i);
+    const MicaDeckKey *own = mica_type_key(type, relative);
+    if (!own) continue;
+    differ |= (own->def == NULL) != (key->def == NULL) || (own->def && key->def && strcmp(own->def, key->def));
+    used += (size_t)snprintf(list + used, used < sizeof list ? sizeof list - used : 0, "%s%s with %s",
+                             used ? ", " : "", own->def ? own->def : "none", type->name);
+  }
+  if (!differ) return MICA_SUCCESS;
+  MICA_CHECK(used < sizeof list, MICA_ERR_ARGUMENT, "schema: the defaults of %s do not fit", key->path);
+  key->def = NULL;
+  return format(schema, &key->help, "%s (default: %s)", key->help, list);
+}
+
 /* A choice key with a registry: the type names as its choices, the registry's default, then each type's
  * own keys. */
 static int add_chooser(MicaSchema *schema, const MicaDeckKey *base, const char *path) {
@@ -119,13 +143,17 @@ static int add_chooser(MicaSchema *schema, const MicaDeckKey *base, const char *
   key.path = path;
   char choices[2048];
   MICA_CALL(mica_registry_choices(registry, choices, sizeof choices));
-  MICA_CALL(format(schema, &key.choices, "%s", choices));
+  /* words of the key's own before the types' ("auto" of solver.linear: a choice that picks a type) */
+  MICA_CALL(format(schema, &key.choices, "%s%s%s", base->choices ? base->choices : "", base->choices ? "|" : "",
+                   choices));
   MICA_CHECK(mica_registry_default(registry), MICA_ERR_ARGUMENT, "registry of %s: no default type '%s'",
              registry->family, registry->def ? registry->def : "(null)");
   if (!key.def) MICA_CALL(format(schema, &key.def, "\"%s\"", registry->def));
   MICA_CALL(append_key(schema, &key));
   for (int i = 0; i < mica_registry_count(registry); i++)
     MICA_CALL(add_type_keys(schema, path, mica_registry_type(registry, i)));
+  for (long k = 0; k < schema->nkeys; k++)
+    if (schema->keys[k].chooser == path) MICA_CALL(note_type_defaults(schema, &schema->keys[k], registry));
   return MICA_SUCCESS;
 }
 

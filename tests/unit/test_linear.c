@@ -110,8 +110,8 @@ static void factor_solve_check(MicaLinearSolver *solver, MicaSparse *A, const do
   if (ierr) fail_msg("factor: %s", mica_error_message());
   assert_int_equal(mica_linear_solver_solve(solver, b, x), MICA_SUCCESS);
   double residual = relative_residual(A, x, b);
-  if (!(residual <= 1e-10)) fail_msg("%s: relative residual %.3g", solver->ops->name, residual);
-  print_message("  %s: n %ld, nnz %ld, nnz(factor) %ld, relative residual %.2e\n", solver->ops->name, A->n, A->nnz,
+  if (!(residual <= 1e-10)) fail_msg("%s: relative residual %.3g", solver->ops->type.name, residual);
+  print_message("  %s: n %ld, nnz %ld, nnz(factor) %ld, relative residual %.2e\n", solver->ops->type.name, A->n, A->nnz,
                 solver->stats.nnz_factor, residual);
 }
 

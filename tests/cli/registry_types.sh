@@ -1,0 +1,43 @@
+# The registries of types (docs/architecture.md §Registries and settings) seen from the deck: a type's own
+# settings, its default, and the refusal of a setting the chosen type does not read.
+# - bc.alpha is declared by penalty (default 1e3) and nitsche (default 100), each its own: the summary's
+#   bc_alpha is exactly 1000, 100, and 0 for lagrange (which has none); given, it is taken as given (7.5).
+# - bc.alpha given with bc.method = "lagrange" is refused (exit 2, the line, the owning methods); so is
+#   solver.preconditioner (cg's own) with solver.linear = "umfpack" or "auto".
+# - the choice lists and defaults come from the registries: `mica help run` lists bc.method
+#   penalty|nitsche|lagrange (default "nitsche"), solver.linear auto|cholmod|umfpack|cg (default "auto"),
+#   problem.method efg|fe, quadrature.mode gauss|nodal|scni, and bc.alpha's two defaults.
+source "$(dirname "$0")/common.bash"
+work="$OUT_DIR/registry_types"
+rm -rf "$work" && mkdir -p "$work"
+
+deck=input/patch_linear.cfg
+for pair in penalty:1000 nitsche:100 lagrange:0; do
+  method=${pair%%:*} expected=${pair##*:}
+  run_deck "$work/$method" $deck --set bc.method=$method
+  got=$(json_value bc_alpha "$work/$method/summary.json")
+  awk -v g="$got" -v e="$expected" 'BEGIN { exit !(g == e) }' || fail "$method: bc_alpha $got, expected $expected"
+  ok "$method: bc_alpha $got (its own default)"
+done
+run_deck "$work/given" $deck --set bc.method=penalty --set bc.alpha=7.5
+[ "$(json_value bc_alpha "$work/given/summary.json")" = 7.5 ] || fail "a given bc.alpha was not taken"
+ok "a given bc.alpha is taken"
+
+expect_failure 2 'bc.alpha is a setting of bc.method = "penalty/nitsche" only' -- \
+  "$MICA" run $deck -o "$work/x" --set bc.method=lagrange --set bc.alpha=10
+expect_failure 2 '--set bc.alpha=10' -- "$MICA" run $deck -o "$work/x" --set bc.method=lagrange --set bc.alpha=10
+expect_failure 2 'solver.preconditioner is a setting of solver.linear = "cg" only' -- \
+  "$MICA" run $deck -o "$work/x" --set solver.linear=umfpack --set solver.preconditioner=sgs
+expect_failure 2 'solver.linear is "auto" here' -- "$MICA" run $deck -o "$work/x" --set solver.preconditioner=sgs
+[ ! -e "$work/x" ] || fail "a refused deck created its output directory"
+
+help=$("$MICA" help run)
+for line in 'bc.method +choice +"nitsche" +penalty\|nitsche\|lagrange$' \
+            'solver.linear +choice +"auto" +auto\|cholmod\|umfpack\|cg$' \
+            'problem.method +choice +"efg" +efg\|fe$' 'quadrature.mode +choice +"gauss" +gauss\|nodal\|scni$' \
+            'solver.preconditioner +choice +"jacobi" +jacobi\|sgs$' 'bc.alpha +float +- '; do
+  grep -Eq "^$line" <<<"$help" || fail "mica help run lacks /$line/"
+done
+tr -s ' \n' ' ' <<<"$help" | grep -qF "(default: 1e3 with penalty, 100 with nitsche)" \
+  || fail "mica help run does not give bc.alpha's defaults per method"
+ok "choices and defaults from the registries in mica help run"

@@ -1,0 +1,111 @@
+/* Registries of types in a composed schema (mica/registry.h, mica/schema.h): a chooser's own words before the
+ * types' ("auto"), its own default, a key several types declare with different defaults (bc.alpha), and
+ * mica_type_float's fallback to the type's own default; the converted families' flags. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+
+#include <string.h>
+
+#include "mica/solid.h"
+
+MICA_SCHEMA_TABLES
+
+static const MicaDeckKey a_keys[] = {
+    {.path = "alpha", .type = MICA_KEY_FLOAT, .def = "1", .min = 0, .max = 10, .help = "the factor"},
+    {.path = "beta", .type = MICA_KEY_INT, .def = "3", .min = 0, .max = 10, .help = "a's own"},
+    {0}};
+static const MicaDeckKey b_keys[] = {
+    {.path = "alpha", .type = MICA_KEY_FLOAT, .def = "2.5", .min = 0, .max = 10, .help = "the factor"}, {0}};
+static const MicaDeckKey c_keys[] = {
+    {.path = "beta", .type = MICA_KEY_INT, .def = "3", .min = 0, .max = 10, .help = "a's own"}, {0}};
+static const MicaType type_a = {"a", "first", 1, a_keys, NULL}, type_b = {"b", "second", 2, b_keys, NULL},
+                      type_c = {"c", "third", 0, c_keys, NULL};
+static const MicaType *const builtin[] = {&type_a, &type_b, &type_c, NULL};
+static MicaRegistry toy = {"toy", "a", builtin, NULL, 0, NULL};
+
+static const MicaDeckKey base[] = {
+    {.path = "g.kind", .type = MICA_KEY_CHOICE, .def = "\"auto\"", .min = 1, .max = 0, .choices = "auto",
+     .registry = &toy, .help = "which"},
+    {0}};
+
+static void test_compose_choices_and_defaults(void **state) {
+  (void)state;
+  MicaSchema *schema = NULL;
+  assert_int_equal(mica_schema_compose(base, &schema), MICA_SUCCESS);
+  const MicaDeckKey *keys = mica_schema_keys(schema);
+  const MicaDeckKey *kind = mica_schema_find(keys, "g.kind");
+  assert_non_null(kind);
+  assert_string_equal(kind->choices, "auto|a|b|c");
+  assert_string_equal(kind->def, "\"auto\"");
+  const MicaDeckKey *alpha = mica_schema_find(keys, "g.alpha");
+  assert_non_null(alpha);
+  assert_null(alpha->def); /* 1 with a, 2.5 with b: none in the schema */
+  assert_string_equal(alpha->owner, "a|b");
+  assert_string_equal(alpha->help, "with g.kind = a or b: the factor (default: 1 with a, 2.5 with b)");
+  const MicaDeckKey *beta = mica_schema_find(keys, "g.beta"); /* a and c agree: the default stays */
+  assert_non_null(beta);
+  assert_string_equal(beta->def, "3");
+  assert_string_equal(beta->help, "with g.kind = a or c: a's own");
+  mica_schema_destroy(&schema);
+}
+
+/* A reader with one setting, g.alpha = 7, or none. */
+static int given;
+static int toy_has(const void *ctx, const char *path) { return (void)ctx, given && !strcmp(path, "g.alpha"); }
+static int toy_float(const void *ctx, const char *path, double *value) {
+  (void)ctx;
+  if (!given || strcmp(path, "g.alpha")) return MICA_ERR_ARGUMENT;
+  *value = 7;
+  return MICA_SUCCESS;
+}
+static const MicaSettingsOps toy_ops = {toy_has, NULL, toy_float, NULL, NULL, NULL, NULL};
+
+static void test_type_float(void **state) {
+  (void)state;
+  const MicaSettings settings = {&toy_ops, NULL};
+  double value = 0;
+  given = 0;
+  assert_int_equal(mica_type_float(&type_a, &settings, "g", "alpha", &value), MICA_SUCCESS);
+  assert_true(value == 1.0);
+  assert_int_equal(mica_type_float(&type_b, &settings, "g", "alpha", &value), MICA_SUCCESS);
+  assert_true(value == 2.5);
+  assert_int_equal(mica_type_float(&type_c, &settings, "g", "alpha", &value), MICA_ERR_ARGUMENT);
+  mica_error_clear();
+  given = 1;
+  assert_int_equal(mica_type_float(&type_b, &settings, "g", "alpha", &value), MICA_SUCCESS);
+  assert_true(value == 7.0);
+}
+
+/* The converted families: names, defaults and the flags code asks instead of comparing ops pointers. */
+static void test_families(void **state) {
+  (void)state;
+  assert_string_equal(mica_registry_default(&mica_bc_method_registry)->name, "nitsche");
+  assert_true(mica_bc_method_has(&mica_bc_nitsche, MICA_BC_SYMMETRIC_DEFINITE | MICA_BC_MODEL_TRACTION));
+  assert_true(mica_bc_method_has(&mica_bc_lagrange, MICA_BC_MULTIPLIERS));
+  assert_false(mica_bc_method_has(&mica_bc_lagrange, MICA_BC_SYMMETRIC_DEFINITE));
+  assert_false(mica_bc_method_has(&mica_bc_penalty, MICA_BC_MODEL_TRACTION));
+  assert_ptr_equal(mica_bc_method_find("penalty"), &mica_bc_penalty);
+  assert_null(mica_bc_method_find("nitsch"));
+  assert_true(mica_linear_solver_has(&mica_linear_cg, MICA_LINEAR_SPD_ONLY | MICA_LINEAR_ITERATIVE));
+  assert_true(mica_linear_solver_has(&mica_linear_cholmod, MICA_LINEAR_SPD_ONLY));
+  assert_false(mica_linear_solver_iterative(&mica_linear_cholmod));
+  assert_false(mica_linear_solver_has(&mica_linear_umfpack, MICA_LINEAR_SPD_ONLY));
+  assert_true(mica_approx_has(&mica_approx_mls, MICA_APPROX_MLS));
+  assert_false(mica_approx_has(&mica_approx_mls, MICA_APPROX_INTERPOLATING));
+  assert_string_equal(mica_registry_default(&mica_approx_registry)->name, "efg");
+  char choices[128];
+  assert_int_equal(mica_registry_choices(&mica_approx_registry, choices, sizeof choices), MICA_SUCCESS);
+  assert_string_equal(choices, "efg|fe");
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_compose_choices_and_defaults),
+      cmocka_unit_test(test_type_float),
+      cmocka_unit_test(test_families),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
