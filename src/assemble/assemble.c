@@ -325,7 +325,7 @@ static int assemble_cell(MicaSolid *s, const VolumeTerms *v, long first, long la
   const int nc = s->ncomp, nd = shape_entries(v->L), width = nc * nd;
   double *Kc = s->cell_matrix, *staging = Kc + mica_kernel_ke_size(nc, u);
   double *A = staging + mica_kernel_chunk_size(nc, nd, u, s->chunk_points), *beta = A + width * width;
-  const int classical = s->opt.field.ops == &mica_field_classical;
+  const int classical = mica_type_has(&s->opt.field.ops->type, MICA_FIELD_CLASSICAL);
   int slot[MICA_MAX_COMP * 10];
   long *loc = s->work_nodes;
   MicaKernelChunk chunk;
@@ -434,11 +434,7 @@ static int assemble_points(MicaSolid *s, double t, const double *u, double *R, M
 }
 
 int mica_solid_linear(const MicaSolid *s) {
-  const MicaFieldModel *m = &s->opt.field;
-  const int quadratic_energy = m->ops == &mica_field_classical
-                                   ? !mica_type_has(&m->classical->type, MICA_MODEL_FINITE_STRAIN)
-                                   : m->ops == &mica_field_cosserat || m->ops == &mica_field_strain_gradient;
-  return quadratic_energy && !s->opt.parallel;
+  return mica_field_model_quadratic(&s->opt.field) && !s->opt.parallel;
 }
 
 int mica_solid_assemble(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K) {

@@ -100,7 +100,7 @@ static void nitsche_tangent(int dim, int mask, const BcPoint *bp, const double *
 /* Classical models through their kernel's P and A; other first-order field models through s and D
  * (nitsche_field.c). */
 static int nitsche_add(MicaSolid *s, const MicaDirichlet *c, double t, const double *u, double *R, MicaSparse *K) {
-  if (s->opt.field.ops != &mica_field_classical) return bc_nitsche_field_add(s, c, t, u, R, K);
+  if (!mica_type_has(&s->opt.field.ops->type, MICA_FIELD_CLASSICAL)) return bc_nitsche_field_add(s, c, t, u, R, K);
   const int dim = s->dim;
   const MicaShapeCache *cache = s->boundary[c->set];
   double F[9], P[9], A[81], T[27], D[81], W;

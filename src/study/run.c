@@ -660,7 +660,7 @@ static int add_counts(RunProblem *rp, const RunTotals *c, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "cache_bytes", c->cache_bytes));
   MICA_CALL(mica_json_int(summary, "matrix_bytes", (long)(c->nnz * 16 + (s->ndof + 1) * 8)));
   MICA_CALL(mica_json_number(summary, "volume", rp->disc->volume));
-  MICA_CALL(mica_json_string(summary, "model", s->opt.field.ops == &mica_field_classical
+  MICA_CALL(mica_json_string(summary, "model", mica_type_has(&s->opt.field.ops->type, MICA_FIELD_CLASSICAL)
                                                    ? s->opt.field.classical->type.name
                                                    : s->opt.field.ops->type.name));
   MICA_CALL(mica_json_int(summary, "unknowns_per_particle", s->ncomp));
