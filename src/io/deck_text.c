@@ -19,7 +19,8 @@
 
 #include "deck_private.h"
 
-enum { INCLUDE_DEPTH_MAX = 10 }; /* libconfig's own limit */
+enum { INCLUDE_DEPTH_MAX = 10, /* libconfig's own limit */
+       NESTING_MAX = 256 };   /* brackets tracked for the place of strings; deeper ones are not judged */
 
 typedef struct {
   DeckText *text;
@@ -32,6 +33,12 @@ typedef struct {
   int in_array, promote;
   size_t *ends;
   int nends, ends_capacity;
+  /* Where a string may stand (libconfig 1.5 leaks a string its parser does not expect, so such a string is
+   * refused here): the last token that is no comment or space ('=', ':', ',', a bracket; 's' a string, 'n' a
+   * name, 'v' a number; 0 at the start), the brackets open around it, and whether a --set value held one. */
+  char previous;
+  char open[NESTING_MAX];
+  int nopen, misplaced;
 } Expander;
 
 /* ---- the growing text and its line map ---- */
@@ -185,6 +192,42 @@ static int starts_number(const char *s) {
   return isdigit((unsigned char)s[0]) || (s[0] == '.' && isdigit((unsigned char)s[1]));
 }
 
+/* ---- where strings may stand ---- */
+
+/* A string is a value: after '=' or ':', an element after '[', '(' or ',' inside an array or list, or the next
+ * piece of a string written in pieces ("a" "b"). Anywhere else libconfig's parser fails on it. */
+static int string_allowed(const Expander *x) {
+  if (x->previous == '=' || x->previous == ':' || x->previous == 's') return 1;
+  if (x->nopen > NESTING_MAX) return 1; /* not tracked so deep: libconfig judges */
+  const char inner = x->nopen > 0 ? x->open[x->nopen - 1] : 0;
+  return strchr("[(,", x->previous) && x->previous && (inner == '[' || inner == '(');
+}
+
+/* Notes the token at s (not a comment or a space) for string_allowed. */
+static void note_token(Expander *x, char kind) {
+  if (kind == '{' || kind == '[' || kind == '(') {
+    if (x->nopen < NESTING_MAX) x->open[x->nopen] = kind;
+    x->nopen++;
+  } else if ((kind == '}' || kind == ']' || kind == ')') && x->nopen > 0) {
+    x->nopen--;
+  }
+  x->previous = kind;
+}
+
+/* A string where libconfig expects none: in the deck, an error naming its line; in a --set value, a mark that
+ * the value is no libconfig value (parse_override_value in deck.c takes it as a word). */
+static int check_string(Expander *x, const char *s, size_t n) {
+  if (string_allowed(x)) return MICA_SUCCESS;
+  if (x->file < 0) {
+    x->misplaced = 1;
+    return MICA_SUCCESS;
+  }
+  const int shown = n > 40 ? 40 : (int)n;
+  MICA_ERROR(MICA_ERR_INPUT, "%s:%d: syntax error: unexpected string %.*s%s (a string is the value of a setting, "
+             "name = \"text\";, or an element of an array or list)", x->text->files[x->file], x->line, shown, s,
+             shown < (int)n ? "...\"" : "");
+}
+
 /* ---- the scanner ---- */
 
 static int expand_file(Expander *x, const char *path, int depth);
@@ -248,18 +291,23 @@ static int scan(Expander *x, const char *src, int depth) {
       if (used) continue; /* the included file is in place */
     }
     if (used) {
+      if (*s == '"') MICA_CALL(check_string(x, s, used));
+      if (*s == '"') note_token(x, 's');
       MICA_CALL(copy_lines(x, s, used));
     } else if (isalpha((unsigned char)*s) || *s == '*' || *s == '_') { /* a name, digits and all */
       used = 1;
       while (s[used] && (isalnum((unsigned char)s[used]) || strchr("-_*", s[used]))) used++;
       MICA_CALL(append(x->text, s, used));
+      note_token(x, 'n');
     } else if (starts_number(s)) {
       MICA_CALL(put_number(x, s, &used));
+      note_token(x, 'v');
     } else {
       used = 1;
       MICA_CALL(*s == '\n' ? newline(x) : append(x->text, s, 1));
       if (*s == '[' || *s == ']') MICA_CALL(close_array(x));
       x->in_array |= *s == '[';
+      if (!isspace((unsigned char)*s)) note_token(x, *s);
     }
     if (*s == '\n' || (used && memchr(s, '\n', used))) line_start = 1;
     else if (!isspace((unsigned char)*s)) line_start = 0;
@@ -336,7 +384,7 @@ cleanup:
 
 int deck_text_read(const char *path, const char *include_dir, DeckText *text) {
   *text = (DeckText){0};
-  Expander x = {text, include_dir, -1, 0, NULL, 0, 0, NULL, 0, 0};
+  Expander x = {.text = text, .include_dir = include_dir, .file = -1};
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(append(text, "", 0));
   MICA_CALL_CLEANUP(expand_file(&x, path, 0));
@@ -350,13 +398,16 @@ cleanup:
 
 int deck_text_value(const char *set, const char *value, char **rewritten) {
   DeckText text = {0};
-  Expander x = {&text, NULL, -1, 0, set, 0, 0, NULL, 0, 0};
+  Expander x = {.text = &text, .file = -1, .set = set};
+  x.previous = '='; /* deck_parse_value reads the value as "v = VALUE;" */
   *rewritten = NULL;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(append(&text, "", 0));
   MICA_CALL_CLEANUP(scan(&x, value, -1));
-  *rewritten = text.text;
-  text.text = NULL;
+  if (!x.misplaced) {
+    *rewritten = text.text;
+    text.text = NULL;
+  }
 cleanup:
   free(x.ends);
   deck_text_free(&text);
