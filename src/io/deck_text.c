@@ -16,11 +16,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "deck_private.h"
 
 enum { INCLUDE_DEPTH_MAX = 10, /* libconfig's own limit */
        NESTING_MAX = 256 };   /* brackets tracked for the place of strings; deeper ones are not judged */
+#define DECK_BYTES_MAX ((size_t)64 << 20) /* the longest deck file read */
+#define DECK_BYTES_TEXT "64 MB"
 
 typedef struct {
   DeckText *text;
@@ -318,19 +321,36 @@ static int scan(Expander *x, const char *src, int depth) {
 
 /* ---- files ---- */
 
-static int slurp(const char *path, char **content) {
+/* The whole file, NUL-terminated; -1 with *why saying what is wrong. Only a regular file or a pipe (mica run
+ * <(...), a FIFO) is read: a directory would read as an empty deck, a device such as /dev/zero for ever. No
+ * deck is DECK_BYTES_MAX long: a longer stream is refused before it fills the memory. */
+static int slurp(const char *path, char **content, const char **why) {
+  struct stat st;
   FILE *stream = fopen(path, "rb");
-  if (!stream) return -1;
+  *why = NULL;
+  if (!stream || fstat(fileno(stream), &st) != 0) *why = strerror(errno);
+  else if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode))
+    *why = S_ISDIR(st.st_mode) ? "it is a directory, not a deck file" : "it is a device, not a deck file";
+  if (*why) {
+    if (stream) fclose(stream);
+    return -1;
+  }
   size_t size = 0, capacity = 4096;
   int ierr = MICA_MALLOC(*content, capacity);
   while (!ierr) {
     size += fread(*content + size, 1, capacity - size - 1, stream);
-    if (size + 1 < capacity) break;
+    if (size > DECK_BYTES_MAX) *why = "it is longer than " DECK_BYTES_TEXT ": not a deck";
+    if (*why || size + 1 < capacity) break;
     capacity *= 2;
     ierr = MICA_REALLOC(*content, capacity);
   }
+  if (!ierr && !*why && ferror(stream)) *why = strerror(errno);
   fclose(stream);
   if (ierr) return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  if (*why) {
+    MICA_FREE(*content);
+    return -1;
+  }
   (*content)[size] = '\0';
   return MICA_SUCCESS;
 }
@@ -359,17 +379,18 @@ static int expand_file(Expander *x, const char *name, int depth) {
     MICA_ERROR(MICA_ERR_INPUT, "%s:%d: @include \"%s\": includes nested more than %d deep (does a file include "
                "itself?)", x->text->files[parent], parent_line, name, INCLUDE_DEPTH_MAX);
   char *path = NULL, *content = NULL;
+  const char *why = NULL;
   int ierr = MICA_SUCCESS, file;
   if (depth == 0) MICA_CALL_CLEANUP(add_file(x->text, name, &file));
   else MICA_CALL_CLEANUP(include_path(x, name, &path));
   if (depth > 0) MICA_CALL_CLEANUP(add_file(x->text, path, &file));
-  ierr = slurp(x->text->files[file], &content);
+  ierr = slurp(x->text->files[file], &content, &why);
   if (ierr < 0) {
     ierr = depth == 0 ? mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_INPUT, "cannot read deck '%s': %s",
-                                       name, strerror(errno))
+                                       name, why)
                       : mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_INPUT,
                                        "%s:%d: cannot read included file '%s': %s", x->text->files[parent],
-                                       parent_line, x->text->files[file], strerror(errno));
+                                       parent_line, x->text->files[file], why);
     goto cleanup;
   }
   if (ierr) goto cleanup;
