@@ -1,7 +1,8 @@
 #!/bin/bash
 # Runs each named libFuzzer harness ($FUZZ_OUT/fuzz_NAME, built by `make fuzz-build`) for FUZZ_SECONDS, all at
-# once, one process each, and prints per harness: executions, exec/s, final cov and ft, corpus size, crashes,
-# timeouts (hangs longer than FUZZ_TIMEOUT s) and OOMs (over FUZZ_RSS_MB). Called by `make fuzz`.
+# once, one process each, and prints per harness: executions, exec/s (their mean, and the last job's), final cov
+# and ft, corpus size, crashes, leaks, timeouts (hangs longer than FUZZ_TIMEOUT s) and OOMs (over FUZZ_RSS_MB).
+# Called by `make fuzz`.
 #
 # Fork mode (-fork=1 with -ignore_*) goes on after a crash, so one run finds more than the first bug; each
 # finding is saved as $FUZZ_OUT/artifacts/NAME/{crash,timeout,oom,leak}-SHA1 (reproduce: $FUZZ_OUT/fuzz_NAME
@@ -40,8 +41,11 @@ summarize() {
   leaks=$(find "$out/artifacts/$name" -name 'leak-*' | wc -l)
   timeouts=$(find "$out/artifacts/$name" -name 'timeout-*' | wc -l)
   ooms=$(find "$out/artifacts/$name" -name 'oom-*' | wc -l)
-  printf '%-5s %6ss  executions %10s  exec/s %6s  cov %5s  ft %6s  corpus %5s  crashes %s  leaks %s  timeouts %s  ooms %s\n' \
-    "$name" "${time:-?}" "${execs:-?}" "${rate:-?}" "${cov:-?}" "${ft:-?}" "${corp:-?}" "$crashes" "$leaks" "$timeouts" "$ooms"
+  local mean=?
+  [ -n "$execs" ] && [ "${time:-0}" -gt 0 ] && mean=$((execs / time))
+  printf '%-5s %6ss  executions %10s  exec/s %6s (last job %s)  cov %5s  ft %6s  corpus %5s  crashes %s  leaks %s  timeouts %s  ooms %s\n' \
+    "$name" "${time:-?}" "${execs:-?}" "$mean" "${rate:-?}" "${cov:-?}" "${ft:-?}" "${corp:-?}" "$crashes" "$leaks" \
+    "$timeouts" "$ooms"
   [ $((crashes + leaks + timeouts + ooms)) -eq 0 ]
 }
 
