@@ -6,6 +6,7 @@
 #   make test SAN=1 the same under AddressSanitizer + UndefinedBehaviorSanitizer
 #   make bench      benchmarks (rates and ratios; never pass/fail on time)
 #   make bench-peers mica against legacy FEniCS on the same problems (~15 min; docs/performance.md)
+#   make fuzz       libFuzzer harnesses (tests/fuzz/) with ASan+UBSan, each run FUZZ_SECONDS (default 1800)
 #
 # Normal builds go to bin/ lib/ build/; sanitizer builds to build-san/ so both can coexist.
 # `sudo bash tests/fresh_machine.sh` checks that make run and make test work on a fresh minimal Debian 12.
@@ -64,18 +65,23 @@ BENCH_BIN := $(BENCH_SRC:bench/%.c=$(OUT)/bench/%)
 all: $(BIN)/mica | deps
 
 help:
-	@sed -n '3,10p' Makefile
+	@sed -n '3,11p' Makefile
 
-# Installs whatever Debian package is missing (as root; sudo otherwise). Cheap when nothing is.
-deps:
-	@missing=$$(for p in $(DEB_PKGS); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
+# Installs whichever Debian package of the list $(1) is missing (as root; sudo otherwise), naming the target
+# $(2) in its messages. Cheap when nothing is.
+define install_missing
+	@missing=$$(for p in $(1); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
 	if [ -n "$$missing" ]; then \
-	  echo "make deps: installing" $$missing; \
+	  echo "make $(2): installing" $$missing; \
 	  sudo=""; [ "$$(id -u)" = 0 ] || sudo=sudo; \
 	  $$sudo apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing \
-	    || { echo "make deps: apt-get failed; install these packages: $$missing" >&2; exit 1; }; \
+	    || { echo "make $(2): apt-get failed; install these packages: $$missing" >&2; exit 1; }; \
 	fi
+endef
+
+deps:
+	$(call install_missing,$(DEB_PKGS),deps)
 
 $(OBJ)/%.o: %.c | deps
 	@mkdir -p $(dir $@)
@@ -127,7 +133,46 @@ bench-peers: $(BIN)/mica | deps
 	    || { echo "make bench-peers: apt-get failed; install python3-dolfin" >&2; exit 1; }; }
 	MICA_BIN=$(BIN)/mica /usr/bin/python3 bench/peers/peers.py
 
-clean:
-	rm -rf build build-san bin lib out
+# ---- fuzzing (tests/fuzz/, docs/verification.md "Fuzzing"): clang's libFuzzer, only for `make fuzz` ----
+# The library is built again with clang (through Open MPI's wrapper, OMPI_CC) into build-fuzz/, with coverage
+# instrumentation and ASan+UBSan. Each harness runs FUZZ_SECONDS on one core, both at once, in libFuzzer's fork
+# mode so that it goes on after a crash; new inputs and crash/timeout/OOM artifacts stay in build-fuzz/.
+FUZZ_PKGS := clang libclang-rt-14-dev
+FUZZ_CC ?= clang
+FUZZ_SECONDS ?= 1800
+FUZZ_TIMEOUT ?= 10
+FUZZ_RSS_MB ?= 2048
+FUZZ_OUT := build-fuzz
+FUZZ_HARNESSES := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
+FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined
+FUZZ_CFLAGS := $(CSTD) $(WARN) -O1 -g -fno-omit-frame-pointer $(FUZZ_SAN) -MMD -MP
+FUZZ_LIB_OBJ := $(LIB_SRC:%.c=$(FUZZ_OUT)/obj/%.o)
+FUZZ_CLI_OBJ := $(FUZZ_OUT)/obj/src/cli/commands.o # the registry of commands and their schemas (not main)
+.SECONDARY: $(FUZZ_CLI_OBJ)
 
--include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(EXT_OBJ:.o=.d)
+.PHONY: fuzz fuzz-build fuzz-deps
+
+fuzz-deps:
+	$(call install_missing,$(FUZZ_PKGS),fuzz-deps)
+
+$(FUZZ_OUT)/obj/%.o: %.c | deps fuzz-deps
+	@mkdir -p $(dir $@)
+	OMPI_CC=$(FUZZ_CC) mpicc $(CPPFLAGS) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link -c $< -o $@
+
+$(FUZZ_OUT)/libmica.a: $(FUZZ_LIB_OBJ)
+	rm -f $@ && ar rcs $@ $^
+
+$(FUZZ_OUT)/fuzz_%: tests/fuzz/fuzz_%.c $(FUZZ_CLI_OBJ) $(FUZZ_OUT)/libmica.a | deps fuzz-deps
+	OMPI_CC=$(FUZZ_CC) mpicc $(CPPFLAGS) $(FUZZ_CFLAGS) -fsanitize=fuzzer $< $(FUZZ_CLI_OBJ) $(FUZZ_OUT)/libmica.a \
+	  $(LDLIBS) -o $@
+
+fuzz-build: $(FUZZ_HARNESSES:%=$(FUZZ_OUT)/fuzz_%)
+
+fuzz: fuzz-build
+	@FUZZ_CC=$(FUZZ_CC) FUZZ_OUT=$(FUZZ_OUT) FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_TIMEOUT=$(FUZZ_TIMEOUT) FUZZ_RSS_MB=$(FUZZ_RSS_MB) \
+	  bash tests/fuzz/run.sh $(FUZZ_HARNESSES)
+
+clean:
+	rm -rf build build-san build-fuzz bin lib out
+
+-include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(EXT_OBJ:.o=.d) $(FUZZ_LIB_OBJ:.o=.d) $(FUZZ_CLI_OBJ:.o=.d)

@@ -108,6 +108,12 @@ typedef struct {
   int dim, tag;
 } GmshPhysical;
 
+/* An entry of an entity index: an entity's tag and its position in the tables of its dimension. */
+typedef struct {
+  int tag;
+  long entity;
+} GmshEntityKey;
+
 /* A mesh as read from a .msh file (4.1 ASCII or binary, 2.2 ASCII) or made from a .geo by the Gmsh library:
  * nodes, elements with their entity and source line, physical groups. */
 typedef struct {
@@ -129,6 +135,9 @@ typedef struct {
   int *entity_tags[4];
   long *entity_phys_start[4];
   int *entity_phys[4];
+  /* the entities of each dimension sorted by (tag, position), built once the mesh is read, so that finding an
+   * element's entity is a binary search rather than a scan of them all (gmsh_entity_physicals) */
+  GmshEntityKey *entity_index[4];
 } GmshMesh;
 
 /* Reads a .msh file, or meshes a .geo (a name ending in .geo) with the Gmsh library: size_factor > 0
@@ -146,7 +155,8 @@ void gmsh_where(const GmshMesh *mesh, long e, char *out, size_t size);
 /* Number of nodes and dimension of a supported element type (0 nodes: unsupported). */
 int gmsh_element_nodes(int type);
 int gmsh_element_dim(int type);
-/* Physical tags of the entity (dim, tag): count, and *phys pointing into the mesh. */
+/* Physical tags of the entity (dim, tag): count, and *phys pointing into the mesh. When several entities share
+ * the tag, the first one read. O(log entities). */
 long gmsh_entity_physicals(const GmshMesh *mesh, int dim, int tag, const int **phys);
 
 /* The discretization of a mesh: particles, element quadrature, boundary sets from physical groups. */

@@ -240,6 +240,7 @@ int gmsh_fail_type(const GmshReader *rd, long line, int type) {
 
 int gmsh_entities_alloc(GmshMesh *mesh, const long count[4]) {
   for (int d = 0; d < 4; d++) {
+    MICA_FREE(mesh->entity_index[d]);
     MICA_FREE(mesh->entity_tags[d]);
     MICA_FREE(mesh->entity_phys_start[d]);
     MICA_FREE(mesh->entity_phys[d]);
@@ -645,6 +646,24 @@ static int is_geo(const char *path) {
          (path[n - 1] | 32) == 'o';
 }
 
+static int compare_entity_key(const void *a, const void *b) {
+  const GmshEntityKey *x = a, *y = b;
+  if (x->tag != y->tag) return (x->tag > y->tag) - (x->tag < y->tag);
+  return (x->entity > y->entity) - (x->entity < y->entity);
+}
+
+/* mesh->entity_index of every dimension, from the entity tables however they were filled. */
+static int index_entities(GmshMesh *mesh) {
+  for (int d = 0; d < 4; d++) {
+    const long n = mesh->nentities[d];
+    MICA_FREE(mesh->entity_index[d]);
+    MICA_CALL(MICA_MALLOC(mesh->entity_index[d], n));
+    for (long e = 0; e < n; e++) mesh->entity_index[d][e] = (GmshEntityKey){mesh->entity_tags[d][e], e};
+    qsort(mesh->entity_index[d], (size_t)n, sizeof *mesh->entity_index[d], compare_entity_key);
+  }
+  return MICA_SUCCESS;
+}
+
 int gmsh_read(const char *path, double size_factor, GmshMesh *mesh) {
   int ierr = MICA_SUCCESS;
   GmshRawTags raw = {0};
@@ -653,12 +672,13 @@ int gmsh_read(const char *path, double size_factor, GmshMesh *mesh) {
   snprintf(mesh->path, sizeof mesh->path, "%s", path);
   if (is_geo(path)) {
     MICA_CALL_CLEANUP(gmsh_geo_mesh(path, size_factor, mesh));
-    goto cleanup;
+  } else {
+    MICA_CHECK(size_factor == 0, MICA_ERR_INPUT,
+               "%s: a mesh size factor applies to a .geo that mica meshes, not to a mesh file", path);
+    MICA_CALL(gmsh_load_file(path, "mesh file", &rd.buf, &rd.len));
+    MICA_CALL_CLEANUP(read_all(&rd, mesh, &raw));
   }
-  MICA_CHECK(size_factor == 0, MICA_ERR_INPUT,
-             "%s: a mesh size factor applies to a .geo that mica meshes, not to a mesh file", path);
-  MICA_CALL(gmsh_load_file(path, "mesh file", &rd.buf, &rd.len));
-  MICA_CALL_CLEANUP(read_all(&rd, mesh, &raw));
+  MICA_CALL_CLEANUP(index_entities(mesh));
 cleanup:
   MICA_FREE(rd.buf);
   MICA_FREE(raw.tag);
@@ -680,6 +700,7 @@ void gmsh_free(GmshMesh *mesh) {
   MICA_FREE(mesh->node);
   MICA_FREE(mesh->physicals);
   for (int d = 0; d < 4; d++) {
+    MICA_FREE(mesh->entity_index[d]);
     MICA_FREE(mesh->entity_tags[d]);
     MICA_FREE(mesh->entity_phys_start[d]);
     MICA_FREE(mesh->entity_phys[d]);
@@ -689,13 +710,17 @@ void gmsh_free(GmshMesh *mesh) {
 long gmsh_entity_physicals(const GmshMesh *mesh, int dim, int tag, const int **phys) {
   *phys = NULL;
   if (dim < 0 || dim > 3) return 0;
-  for (long e = 0; e < mesh->nentities[dim]; e++)
-    if (mesh->entity_tags[dim][e] == tag) {
-      const long start = mesh->entity_phys_start[dim][e];
-      *phys = &mesh->entity_phys[dim][start];
-      return mesh->entity_phys_start[dim][e + 1] - start;
-    }
-  return 0;
+  const GmshEntityKey *index = mesh->entity_index[dim];
+  long lo = 0, hi = mesh->nentities[dim]; /* the first key whose tag is not below `tag` */
+  while (lo < hi) {
+    const long mid = lo + (hi - lo) / 2;
+    if (index[mid].tag < tag) lo = mid + 1;
+    else hi = mid;
+  }
+  if (lo == mesh->nentities[dim] || index[lo].tag != tag) return 0;
+  const long e = index[lo].entity, start = mesh->entity_phys_start[dim][e];
+  *phys = &mesh->entity_phys[dim][start];
+  return mesh->entity_phys_start[dim][e + 1] - start;
 }
 
 void gmsh_where(const GmshMesh *mesh, long e, char *out, size_t size) {

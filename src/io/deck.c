@@ -121,7 +121,8 @@ static int parse_override_value(const char *text, const char *value_text, config
                                 config_setting_t **value) {
   char *rewritten;
   MICA_CALL(deck_text_value(text, value_text, &rewritten));
-  int ierr = deck_parse_value(scratch, rewritten, value);
+  *value = NULL; /* stays NULL when the text is no libconfig value (rewritten NULL) */
+  int ierr = rewritten ? deck_parse_value(scratch, rewritten, value) : MICA_SUCCESS;
   free(rewritten);
   MICA_CALL(ierr);
   if (*value) return MICA_SUCCESS;

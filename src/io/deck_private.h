@@ -44,7 +44,9 @@ typedef struct {
  * literals libconfig 1.5 would wrap: past 32 bits they get an L, past 64 bits a ".0" (a real number); a hex
  * or L literal past 64 bits is an error "file:line: ...". */
 int deck_text_read(const char *path, const char *include_dir, DeckText *text);
-/* The same rewriting for the value of --set `set` (errors say "--set SET: ..."); *rewritten is malloc'd. */
+/* The same rewriting for the value of --set `set` (errors say "--set SET: ..."); *rewritten is malloc'd, or NULL
+ * when the value holds a string where libconfig expects none (it is no libconfig value). In a deck such a
+ * string is an error "file:line: ...": libconfig 1.5's parser would leak it. */
 int deck_text_value(const char *set, const char *value, char **rewritten);
 /* Origin of line `line` (1-based) of the text; {0, 0} if out of range. */
 DeckLine deck_text_line(const DeckText *text, int line);

@@ -16,10 +16,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "deck_private.h"
 
-enum { INCLUDE_DEPTH_MAX = 10 }; /* libconfig's own limit */
+enum { INCLUDE_DEPTH_MAX = 10, /* libconfig's own limit */
+       NESTING_MAX = 256 };   /* brackets tracked for the place of strings; deeper ones are not judged */
+#define DECK_BYTES_MAX ((size_t)64 << 20) /* the longest deck file read */
+#define DECK_BYTES_TEXT "64 MB"
 
 typedef struct {
   DeckText *text;
@@ -32,6 +36,12 @@ typedef struct {
   int in_array, promote;
   size_t *ends;
   int nends, ends_capacity;
+  /* Where a string may stand (libconfig 1.5 leaks a string its parser does not expect, so such a string is
+   * refused here): the last token that is no comment or space ('=', ':', ',', a bracket; 's' a string, 'n' a
+   * name, 'v' a number; 0 at the start), the brackets open around it, and whether a --set value held one. */
+  char previous;
+  char open[NESTING_MAX];
+  int nopen, misplaced;
 } Expander;
 
 /* ---- the growing text and its line map ---- */
@@ -185,6 +195,42 @@ static int starts_number(const char *s) {
   return isdigit((unsigned char)s[0]) || (s[0] == '.' && isdigit((unsigned char)s[1]));
 }
 
+/* ---- where strings may stand ---- */
+
+/* A string is a value: after '=' or ':', an element after '[', '(' or ',' inside an array or list, or the next
+ * piece of a string written in pieces ("a" "b"). Anywhere else libconfig's parser fails on it. */
+static int string_allowed(const Expander *x) {
+  if (x->previous == '=' || x->previous == ':' || x->previous == 's') return 1;
+  if (x->nopen > NESTING_MAX) return 1; /* not tracked so deep: libconfig judges */
+  const char inner = x->nopen > 0 ? x->open[x->nopen - 1] : 0;
+  return strchr("[(,", x->previous) && x->previous && (inner == '[' || inner == '(');
+}
+
+/* Notes the token at s (not a comment or a space) for string_allowed. */
+static void note_token(Expander *x, char kind) {
+  if (kind == '{' || kind == '[' || kind == '(') {
+    if (x->nopen < NESTING_MAX) x->open[x->nopen] = kind;
+    x->nopen++;
+  } else if ((kind == '}' || kind == ']' || kind == ')') && x->nopen > 0) {
+    x->nopen--;
+  }
+  x->previous = kind;
+}
+
+/* A string where libconfig expects none: in the deck, an error naming its line; in a --set value, a mark that
+ * the value is no libconfig value (parse_override_value in deck.c takes it as a word). */
+static int check_string(Expander *x, const char *s, size_t n) {
+  if (string_allowed(x)) return MICA_SUCCESS;
+  if (x->file < 0) {
+    x->misplaced = 1;
+    return MICA_SUCCESS;
+  }
+  const int shown = n > 40 ? 40 : (int)n;
+  MICA_ERROR(MICA_ERR_INPUT, "%s:%d: syntax error: unexpected string %.*s%s (a string is the value of a setting, "
+             "name = \"text\";, or an element of an array or list)", x->text->files[x->file], x->line, shown, s,
+             shown < (int)n ? "...\"" : "");
+}
+
 /* ---- the scanner ---- */
 
 static int expand_file(Expander *x, const char *path, int depth);
@@ -248,18 +294,23 @@ static int scan(Expander *x, const char *src, int depth) {
       if (used) continue; /* the included file is in place */
     }
     if (used) {
+      if (*s == '"') MICA_CALL(check_string(x, s, used));
+      if (*s == '"') note_token(x, 's');
       MICA_CALL(copy_lines(x, s, used));
     } else if (isalpha((unsigned char)*s) || *s == '*' || *s == '_') { /* a name, digits and all */
       used = 1;
       while (s[used] && (isalnum((unsigned char)s[used]) || strchr("-_*", s[used]))) used++;
       MICA_CALL(append(x->text, s, used));
+      note_token(x, 'n');
     } else if (starts_number(s)) {
       MICA_CALL(put_number(x, s, &used));
+      note_token(x, 'v');
     } else {
       used = 1;
       MICA_CALL(*s == '\n' ? newline(x) : append(x->text, s, 1));
       if (*s == '[' || *s == ']') MICA_CALL(close_array(x));
       x->in_array |= *s == '[';
+      if (!isspace((unsigned char)*s)) note_token(x, *s);
     }
     if (*s == '\n' || (used && memchr(s, '\n', used))) line_start = 1;
     else if (!isspace((unsigned char)*s)) line_start = 0;
@@ -270,19 +321,36 @@ static int scan(Expander *x, const char *src, int depth) {
 
 /* ---- files ---- */
 
-static int slurp(const char *path, char **content) {
+/* The whole file, NUL-terminated; -1 with *why saying what is wrong. Only a regular file or a pipe (mica run
+ * <(...), a FIFO) is read: a directory would read as an empty deck, a device such as /dev/zero for ever. No
+ * deck is DECK_BYTES_MAX long: a longer stream is refused before it fills the memory. */
+static int slurp(const char *path, char **content, const char **why) {
+  struct stat st;
   FILE *stream = fopen(path, "rb");
-  if (!stream) return -1;
+  *why = NULL;
+  if (!stream || fstat(fileno(stream), &st) != 0) *why = strerror(errno);
+  else if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode))
+    *why = S_ISDIR(st.st_mode) ? "it is a directory, not a deck file" : "it is a device, not a deck file";
+  if (*why) {
+    if (stream) fclose(stream);
+    return -1;
+  }
   size_t size = 0, capacity = 4096;
   int ierr = MICA_MALLOC(*content, capacity);
   while (!ierr) {
     size += fread(*content + size, 1, capacity - size - 1, stream);
-    if (size + 1 < capacity) break;
+    if (size > DECK_BYTES_MAX) *why = "it is longer than " DECK_BYTES_TEXT ": not a deck";
+    if (*why || size + 1 < capacity) break;
     capacity *= 2;
     ierr = MICA_REALLOC(*content, capacity);
   }
+  if (!ierr && !*why && ferror(stream)) *why = strerror(errno);
   fclose(stream);
   if (ierr) return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  if (*why) {
+    MICA_FREE(*content);
+    return -1;
+  }
   (*content)[size] = '\0';
   return MICA_SUCCESS;
 }
@@ -311,17 +379,18 @@ static int expand_file(Expander *x, const char *name, int depth) {
     MICA_ERROR(MICA_ERR_INPUT, "%s:%d: @include \"%s\": includes nested more than %d deep (does a file include "
                "itself?)", x->text->files[parent], parent_line, name, INCLUDE_DEPTH_MAX);
   char *path = NULL, *content = NULL;
+  const char *why = NULL;
   int ierr = MICA_SUCCESS, file;
   if (depth == 0) MICA_CALL_CLEANUP(add_file(x->text, name, &file));
   else MICA_CALL_CLEANUP(include_path(x, name, &path));
   if (depth > 0) MICA_CALL_CLEANUP(add_file(x->text, path, &file));
-  ierr = slurp(x->text->files[file], &content);
+  ierr = slurp(x->text->files[file], &content, &why);
   if (ierr < 0) {
     ierr = depth == 0 ? mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_INPUT, "cannot read deck '%s': %s",
-                                       name, strerror(errno))
+                                       name, why)
                       : mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_INPUT,
                                        "%s:%d: cannot read included file '%s': %s", x->text->files[parent],
-                                       parent_line, x->text->files[file], strerror(errno));
+                                       parent_line, x->text->files[file], why);
     goto cleanup;
   }
   if (ierr) goto cleanup;
@@ -336,7 +405,7 @@ cleanup:
 
 int deck_text_read(const char *path, const char *include_dir, DeckText *text) {
   *text = (DeckText){0};
-  Expander x = {text, include_dir, -1, 0, NULL, 0, 0, NULL, 0, 0};
+  Expander x = {.text = text, .include_dir = include_dir, .file = -1};
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(append(text, "", 0));
   MICA_CALL_CLEANUP(expand_file(&x, path, 0));
@@ -350,13 +419,16 @@ cleanup:
 
 int deck_text_value(const char *set, const char *value, char **rewritten) {
   DeckText text = {0};
-  Expander x = {&text, NULL, -1, 0, set, 0, 0, NULL, 0, 0};
+  Expander x = {.text = &text, .file = -1, .set = set};
+  x.previous = '='; /* deck_parse_value reads the value as "v = VALUE;" */
   *rewritten = NULL;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(append(&text, "", 0));
   MICA_CALL_CLEANUP(scan(&x, value, -1));
-  *rewritten = text.text;
-  text.text = NULL;
+  if (!x.misplaced) {
+    *rewritten = text.text;
+    text.text = NULL;
+  }
 cleanup:
   free(x.ends);
   deck_text_free(&text);

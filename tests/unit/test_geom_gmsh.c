@@ -16,7 +16,8 @@
  *     bit for bit; ASCII files print 16 digits: within 1e-14 of the largest value of each array (measured:
  *     2.2 and 4.1 ASCII bit for bit alike, ASCII against binary at most 3.1e-15). A 2.2 file
  *     lists an element once per physical group: the copies are merged (square_groups). geometry.mesh_size_factor
- *     2 on plate_hole.geo equals `gmsh -2 -clscale 2` (plate_hole_clscale2.msh), bit for bit.
+ *     2 on plate_hole.geo equals `gmsh -2 -clscale 2` (plate_hole_clscale2.msh), bit for bit. Entities out of
+ *     tag order and a repeated entity tag (square_groups_shuffled) change nothing: the first entity read counts.
  *   - errors, each MICA_ERR_INPUT naming file:LINE: truncated file (inside a section, and between sections:
  *     a missing $Elements), version 4.0, second-order elements (with the remedy gmsh -order 1), an undefined
  *     node in an element, a node tag outside the header's range, not a mesh at all, a missing file; binary:
@@ -370,6 +371,20 @@ static void test_groups_merged(void **state) {
   mica_discretization_destroy(&ref);
 }
 
+/* The entity lookup is a binary search over the entities sorted by tag: entities listed out of tag order, and a
+ * second entity of a tag already read (the first one read counts, as the scan before it did), give the same
+ * discretization, bit for bit, as the file in order. */
+static void test_entity_order(void **state) {
+  (void)state;
+  MicaDiscretization *ref = load("tests/meshes/square_groups.msh", 2, 2);
+  MicaDiscretization *shuffled = load("tests/meshes/square_groups_shuffled.msh", 2, 2);
+  assert_same(ref, shuffled, 0);
+  assert_rel(set_measure(set_named(shuffled, "left")), 1.0, 1e-13, "left (not also bottom)");
+  assert_rel(set_measure(set_named(shuffled, "bottom")), 1.0, 1e-13, "bottom (not in left)");
+  mica_discretization_destroy(&shuffled);
+  mica_discretization_destroy(&ref);
+}
+
 static void test_size_factor(void **state) {
   (void)state;
   MicaDiscretization *cli = load("tests/meshes/plate_hole_clscale2.msh", 2, 2);
@@ -642,7 +657,7 @@ int main(void) {
       cmocka_unit_test(test_size_factor),     cmocka_unit_test(test_errors),
       cmocka_unit_test(test_binary_errors),   cmocka_unit_test(test_geo_refused),
       cmocka_unit_test(test_geo_words_allowed), cmocka_unit_test(test_geo_errors),
-      cmocka_unit_test(test_damaged_files),
+      cmocka_unit_test(test_damaged_files),   cmocka_unit_test(test_entity_order),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
