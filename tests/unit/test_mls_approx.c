@@ -17,25 +17,10 @@
 #include <cmocka.h>
 
 #include "mica/mls.h"
-
-/* The registered bases as a NULL-terminated array (the registry's order). */
-static const MlsBasisOps *const *bases_all(void) {
-  static const MlsBasisOps *all[64];
-  int n = 0;
-  for (; n < 63 && mls_basis_at(n); n++) all[n] = mls_basis_at(n);
-  all[n] = NULL;
-  return all;
-}
+#include "registry_arrays.h"
 
 
-/* The registered weights as a NULL-terminated array (the registry's order). */
-static const MlsWeightOps *const *weights_all(void) {
-  static const MlsWeightOps *all[64];
-  int n = 0;
-  for (; n < 63 && mls_weight_at(n); n++) all[n] = mls_weight_at(n);
-  all[n] = NULL;
-  return all;
-}
+
 
 static const double CENTER[3] = {3.0, -2.0, 1.0}; /* off the origin: the shifted basis must not care */
 

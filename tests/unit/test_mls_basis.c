@@ -21,15 +21,8 @@
 #include <cmocka.h>
 
 #include "mica/mls.h"
+#include "registry_arrays.h"
 
-/* The registered bases as a NULL-terminated array (the registry's order). */
-static const MlsBasisOps *const *bases_all(void) {
-  static const MlsBasisOps *all[64];
-  int n = 0;
-  for (; n < 63 && mls_basis_at(n); n++) all[n] = mls_basis_at(n);
-  all[n] = NULL;
-  return all;
-}
 
 #define MAX_TERMS 64 /* (3 + 1)^3 */
 #define FD_STEP 1e-5

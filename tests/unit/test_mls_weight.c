@@ -19,6 +19,7 @@
 #include <cmocka.h>
 
 #include "mica/mls.h"
+#include "registry_arrays.h"
 
 #define FD_STEP 1e-5
 #define FD_TOL 1e-7
@@ -30,14 +31,6 @@
 #define EXTRA_WEIGHTS 0
 #endif
 
-/* The registered weights as a NULL-terminated array (the registry's order). */
-static const MlsWeightOps *const *weights_all(void) {
-  static const MlsWeightOps *all[64];
-  int n = 0;
-  for (; n < 63 && mls_weight_at(n); n++) all[n] = mls_weight_at(n);
-  all[n] = NULL;
-  return all;
-}
 
 static const double exp_params[] = {0.25, 1.0, 2.0, 5.0};
 #define NUM_EXP_PARAMS (sizeof exp_params / sizeof exp_params[0])

@@ -23,6 +23,7 @@
 
 #include "mica/model.h"
 #include "mica/random.h"
+#include "registry_arrays.h"
 
 #define FD_STEP 1e-6
 #define FD_TOL 1e-6
@@ -137,14 +138,6 @@ static void for_each_F(const Case *c, const MicaMaterial *mat, FCheck check, dou
 #define EXTRA_MODELS 0
 #endif
 
-/* The registered classical models as a NULL-terminated array (the registry's order). */
-static const MicaModelOps *const *models_all(void) {
-  static const MicaModelOps *all[64];
-  int n = 0;
-  for (; n < 63 && mica_model_at(n); n++) all[n] = mica_model_at(n);
-  all[n] = NULL;
-  return all;
-}
 
 static void test_registry(void **state) {
   (void)state;
