@@ -90,7 +90,23 @@ $(OBJ)/%.o: %.c | deps
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
-$(LIB)/libmica.a: $(LIB_OBJ)
+# lib/libmica.a holds one relocatable object per folder (build/obj/lib/FOLDER.o, `ld -r` of its objects) whose
+# only global symbols are the public API, mica_* and mls_* (the MLS library's own prefix): a folder's cross-file
+# functions (deck_*, gmsh_*, bc_point, redistribution_*, ...) become local to it, so nothing outside can call them
+# (tests/cli/library_symbols.sh). Under SAN=1 the sanitizers' own globals stay global.
+LIB_DIRS := util mls io geom models solve bc assemble fe parallel
+LIB_PARTS := $(LIB_DIRS:%=$(OBJ)/lib/%.o)
+KEEP_GLOBAL := --keep-global-symbol='mica_*' --keep-global-symbol='mls_*'
+ifeq ($(SAN),1)
+  KEEP_GLOBAL += --keep-global-symbol='__asan*' --keep-global-symbol='__odr_asan*'
+endif
+$(foreach d,$(LIB_DIRS),$(eval $(OBJ)/lib/$(d).o: $(filter $(OBJ)/src/$(d)/%,$(LIB_OBJ))))
+$(LIB_PARTS): $(OBJ)/lib/%.o:
+	@mkdir -p $(dir $@)
+	ld -r -o $@.tmp $^
+	objcopy --wildcard $(KEEP_GLOBAL) $@.tmp $@ && rm -f $@.tmp
+
+$(LIB)/libmica.a: $(LIB_PARTS)
 	@mkdir -p $(dir $@)
 	rm -f $@ && ar rcs $@ $^
 
