@@ -70,7 +70,7 @@ typedef struct MicaApprox {
 } MicaApprox;
 
 extern const MicaApproxOps mica_approx_mls;
-/* problem.method: efg (the default), fe (src/assemble/cache.c). */
+/* problem.method: efg (the default), fe (src/fe/fe_approx.c, above both types' folders). */
 extern MicaRegistry mica_approx_registry;
 static inline int mica_approx_has(const MicaApproxOps *ops, unsigned flag) { return mica_type_has(&ops->type, flag); }
 
