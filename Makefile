@@ -42,9 +42,12 @@ CFLAGS := $(CSTD) $(WARN) $(OPT) $(SANFLAGS) -MMD -MP
 LDFLAGS := $(SANFLAGS)
 OBJ := $(OUT)/obj
 
-LIB_SRC := $(wildcard src/util/*.c src/mls/*.c src/io/*.c src/geom/*.c src/models/*.c src/solve/*.c src/bc/*.c src/assemble/*.c src/fe/*.c src/study/*.c src/parallel/*.c)
+LIB_SRC := $(wildcard src/util/*.c src/mls/*.c src/io/*.c src/geom/*.c src/models/*.c src/solve/*.c src/bc/*.c src/assemble/*.c src/fe/*.c src/parallel/*.c)
+# The application layer (the commands) and the program: in the mica binary, not in lib/libmica.a.
+APP_SRC := $(wildcard src/app/*.c)
 CLI_SRC := $(wildcard src/cli/*.c)
 LIB_OBJ := $(LIB_SRC:%.c=$(OBJ)/%.o)
+APP_OBJ := $(APP_SRC:%.c=$(OBJ)/%.o)
 CLI_OBJ := $(CLI_SRC:%.c=$(OBJ)/%.o)
 TEST_SRC := $(wildcard tests/unit/test_*.c)
 TEST_BIN := $(TEST_SRC:tests/unit/%.c=$(OUT)/tests/%)
@@ -87,17 +90,33 @@ $(OBJ)/%.o: %.c | deps
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
-$(LIB)/libmica.a: $(LIB_OBJ)
+# lib/libmica.a holds one relocatable object per folder (build/obj/lib/FOLDER.o, `ld -r` of its objects) whose
+# only global symbols are the public API, mica_* and mls_* (the MLS library's own prefix): a folder's cross-file
+# functions (deck_*, gmsh_*, bc_point, redistribution_*, ...) become local to it, so nothing outside can call them
+# (tests/cli/library_symbols.sh). Under SAN=1 the sanitizers' own globals stay global.
+LIB_DIRS := util mls io geom models solve bc assemble fe parallel
+LIB_PARTS := $(LIB_DIRS:%=$(OBJ)/lib/%.o)
+KEEP_GLOBAL := --keep-global-symbol='mica_*' --keep-global-symbol='mls_*'
+ifeq ($(SAN),1)
+  KEEP_GLOBAL += --keep-global-symbol='__asan*' --keep-global-symbol='__odr_asan*'
+endif
+$(foreach d,$(LIB_DIRS),$(eval $(OBJ)/lib/$(d).o: $(filter $(OBJ)/src/$(d)/%,$(LIB_OBJ))))
+$(LIB_PARTS): $(OBJ)/lib/%.o:
+	@mkdir -p $(dir $@)
+	ld -r -o $@.tmp $^
+	objcopy --wildcard $(KEEP_GLOBAL) $@.tmp $@ && rm -f $@.tmp
+
+$(LIB)/libmica.a: $(LIB_PARTS)
 	@mkdir -p $(dir $@)
 	rm -f $@ && ar rcs $@ $^
 
-$(BIN)/mica: $(CLI_OBJ) $(LIB)/libmica.a
+$(BIN)/mica: $(CLI_OBJ) $(APP_OBJ) $(LIB)/libmica.a
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS) $(CLI_OBJ) $(LIB)/libmica.a $(LDLIBS) -o $@
+	$(CC) $(LDFLAGS) $(CLI_OBJ) $(APP_OBJ) $(LIB)/libmica.a $(LDLIBS) -o $@
 
-$(OUT)/tests/mica-ext: $(CLI_OBJ) $(EXT_OBJ) $(LIB)/libmica.a
+$(OUT)/tests/mica-ext: $(CLI_OBJ) $(APP_OBJ) $(EXT_OBJ) $(LIB)/libmica.a
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS) $(CLI_OBJ) $(EXT_OBJ) $(LIB)/libmica.a $(LDLIBS) -o $@
+	$(CC) $(LDFLAGS) $(CLI_OBJ) $(APP_OBJ) $(EXT_OBJ) $(LIB)/libmica.a $(LDLIBS) -o $@
 
 $(OUT)/tests/%_ext: tests/unit/%.c $(EXT_OBJ) $(LIB)/libmica.a | deps
 	@mkdir -p $(dir $@)
@@ -146,7 +165,8 @@ FUZZ_OUT := build-fuzz
 FUZZ_HARNESSES := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
 FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined
 FUZZ_CFLAGS := $(CSTD) $(WARN) -O1 -g -fno-omit-frame-pointer $(FUZZ_SAN) -MMD -MP
-FUZZ_LIB_OBJ := $(LIB_SRC:%.c=$(FUZZ_OUT)/obj/%.o)
+# the library and the application layer (src/cli/commands.o names the commands of src/app)
+FUZZ_LIB_OBJ := $(LIB_SRC:%.c=$(FUZZ_OUT)/obj/%.o) $(APP_SRC:%.c=$(FUZZ_OUT)/obj/%.o)
 FUZZ_CLI_OBJ := $(FUZZ_OUT)/obj/src/cli/commands.o # the registry of commands and their schemas (not main)
 .SECONDARY: $(FUZZ_CLI_OBJ)
 
@@ -175,4 +195,4 @@ fuzz: fuzz-build
 clean:
 	rm -rf build build-san build-fuzz bin lib out
 
--include $(LIB_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(EXT_OBJ:.o=.d) $(FUZZ_LIB_OBJ:.o=.d) $(FUZZ_CLI_OBJ:.o=.d)
+-include $(LIB_OBJ:.o=.d) $(APP_OBJ:.o=.d) $(CLI_OBJ:.o=.d) $(EXT_OBJ:.o=.d) $(FUZZ_LIB_OBJ:.o=.d) $(FUZZ_CLI_OBJ:.o=.d)

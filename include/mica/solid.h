@@ -13,6 +13,7 @@
 #include "mica/geom.h"
 #include "mica/mls.h"
 #include "mica/model.h"
+#include "mica/newton.h"
 #include "mica/registry.h"
 #include "mica/sparse.h"
 
@@ -69,7 +70,7 @@ typedef struct MicaApprox {
 } MicaApprox;
 
 extern const MicaApproxOps mica_approx_mls;
-/* problem.method: efg (the default), fe (src/assemble/cache.c). */
+/* problem.method: efg (the default), fe (src/fe/fe_approx.c, above both types' folders). */
 extern MicaRegistry mica_approx_registry;
 static inline int mica_approx_has(const MicaApproxOps *ops, unsigned flag) { return mica_type_has(&ops->type, flag); }
 
@@ -264,39 +265,13 @@ void mica_solid_deformation_gradient(const MicaSolid *s, const MicaShapeCache *c
 
 /* ---- Newton -------------------------------------------------------------------------------------------- */
 
-typedef struct MicaNewtonOptions {
-  int steps;           /* load steps (load factor t = s / steps) */
-  int max_iterations;  /* per step */
-  double rtol, atol;   /* converged when |R| ≤ max(rtol |R_0|, atol), or |Δu| ≤ rtol |u|, after ≥ 1 iteration */
-  int line_search;     /* backtracking on |R| */
-  int max_cuts;        /* times a failing step may be halved */
-  const MicaLinearSolverOps *linear; /* NULL: auto (CHOLMOD if the problem is SPD, else UMFPACK; CHOLMOD
-                                        falling back to UMFPACK if the matrix turns out indefinite) */
-  int verbose;         /* one monitor line per iteration */
-  MicaKrylovOptions krylov; /* the iterative linear solvers' settings (solver.linear = "cg") */
-} MicaNewtonOptions;
+/* The solid as a problem for Newton (src/assemble/solid_newton.c): residual and tangent by mica_solid_assemble,
+ * affine by mica_solid_linear, the linear solver on the run's distribution under MPI, CHOLMOD preferred when the
+ * tangent is symmetric positive definite (UMFPACK its fallback if it is not), and the deck error of a singular
+ * first tangent. Holds pointers into s only. */
+void mica_solid_nonlinear_problem(MicaSolid *s, MicaNonlinearProblem *problem);
 
-typedef struct MicaNewtonStats {
-  int steps_done, cuts, iterations_total;
-  int last_iterations;
-  double residual_history[64]; /* |R| per iteration of the last step */
-  double increment_history[64]; /* |Δu| per iteration of the last step (quadratic convergence evidence) */
-  int nhistory, nincrements;
-  double time_assemble, time_factor, time_solve;
-  int assemblies, tangent_assemblies; /* assembly passes (all; of which with the tangent) */
-  int residual_updates; /* residuals of a linear problem taken as R + K du instead of an assembly */
-  double cpu_assemble; /* thread CPU time of the assemblies (mica_cputime) */
-  const char *linear_name;
-  MicaLinearSolverStats linear;
-  double load_factor;        /* the last converged load factor: 1 when solved, 0 before any step converged */
-  double load_factor_failed; /* the load factor of the step that failed for good (0: none did) */
-  int failed;                /* 1: a step failed after its cut-backs; u is the last converged state */
-} MicaNewtonStats;
-
-/* Solves from u (initial guess, updated in place) to load factor 1; on_step (may be NULL) is called after
- * every converged step with the load factor. A step that fails numerically even after its cut-backs ends
- * the solve with MICA_ERR_NUMERIC, stats->failed = 1, u back at the last converged state (stats->load_factor)
- * and a message that says how far the solve got; any other error leaves stats->failed = 0. */
+/* mica_nonlinear_solve (mica/newton.h) on mica_solid_nonlinear_problem(s). */
 int mica_newton_solve(MicaSolid *s, const MicaNewtonOptions *opt, double *u,
                       int (*on_step)(void *ctx, int step, double t, const double *u), void *ctx,
                       MicaNewtonStats *stats);

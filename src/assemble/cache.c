@@ -4,7 +4,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mica/fe.h"
 #include "mica/solid.h"
 
 /* Appends one point's shape functions, growing the arrays geometrically. */
@@ -113,7 +112,3 @@ static const double *mls_particle_spacing(const void *ctx) { return mls_spacing(
 const MicaApproxOps mica_approx_mls = {
     {"efg", "MLS shape functions (element-free Galerkin), C¹ and smoother: Hessians", MICA_APPROX_MLS, NULL, NULL},
     2, mls_points, mls_at_particles, mls_particle_spacing};
-
-static const MicaType *const builtin_approximations[] = {&mica_approx_mls.type, &mica_approx_fe.type, NULL};
-
-MicaRegistry mica_approx_registry = {"approximation", "efg", builtin_approximations, NULL, 0, NULL};

@@ -210,7 +210,7 @@ static int publish(MicaStaging *staging, const char *outdir, MicaJson *summary, 
 }
 
 /* The command failed numerically (failure agreed by every rank). If it wrote what it reached — its summary
- * says "status": "failed" (src/study/run.c) — rank 0 publishes that like a success's results; the failure is
+ * says "status": "failed" (src/app/run.c) — rank 0 publishes that like a success's results; the failure is
  * then set again and agreed, so that every rank exits 3 with its message. Rank 0's summary decides for all:
  * the ranks must take the same collective steps. A failure to publish replaces it (with its reason). */
 static int publish_reached(MicaStaging *staging, const char *outdir, MicaJson *summary, double start) {

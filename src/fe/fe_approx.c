@@ -164,3 +164,9 @@ const MicaApproxOps mica_approx_fe = {
     {"fe", "Lagrange finite elements (Q1 / hex8, Q2 / hex27) on the particles, C⁰: the baseline",
      MICA_APPROX_INTERPOLATING, NULL, NULL},
     1, fe_points, fe_particles, fe_spacing};
+
+/* The registry lists both built-in approximations, so it lives in the higher of their folders: src/fe uses
+ * src/assemble (the shape cache), never the reverse (tests/cli/layering.sh). */
+static const MicaType *const builtin_approximations[] = {&mica_approx_mls.type, &mica_approx_fe.type, NULL};
+
+MicaRegistry mica_approx_registry = {"approximation", "efg", builtin_approximations, NULL, 0, NULL};

@@ -7,24 +7,24 @@
  *   - the first iteration of a step assembles the residual and the tangent in one pass (the tangent is
  *     needed unless the step starts converged, which only |R| ≤ atol allows);
  *   - a line search that accepts a step has assembled R(u + α Δu): the next iteration uses it;
- *   - for a linear problem (mica_solid_linear: R(u) = K u − f exactly) the residual after a solve is
- *     R + K Δu, one product with the assembled tangent instead of an assembly: the convergence check and
- *     the log then show the true residual of the new u up to round-off, marked "(R + K du)". */
+ *   - for an affine problem (MicaNonlinearProblem.affine: R(u) = K u − f exactly) the residual after a solve
+ *     is R + K Δu, one product with the assembled tangent instead of an assembly: the convergence check and
+ *     the log then show the true residual of the new u up to round-off, marked "(R + K du)".
+ * The problem comes through callbacks (mica/newton.h): this file knows no solid and no MPI. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "mica/parallel.h"
-#include "mica/solid.h"
+#include "mica/newton.h"
 #include "mica/timer.h"
 
 typedef struct {
-  MicaSolid *s;
+  const MicaNonlinearProblem *p;
   const MicaNewtonOptions *opt;
   MicaNewtonStats *stats;
   MicaLinearSolver *linear;
-  int auto_linear; /* may switch from CHOLMOD to UMFPACK when the tangent is indefinite */
+  const MicaLinearSolverOps *fallback; /* auto mode: replaces the solver whose factorization failed */
   int factored;    /* a tangent has been factored: a singular one is no longer the reference state's */
   double *R, *du, *trial, *saved; /* trial: line search; saved: u at the start of a step, for cut-back */
 } Newton;
@@ -37,7 +37,7 @@ static double norm2(long n, const double *v) {
 
 static int assemble(Newton *nw, double t, const double *u, int with_tangent) {
   const double start = mica_wtime(), cpu = mica_cputime();
-  int ierr = mica_solid_assemble(nw->s, t, u, nw->R, with_tangent ? nw->s->K : NULL);
+  int ierr = nw->p->residual(nw->p->ctx, t, u, nw->R, with_tangent ? nw->p->K : NULL);
   nw->stats->time_assemble += mica_wtime() - start;
   nw->stats->assemblies++;
   if (with_tangent) nw->stats->tangent_assemblies++;
@@ -45,61 +45,54 @@ static int assemble(Newton *nw, double t, const double *u, int with_tangent) {
   return ierr;
 }
 
-/* Linear problem: R(u + Δu) = R(u) + K Δu. solve_linear left −R(u) in R; the product goes through trial. */
+/* Affine problem: R(u + Δu) = R(u) + K Δu. solve_linear left −R(u) in R; the product goes through trial. */
 static void linear_residual_update(Newton *nw) {
-  const long n = nw->s->ndof;
-  mica_sparse_matvec(nw->s->K, nw->du, nw->trial);
+  const long n = nw->p->n;
+  mica_sparse_matvec(nw->p->K, nw->du, nw->trial);
   for (long i = 0; i < n; i++) nw->R[i] = nw->trial[i] - nw->R[i];
   nw->stats->residual_updates++;
 }
 
-/* A parallel run solves through the distributed solver, with ops on rank 0 or in the subdomains. */
+/* Through the problem's hook when it has one (a distributed solver, say). */
 static int create_linear(Newton *nw, const MicaLinearSolverOps *ops) {
-  if (nw->s->opt.parallel) MICA_CALL(mica_parallel_linear_create(nw->s->opt.parallel, ops, &nw->linear));
+  if (nw->p->linear_create) MICA_CALL(nw->p->linear_create(nw->p->ctx, ops, &nw->linear));
   else MICA_CALL(mica_linear_solver_create(ops, &nw->linear));
-  return mica_linear_solver_set_krylov(nw->linear, &nw->opt->krylov);
-}
-
-static int choose_linear_solver(Newton *nw) {
-  const MicaLinearSolverOps *ops = nw->opt->linear;
-  nw->auto_linear = ops == NULL;
-  if (!ops) ops = mica_solid_symmetric_definite(nw->s) ? &mica_linear_cholmod : &mica_linear_umfpack;
-  MICA_CALL(create_linear(nw, ops));
+  MICA_CALL(mica_linear_solver_set_krylov(nw->linear, &nw->opt->krylov));
   nw->stats->linear_name = ops->type.name;
   return MICA_SUCCESS;
 }
 
-/* A first tangent (at the reference state, before any load has deformed the body) that CHOLMOD finds not positive
- * definite or UMFPACK singular is the deck's doing: some motion costs no energy there and nothing holds it. The
- * rigid motions of the whole body were checked before assembly (mica_dirichlet_check_rigid), so it is part of the
- * body, spurious zero-energy modes of too low a quadrature, or a Nitsche stabilization too small to keep the
- * tangent definite: a deck error (exit 2), not a numerical failure. */
-static int first_tangent_singular(void) {
-  char cause[512];
-  snprintf(cause, sizeof cause, "%s", mica_error_message());
-  MICA_ERROR(MICA_ERR_INPUT, "the body can move freely or part of it can: the first tangent, at the undeformed "
-             "state, is singular or indefinite (%s); add Dirichlet conditions that hold every part of the body, "
-             "raise quadrature.order if the quadrature leaves zero-energy modes, or raise bc.alpha with Nitsche",
-             cause);
+/* The options' solver, or in auto mode the problem's preferred one with its fallback. */
+static int choose_linear_solver(Newton *nw) {
+  const MicaLinearSolverOps *ops = nw->opt->linear;
+  nw->fallback = NULL;
+  if (!ops) {
+    ops = nw->p->linear_preferred;
+    nw->fallback = nw->p->linear_fallback;
+  }
+  if (!ops) MICA_ERROR(MICA_ERR_ARGUMENT, "the nonlinear problem names no linear solver");
+  return create_linear(nw, ops);
 }
 
-/* Factor and solve K du = −R. In auto mode an indefinite tangent (CHOLMOD refuses it) moves the solve to
- * UMFPACK for the rest of the run, with a note in the log. */
+/* Factor and solve K du = −R. In auto mode a factorization that fails numerically (CHOLMOD refuses an
+ * indefinite tangent) moves the solve to the problem's fallback for the rest of the run, with a note in the log.
+ * A direct solver's failure at the first factorization is the problem's to explain (first_factor_failed). */
 static int solve_linear(Newton *nw) {
-  const long n = nw->s->ndof;
+  const long n = nw->p->n;
   double start = mica_wtime();
-  int ierr = mica_linear_solver_factor(nw->linear, nw->s->K);
-  if (ierr == MICA_ERR_NUMERIC && nw->auto_linear && !strcmp(nw->stats->linear_name, "cholmod")) {
-    if (nw->opt->verbose) printf("  note: the tangent is not positive definite; switching to UMFPACK\n");
+  int ierr = mica_linear_solver_factor(nw->linear, nw->p->K);
+  if (ierr == MICA_ERR_NUMERIC && nw->fallback) {
+    if (nw->opt->verbose && nw->p->fallback_note) printf("  note: %s\n", nw->p->fallback_note);
     mica_error_clear();
     mica_linear_solver_destroy(&nw->linear);
-    MICA_CALL(create_linear(nw, &mica_linear_umfpack));
-    nw->stats->linear_name = "umfpack";
-    ierr = mica_linear_solver_factor(nw->linear, nw->s->K);
+    MICA_CALL(create_linear(nw, nw->fallback));
+    nw->fallback = NULL;
+    ierr = mica_linear_solver_factor(nw->linear, nw->p->K);
   }
   nw->stats->time_factor += mica_wtime() - start;
-  if (ierr == MICA_ERR_NUMERIC && !nw->factored && !mica_linear_solver_iterative(nw->linear->ops))
-    return first_tangent_singular();
+  if (ierr == MICA_ERR_NUMERIC && !nw->factored && !mica_linear_solver_iterative(nw->linear->ops) &&
+      nw->p->first_factor_failed)
+    return nw->p->first_factor_failed(nw->p->ctx);
   MICA_CALL(ierr);
   nw->factored = 1;
   for (long i = 0; i < n; i++) nw->R[i] = -nw->R[i];
@@ -112,7 +105,7 @@ static int solve_linear(Newton *nw) {
 /* Backtracking on |R|: halve the step until the residual decreases (at most 6 halvings). *have_residual = 1
  * when a step was accepted: R then holds R(u + α Δu), which the next iteration need not assemble again. */
 static int line_search(Newton *nw, double t, double *u, double rnorm, double *alpha_out, int *have_residual) {
-  const long n = nw->s->ndof;
+  const long n = nw->p->n;
   double alpha = 1.0;
   *have_residual = 0;
   for (int k = 0; k < 7; k++, alpha *= 0.5) {
@@ -145,10 +138,10 @@ static void monitor(const Newton *nw, int step, double t, int it, double rnorm, 
 
 /* Newton iterations at load factor t. Returns MICA_SUCCESS when converged, MICA_ERR_NUMERIC otherwise. */
 static int newton_step(Newton *nw, int step, double t, double *u) {
-  const long n = nw->s->ndof;
+  const long n = nw->p->n;
   double r0 = 0, dunorm = 0;
   int have_residual = 0, updated = 0; /* R already holds R(u): from the line search, or R + K Δu */
-  const int linear = mica_solid_linear(nw->s);
+  const int linear = nw->p->affine;
   nw->stats->nhistory = nw->stats->nincrements = 0;
   for (int it = 0;; it++) {
     if (!have_residual) MICA_CALL(assemble(nw, t, u, it == 0));
@@ -191,7 +184,7 @@ static int give_up(Newton *nw, double *u, double target, int may_cut) {
   MicaNewtonStats *st = nw->stats;
   char cause[1024], why[128], reached[128];
   snprintf(cause, sizeof cause, "%s", mica_error_message());
-  memcpy(u, nw->saved, sizeof(double) * (size_t)nw->s->ndof);
+  memcpy(u, nw->saved, sizeof(double) * (size_t)nw->p->n);
   st->failed = 1;
   st->load_factor_failed = target;
   if (!may_cut)
@@ -211,11 +204,11 @@ static int give_up(Newton *nw, double *u, double target, int may_cut) {
  * ends at 0.9999999999999999, and the outputs would say so). k and den are integers held exactly in doubles while
  * den ≤ 2^53, so no cut goes beyond that (a step of 1e-16 of the load would not be a step anyway). */
 static int run_steps(Newton *nw, double *u, int (*on_step)(void *, int, double, const double *), void *ctx) {
-  const long n = nw->s->ndof;
+  const long n = nw->p->n;
   double k = 0, den = nw->opt->steps, t = 0;
   int step = 0;
   /* a linear problem's tangent does not depend on the load: a smaller step cannot cure a failed solve */
-  const int may_cut = !mica_solid_linear(nw->s);
+  const int may_cut = !nw->p->affine;
   while (k < den) {
     const double target = (k + 1) / den;
     memcpy(nw->saved, u, sizeof(double) * (size_t)n);
@@ -240,16 +233,17 @@ static int run_steps(Newton *nw, double *u, int (*on_step)(void *, int, double, 
   return MICA_SUCCESS;
 }
 
-int mica_newton_solve(MicaSolid *s, const MicaNewtonOptions *opt, double *u,
-                      int (*on_step)(void *ctx, int step, double t, const double *u), void *ctx,
-                      MicaNewtonStats *stats) {
+int mica_nonlinear_solve(const MicaNonlinearProblem *problem, const MicaNewtonOptions *opt, double *u,
+                         int (*on_step)(void *ctx, int step, double t, const double *u), void *ctx,
+                         MicaNewtonStats *stats) {
   memset(stats, 0, sizeof *stats);
-  Newton nw = {s, opt, stats, NULL, 0, 0, NULL, NULL, NULL, NULL};
+  Newton nw = {problem, opt, stats, NULL, NULL, 0, NULL, NULL, NULL, NULL};
+  const long n = problem->n;
   int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(MICA_MALLOC(nw.R, s->ndof));
-  MICA_CALL_CLEANUP(MICA_MALLOC(nw.du, s->ndof));
-  MICA_CALL_CLEANUP(MICA_MALLOC(nw.trial, s->ndof));
-  MICA_CALL_CLEANUP(MICA_MALLOC(nw.saved, s->ndof));
+  MICA_CALL_CLEANUP(MICA_MALLOC(nw.R, n));
+  MICA_CALL_CLEANUP(MICA_MALLOC(nw.du, n));
+  MICA_CALL_CLEANUP(MICA_MALLOC(nw.trial, n));
+  MICA_CALL_CLEANUP(MICA_MALLOC(nw.saved, n));
   MICA_CALL_CLEANUP(choose_linear_solver(&nw));
   MICA_CALL_CLEANUP(run_steps(&nw, u, on_step, ctx));
 cleanup:

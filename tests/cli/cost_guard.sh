@@ -1,4 +1,4 @@
-# The cost guard (src/study/estimate.c, docs/performance.md §the cost estimate): decks whose estimated peak
+# The cost guard (src/app/estimate.c, docs/performance.md §the cost estimate): decks whose estimated peak
 # memory exceeds limits.memory_gb (default: the physical memory) are refused with exit 2 before anything is
 # allocated, naming the deck line, the estimate and the setting; sweeps, studies and MLS sample lists beyond
 # their caps, and mesh files that are not regular files or are too large, likewise. The estimate is checked

@@ -1,4 +1,4 @@
-# quadrature.error_order (src/study/run_output.c): the error norms on Gauss points of their own, so that the error
+# quadrature.error_order (src/app/run_output.c): the error norms on Gauss points of their own, so that the error
 # measure does not change with the solve's quadrature.order (the peer comparison, docs/performance.md, varies it).
 # Timoshenko beam, quadratic basis: with 5 x 5 points per cell the solve's points already integrate the energy
 # error to 1e-3 (8 x 8 gives the same value to 1e-3 relative); with 3 x 3 points the solve's points misjudge it

@@ -1,4 +1,4 @@
-# output.quadrature_fields (src/study/quadrature_output.c): the fields at the error-norm points, from which a
+# output.quadrature_fields (src/app/quadrature_output.c): the fields at the error-norm points, from which a
 # reader computes its own error norms. On the Timoshenko beam (exact solution, plane stress) the file must
 # reproduce mica's own numbers: Σ w W over the rows = the `energy` probe (1e-10 relative: the same points, the
 # same kernel; only the summation order and the %.17g print differ), W = ½ ε:C:ε of the row's own gradients

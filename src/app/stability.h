@@ -1,4 +1,4 @@
-/* Internal interface of `mica stability` (src/study/stability*.c; docs/theory.md §stability).
+/* Internal interface of `mica stability` (src/app/stability*.c; docs/theory.md §stability).
  *
  *   stability.c        the command: options, the eigen-mode analysis, the moment-matrix conditioning
  *   stability_patch.c  linear and quadratic patch tests on the deck's discretization and method

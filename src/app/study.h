@@ -1,6 +1,6 @@
-/* Internal interface of `mica study` (src/study/study*.c): speed against accuracy. A run deck with an exact
+/* Internal interface of `mica study` (src/app/study*.c): speed against accuracy. A run deck with an exact
  * solution (or a probe with a reference value) is solved for every combination of the values of some of
- * its settings (the `study.choices`, read with the sweep's value lists: src/study/sweep_spec.c); each
+ * its settings (the `study.choices`, read with the sweep's value lists: src/app/sweep_spec.c); each
  * combination's error and costs are measured, the Pareto front of error against time is marked, and the
  * fastest combination that reaches the target error is named. study_spec.c: reading and checking the
  * `study` group; study.c: the combinations, the front, the summary; study_output.c: study.csv and charts. */

@@ -1,4 +1,4 @@
-/* Shared by the study commands (src/study). */
+/* Shared by the study commands (src/app). */
 #ifndef MICA_STUDY_COMMON_H
 #define MICA_STUDY_COMMON_H
 
@@ -24,7 +24,7 @@ void mica_study_log_close(int saved);
 /* command->run(deck, dir, summary) with stdout in dir/run.log. The returned code is the run's. */
 int mica_study_run_logged(const MicaCommand *command, const MicaDeck *deck, const char *dir, MicaJson *summary);
 /* 1 if a solve that failed wrote what it reached: its summary says "status": "failed" (a Newton run that stopped
- * after its cut-backs, src/study/run.c); any other failure leaves the "ok" its caller put there. */
+ * after its cut-backs, src/app/run.c); any other failure leaves the "ok" its caller put there. */
 int mica_study_solve_reached(const MicaJson *summary);
 /* Adds a failure to such a summary: "error" (the message) and "exit_status" (3), as a point that failed
  * otherwise has them. */

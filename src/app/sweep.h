@@ -1,4 +1,4 @@
-/* Internal interface of `mica sweep` (src/study/sweep*.c): a run deck solved at every point of a grid (or
+/* Internal interface of `mica sweep` (src/app/sweep*.c): a run deck solved at every point of a grid (or
  * a zip) of values of some of its settings, each point a `mica run` of the deck loaded again with the
  * point's values as overrides. The deck is the run deck (run_schema.c holds the sweep keys); sweep_spec.c: reading and checking the `sweep`
  * group; sweep.c: the points, the comparison of models, the summary; sweep_output.c: sweep.csv and the

@@ -1,4 +1,4 @@
-/* Internal interface of `mica run` and `mica check` (src/study/run*.c). */
+/* Internal interface of `mica run` and `mica check` (src/app/run*.c). */
 #ifndef MICA_RUN_H
 #define MICA_RUN_H
 
