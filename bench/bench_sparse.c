@@ -112,7 +112,7 @@ static void run_solver(const MicaLinearSolverOps *ops, const Problem *p, MicaSpa
   MicaLinearSolver *solver = NULL;
   double *b = malloc((size_t)A->n * sizeof *b), *x = malloc((size_t)A->n * sizeof *x), entries;
   if (!b || !x || mica_linear_solver_create(ops, &solver)) {
-    fprintf(stderr, "bench_sparse: cannot set up %s\n", ops->name);
+    fprintf(stderr, "bench_sparse: cannot set up %s\n", ops->type.name);
     exit(1);
   }
   for (long i = 0; i < A->n; i++) b[i] = sin(0.37 * (double)i);
@@ -130,11 +130,11 @@ static void run_solver(const MicaLinearSolverOps *ops, const Problem *p, MicaSpa
   if (refactor) snprintf(refactor_text, sizeof refactor_text, "%7.3f s", last_factor);
   printf("  %-8s analyze %7.3f s  factor %7.3f s  refactor %s  solve %6.3f s  nnz(factor) %10ld  "
          "%6.2f Gflop/s  analyses %ld  residual %.1e\n",
-         ops->name, st->time_analyze, first_factor, refactor_text, st->time_solve, st->nnz_factor,
+         ops->type.name, st->time_analyze, first_factor, refactor_text, st->time_solve, st->nnz_factor,
          st->flops / last_factor * 1e-9, st->analyses, relative_residual(A, x, b));
   goto done;
 failed:
-  printf("  %-8s failed: %s\n", ops->name, mica_error_message());
+  printf("  %-8s failed: %s\n", ops->type.name, mica_error_message());
 done:
   mica_linear_solver_destroy(&solver);
   free(b);
