@@ -139,7 +139,10 @@ typedef struct MlsOptions {
   MlsSpacingRule spacing;     /* the local spacing a dilation multiplies; default near */
 } MlsOptions;
 
+/* The defaults of mls_keys (settings.c) and of the registries, which are where they live. */
 void mls_options_default(MlsOptions *opt);
+/* The dilation when neither mls.radius nor mls.dilation is given: order + 1 (docs/theory.md §supports). */
+static inline double mls_default_dilation(int order) { return order + 1.0; }
 /* The settings of an MLS approximation, as a schema fragment (a command's schema inserts it as "mls"), and
  * their reader: the options from the settings under group, checked against each other with the deck's lines. */
 extern const MicaDeckKey mls_keys[];

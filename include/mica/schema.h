@@ -68,6 +68,9 @@ int mica_schema_destroy(MicaSchema **schema);
 const MicaDeckKey *mica_schema_keys(const MicaSchema *schema);
 /* The key with this exact path ("output.probes.[].name"), or NULL. */
 const MicaDeckKey *mica_schema_find(const MicaDeckKey *keys, const char *path);
+/* A numeric key's default as a number (0 if the key or its default is missing): for a library's own
+ * defaults, so that they live in the schema only (mls_options_default). */
+double mica_schema_default_number(const MicaDeckKey *keys, const char *path);
 
 /* ---- Reading settings below the deck layer ------------------------------------------------------------
  * A type reads its own settings through this reader, which the deck implements (mica_deck_settings), so

@@ -12,12 +12,12 @@
 void mls_options_default(MlsOptions *opt) {
   memset(opt, 0, sizeof *opt);
   opt->basis = mls_basis_of(mica_registry_default(&mls_basis_registry));
-  opt->order = 1;
+  opt->order = (int)mica_schema_default_number(mls_keys, "order");
   opt->weight = mls_weight_of(mica_registry_default(&mls_weight_registry));
   opt->support = (MlsSupportKind)mls_kind_value(mica_registry_default(&mls_support_registry));
-  opt->dilation = 2.0;
-  opt->alpha = 1.0;
-  opt->rcond_min = 1e-13;
+  opt->dilation = mls_default_dilation(opt->order);
+  opt->alpha = mica_schema_default_number(mls_weight_exponential.type.keys, "alpha");
+  opt->rcond_min = mica_schema_default_number(mls_keys, "rcond_min");
   opt->search = (MlsSearchKind)mls_kind_value(mica_registry_default(&mls_search_registry));
   opt->spacing = (MlsSpacingRule)mls_kind_value(mica_registry_default(&mls_spacing_registry));
 }

@@ -82,7 +82,7 @@ static int read_radius(const MicaSettings *s, const char *group, int dim, MlsOpt
   } else if (has_dilation) {
     MICA_CALL(mica_settings_float(s, group, "dilation", &opt->dilation));
   } else {
-    opt->dilation = opt->order + 1.0;
+    opt->dilation = mls_default_dilation(opt->order);
   }
   return MICA_SUCCESS;
 }

@@ -206,6 +206,11 @@ const MicaDeckKey *mica_schema_find(const MicaDeckKey *keys, const char *path) {
   return NULL;
 }
 
+double mica_schema_default_number(const MicaDeckKey *keys, const char *path) {
+  const MicaDeckKey *key = keys ? mica_schema_find(keys, path) : NULL;
+  return key && key->def ? strtod(key->def, NULL) : 0.0;
+}
+
 /* ---- the reader ---- */
 
 static void settings_path(const char *group, const char *name, char *path, size_t size) {
