@@ -9,8 +9,8 @@
  * and the first index of σ and m is the one the normal contracts with: t_l = σ_kl n_k, m_l = m_kl n_k
  * (balance σ_kl,k + f_l = 0, m_kl,k + e_lmn σ_mn + c_l = 0). In 2-D only γ acts (W_couple = ½ γ |∇φ_3|²).
  *
- * MicaFieldModel.param layout: param[0..5] = λ, μ, κ, α, β, γ (Eringen), param[6..15] = 0. In 2-D α = β = 0
- * are stored (they do no work in plane strain). MicaFieldModel.material holds the classical part: G = μ + κ/2
+ * MicaFieldModel.param layout: the MICA_COSSERAT_* slots below hold λ, μ, κ, α, β, γ (Eringen), the others
+ * are 0. In 2-D α = β = 0 are stored (they do no work in plane strain). MicaFieldModel.material holds the classical part: G = μ + κ/2
  * as mu, ν, E = 2G(1 + ν), λ, the bulk modulus λ + 2G/3 as kappa, plane = MICA_PLANE_STRAIN in 2-D; the
  * solver scales its penalties by E. classical = NULL.
  */
@@ -18,6 +18,16 @@
 #define MICA_COSSERAT_H
 
 #include "mica/model.h"
+
+/* The slots of MicaFieldModel.param of the Cosserat models (small strain and finite rotation). */
+enum {
+  MICA_COSSERAT_LAMBDA = 0, /* λ */
+  MICA_COSSERAT_MU = 1,     /* μ */
+  MICA_COSSERAT_KAPPA = 2,  /* κ */
+  MICA_COSSERAT_ALPHA = 3,  /* α */
+  MICA_COSSERAT_BETA = 4,   /* β */
+  MICA_COSSERAT_GAMMA = 5   /* γ */
+};
 
 extern const MicaFieldModelOps mica_field_cosserat;
 

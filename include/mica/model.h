@@ -92,11 +92,15 @@ typedef struct MicaFieldModelOps {
   int (*micro_deformation)(const MicaFieldModel *m, int dim, const double *q, double *chi);
 } MicaFieldModelOps;
 
+enum { MICA_FIELD_MODEL_NPARAM = 16 }; /* slots of MicaFieldModel.param */
+
 struct MicaFieldModel {
   const MicaFieldModelOps *ops;
   MicaMaterial material;  /* E, ν and the Lamé constants (the classical part) */
   const MicaModelOps *classical; /* for classical models: the point kernel the field model adapts */
-  double param[16];       /* model constants, documented per model (Cosserat: λ, μ, κ, α, β, γ, ...) */
+  /* Model constants; each field model names its slots (MICA_COSSERAT_* in mica/cosserat.h, MICRO_* in
+   * src/models/micromorph_private.h, GRADIENT_* in src/models/strain_gradient.c); unused slots are 0. */
+  double param[MICA_FIELD_MODEL_NPARAM];
 };
 
 /* Number of entries of q for a model in dim dimensions. */

@@ -6,8 +6,10 @@
  * the particle nearest to it among its supports (distance measured in support radii). Each rank then
  * evaluates and caches shape functions only at its own points and assembles their residual and tangent
  * contributions. Its ghost particles — the supports of its points that other ranks own — are as deep as
- * the supports by construction. Vectors (u, R, Δu) are replicated: residual contributions are summed with
- * one MPI_Allreduce per assembly. Linear solves:
+ * the supports by construction. Vectors (u, R, Δu) are replicated: residual contributions are summed once
+ * per assembly, by an MPI_Reduce to rank 0 and an MPI_Bcast of the sum (not MPI_Allreduce, whose sums may
+ * differ in the last bit from rank to rank: every rank must take Newton's decisions on the same numbers).
+ * Linear solves:
  *   gather  - the tangent's contributions are gathered to rank 0 (pattern once, values per factorization),
  *             factored there by CHOLMOD/UMFPACK with the symbolic analysis reused, the solution broadcast;
  *   schwarz - overlapping additive Schwarz preconditioned CG (SPD) or GMRES (otherwise): each rank factors
@@ -53,7 +55,8 @@ int mica_parallel_error_agreed(void);
 /* The failure injected by MICA_INJECT_FAILURE for this rank at this phase, or MICA_SUCCESS. */
 int mica_parallel_inject(const char *phase);
 
-/* Collective, after agreeing on ierr: v[n] summed over ranks in place (MPI_Allreduce). */
+/* Collective, after agreeing on ierr: v[n] summed over ranks in place, bitwise the same on every rank
+ * (MPI_Reduce to rank 0, then MPI_Bcast). */
 int mica_parallel_sum(int ierr, double *v, long n);
 /* Collective, after agreeing on ierr: v[n] from rank `root` to all. */
 int mica_parallel_broadcast(int ierr, double *v, long n, int root);

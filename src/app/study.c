@@ -24,38 +24,6 @@ enum { CHOICE_TEXT = 2048 };
 
 /* ---- one combination ---------------------------------------------------------------------------------- */
 
-typedef struct {
-  char (*text)[SWEEP_OVERRIDE_MAX]; /* per choice: "mls.order=2" */
-  const char **list;
-} Overrides;
-
-static int overrides_make(const StudySpec *spec, const int *choice, Overrides *o) {
-  MICA_CALL(MICA_CALLOC(o->text, spec->nchoices));
-  MICA_CALL(MICA_CALLOC(o->list, spec->nchoices));
-  for (int c = 0; c < spec->nchoices; c++) {
-    sweep_override_text(&spec->choices[c], choice[c], o->text[c], sizeof o->text[c]);
-    o->list[c] = o->text[c];
-  }
-  return MICA_SUCCESS;
-}
-
-static void overrides_free(Overrides *o) {
-  free(o->text);
-  free(o->list);
-  o->text = NULL, o->list = NULL;
-}
-
-static int add_header(MicaJson *json, const StudySpec *spec, long p, const Overrides *o) {
-  MICA_CALL(mica_json_string(json, "status", "ok"));
-  MICA_CALL(mica_json_string(json, "command", "run"));
-  MICA_CALL(mica_json_string(json, "deck", mica_deck_path(spec->deck)));
-  MICA_CALL(mica_json_int(json, "study_combination", p + 1));
-  MICA_CALL(mica_json_open_array(json, "overrides"));
-  for (int c = 0; c < spec->nchoices; c++) MICA_CALL(mica_json_string(json, NULL, o->list[c]));
-  MICA_CALL(mica_json_close(json));
-  return MICA_SUCCESS;
-}
-
 /* A member of a run's summary, or NAN when the run did not report it. */
 static double get_number(const MicaJson *json, const char *key) {
   double v;
@@ -66,10 +34,10 @@ static double get_number(const MicaJson *json, const char *key) {
 
 /* Loads and solves the combination once; the error code is the combination's. On success, *reference
  * is study.reference as the combination's deck evaluates it (it may use a varied parameter). */
-static int solve_once(const StudySpec *spec, const char *dir, const Overrides *o, MicaJson *json, double *reference) {
+static int solve_once(const StudySpec *spec, const char *dir, const SweepOverrides *o, MicaJson *json, double *reference) {
   MicaDeck *deck = NULL;
   int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(sweep_deck_load(spec->deck, 2, point_defaults, spec->nchoices, o->list, &deck));
+  MICA_CALL_CLEANUP(sweep_deck_load(spec->deck, 2, point_defaults, o->n, o->list, &deck));
   MICA_CALL_CLEANUP(mica_study_run_logged(&mica_command_run, deck, dir, json));
   if (spec->measure == STUDY_ERROR_PROBE) MICA_CALL_CLEANUP(mica_deck_float(deck, "study.reference", reference));
 cleanup:
@@ -113,12 +81,12 @@ static int record_failure(StudyRow *row, int ierr) {
   return MICA_SUCCESS;
 }
 
-static int write_failure_summary(const StudySpec *spec, long p, const Overrides *o, const StudyRow *row,
+static int write_failure_summary(const StudySpec *spec, long p, const SweepOverrides *o, const StudyRow *row,
                                  const char *path) {
   MicaJson *json = NULL;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_json_create(&json));
-  MICA_CALL_CLEANUP(add_header(json, spec, p, o));
+  MICA_CALL_CLEANUP(sweep_summary_header(json, spec->deck, "study_combination", p, o));
   MICA_CALL_CLEANUP(mica_json_string(json, "status", "error"));
   MICA_CALL_CLEANUP(mica_json_string(json, "error", row->message ? row->message : ""));
   MICA_CALL_CLEANUP(mica_json_int(json, "exit_status", mica_exit_status(row->status)));
@@ -131,20 +99,20 @@ cleanup:
 /* Solves combination p study.repeat times into outdir/points/<p+1>/ (the first solve's summary is kept;
  * the row has the minimum of each phase). Only the study's own failures (files, memory) are returned. */
 static int run_combination(const StudySpec *spec, long p, const char *outdir, StudyRow *row) {
-  Overrides o = {NULL, NULL};
+  SweepOverrides o = {0};
   MicaJson *json = NULL, *first = NULL;
   char *dir = NULL, *path = NULL, name[64];
   int ierr = MICA_SUCCESS;
   study_combination(spec, p, row->choice);
   for (int k = 0; k < STUDY_NPHASES; k++) row->phase[k] = INFINITY;
-  MICA_CALL_CLEANUP(overrides_make(spec, row->choice, &o));
+  MICA_CALL_CLEANUP(sweep_overrides_create(spec->choices, spec->nchoices, row->choice, &o));
   snprintf(name, sizeof name, "points/%ld", p + 1);
   MICA_CALL_CLEANUP(mica_path_join(outdir, name, &dir));
   MICA_CALL_CLEANUP(mica_make_dir(dir));
   MICA_CALL_CLEANUP(mica_path_join(dir, "summary.json", &path));
   for (int r = 0; r < spec->repeat && !row->status; r++) {
     MICA_CALL_CLEANUP(mica_json_create(&json));
-    MICA_CALL_CLEANUP(add_header(json, spec, p, &o));
+    MICA_CALL_CLEANUP(sweep_summary_header(json, spec->deck, "study_combination", p, &o));
     const int failed = solve_once(spec, dir, &o, json, &row->reference);
     if (failed) {
       MICA_CALL_CLEANUP(record_failure(row, failed));
@@ -180,7 +148,7 @@ static int run_combination(const StudySpec *spec, long p, const char *outdir, St
     MICA_CALL_CLEANUP(mica_json_write(first, path));
   }
 cleanup:
-  overrides_free(&o);
+  sweep_overrides_destroy(&o);
   mica_json_destroy(&json);
   mica_json_destroy(&first);
   free(dir);

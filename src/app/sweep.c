@@ -33,26 +33,6 @@ static int point_dir(const char *outdir, long p, char **dir) {
 
 /* ---- one point -------------------------------------------------------------------------------------- */
 
-typedef struct {
-  char (*text)[SWEEP_OVERRIDE_MAX]; /* per axis: "parameters.L=8" */
-  const char **list;
-} PointOverrides;
-
-static int overrides_make(const SweepSpec *spec, const int *choice, PointOverrides *o) {
-  MICA_CALL(MICA_CALLOC(o->text, spec->naxes));
-  MICA_CALL(MICA_CALLOC(o->list, spec->naxes));
-  for (int a = 0; a < spec->naxes; a++) {
-    sweep_override_text(&spec->axes[a], choice[a], o->text[a], sizeof o->text[a]);
-    o->list[a] = o->text[a];
-  }
-  return MICA_SUCCESS;
-}
-
-static void overrides_free(PointOverrides *o) {
-  free(o->text);
-  free(o->list);
-}
-
 /* `mica run` with stdout in dir/run.log (the run's own lines would drown the progress), reusing what the
  * previous point built when its settings leave it unchanged. */
 static int run_logged(const MicaDeck *deck, const char *dir, MicaJson *summary, RunReuse *reuse) {
@@ -63,23 +43,12 @@ static int run_logged(const MicaDeck *deck, const char *dir, MicaJson *summary, 
   return ierr;
 }
 
-static int add_point_header(MicaJson *json, const SweepSpec *spec, long p, const PointOverrides *o) {
-  MICA_CALL(mica_json_string(json, "status", "ok"));
-  MICA_CALL(mica_json_string(json, "command", "run"));
-  MICA_CALL(mica_json_string(json, "deck", mica_deck_path(spec->deck)));
-  MICA_CALL(mica_json_int(json, "sweep_point", p + 1));
-  MICA_CALL(mica_json_open_array(json, "overrides"));
-  for (int a = 0; a < spec->naxes; a++) MICA_CALL(mica_json_string(json, NULL, o->list[a]));
-  MICA_CALL(mica_json_close(json));
-  return MICA_SUCCESS;
-}
-
 /* Loads and solves point p; the error code is the point's (a failure of the run, not of the sweep). */
-static int point_solve(const SweepSpec *spec, const char *dir, const PointOverrides *o, MicaJson *json,
+static int point_solve(const SweepSpec *spec, const char *dir, const SweepOverrides *o, MicaJson *json,
                        RunReuse *reuse) {
   MicaDeck *deck = NULL;
   int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(sweep_load(spec, 2, point_defaults, spec->naxes, o->list, &deck));
+  MICA_CALL_CLEANUP(sweep_load(spec, 2, point_defaults, o->n, o->list, &deck));
   MICA_CALL_CLEANUP(run_logged(deck, dir, json, reuse));
 cleanup:
   mica_deck_destroy(&deck);
@@ -119,12 +88,12 @@ static void read_probes(const SweepSpec *spec, const MicaJson *json, SweepPoint 
 }
 
 /* A failed run may have left its summary half-built: the point's summary is then written afresh. */
-static int write_failure_summary(const SweepSpec *spec, long p, const PointOverrides *o, const SweepPoint *pt,
+static int write_failure_summary(const SweepSpec *spec, long p, const SweepOverrides *o, const SweepPoint *pt,
                                  const char *path) {
   MicaJson *json = NULL;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_json_create(&json));
-  MICA_CALL_CLEANUP(add_point_header(json, spec, p, o));
+  MICA_CALL_CLEANUP(sweep_summary_header(json, spec->deck, "sweep_point", p, o));
   MICA_CALL_CLEANUP(mica_json_string(json, "status", "error"));
   MICA_CALL_CLEANUP(mica_json_string(json, "error", pt->message ? pt->message : ""));
   MICA_CALL_CLEANUP(mica_json_int(json, "exit_status", mica_exit_status(pt->status)));
@@ -137,17 +106,17 @@ cleanup:
 
 /* Runs point p into outdir/points/<p+1>/. Only the sweep's own failures (files, memory) are returned. */
 static int run_point(const SweepSpec *spec, long p, const char *outdir, RunReuse *reuse, SweepPoint *pt) {
-  PointOverrides o = {NULL, NULL};
+  SweepOverrides o = {0};
   MicaJson *json = NULL;
   char *dir = NULL, *path = NULL;
   int ierr = MICA_SUCCESS;
   const double start = mica_wtime();
   sweep_point_choice(spec, p, pt->choice);
-  MICA_CALL_CLEANUP(overrides_make(spec, pt->choice, &o));
+  MICA_CALL_CLEANUP(sweep_overrides_create(spec->axes, spec->naxes, pt->choice, &o));
   MICA_CALL_CLEANUP(point_dir(outdir, p, &dir));
   MICA_CALL_CLEANUP(mica_path_join(dir, "summary.json", &path));
   MICA_CALL_CLEANUP(mica_json_create(&json));
-  MICA_CALL_CLEANUP(add_point_header(json, spec, p, &o));
+  MICA_CALL_CLEANUP(sweep_summary_header(json, spec->deck, "sweep_point", p, &o));
   const int failed = point_solve(spec, dir, &o, json, reuse);
   pt->time = mica_wtime() - start;
   if (failed) MICA_CALL_CLEANUP(record_failure(pt, failed)); /* first: reading the summary clears errors */
@@ -162,7 +131,7 @@ static int run_point(const SweepSpec *spec, long p, const char *outdir, RunReuse
     MICA_CALL_CLEANUP(mica_json_write(json, path));
   }
 cleanup:
-  overrides_free(&o);
+  sweep_overrides_destroy(&o);
   mica_json_destroy(&json);
   free(dir);
   free(path);

@@ -95,6 +95,21 @@ void sweep_spec_free(SweepSpec *spec);
 void sweep_point_choice(const SweepSpec *spec, long p, int *choice);
 /* "path=value" for axis a at value index v (a number as %.17g, a word quoted). */
 void sweep_override_text(const SweepAxis *axis, int v, char *buf, size_t size);
+/* The overrides of one point of a sweep or one combination of a study: per axis its "path=value"
+ * (sweep_override_text), and the list of them as sweep_deck_load takes it. */
+typedef struct SweepOverrides {
+  int n;
+  char (*text)[SWEEP_OVERRIDE_MAX]; /* [n]: "parameters.L=8" */
+  const char **list;                /* [n]: text[a] */
+} SweepOverrides;
+
+/* The overrides of the choice[naxes] of the axes (value indices). */
+int sweep_overrides_create(const SweepAxis *axes, int naxes, const int *choice, SweepOverrides *o);
+void sweep_overrides_destroy(SweepOverrides *o);
+/* The head of the summary of a point of a sweep or a combination of a study: "status": "ok", the command,
+ * the deck, index_key ("sweep_point", "study_combination") = p + 1, and the "overrides" array. */
+int sweep_summary_header(MicaJson *json, const MicaDeck *deck, const char *index_key, long p,
+                         const SweepOverrides *o);
 /* "L=8" (a number as %g, a word as is), for progress lines and legends. */
 void sweep_value_label(const SweepAxis *axis, int v, char *buf, size_t size);
 /* Loads the deck again: forced (may be NULL) first, then the user's --set, then extra[nextra]. */

@@ -48,6 +48,39 @@ void sweep_override_text(const SweepAxis *axis, int v, char *buf, size_t size) {
   snprintf(buf, size, axis->boolean ? "%s=%s" : "%s=\"%s\"", axis->path, axis->words[v]);
 }
 
+int sweep_overrides_create(const SweepAxis *axes, int naxes, const int *choice, SweepOverrides *o) {
+  int ierr = MICA_SUCCESS;
+  *o = (SweepOverrides){0};
+  MICA_CALL_CLEANUP(MICA_CALLOC(o->text, naxes));
+  MICA_CALL_CLEANUP(MICA_CALLOC(o->list, naxes));
+  o->n = naxes;
+  for (int a = 0; a < naxes; a++) {
+    sweep_override_text(&axes[a], choice[a], o->text[a], sizeof o->text[a]);
+    o->list[a] = o->text[a];
+  }
+  return MICA_SUCCESS;
+cleanup:
+  sweep_overrides_destroy(o);
+  return ierr;
+}
+
+void sweep_overrides_destroy(SweepOverrides *o) {
+  free(o->text);
+  free(o->list);
+  *o = (SweepOverrides){0};
+}
+
+int sweep_summary_header(MicaJson *json, const MicaDeck *deck, const char *index_key, long p,
+                         const SweepOverrides *o) {
+  MICA_CALL(mica_json_string(json, "status", "ok"));
+  MICA_CALL(mica_json_string(json, "command", "run"));
+  MICA_CALL(mica_json_string(json, "deck", mica_deck_path(deck)));
+  MICA_CALL(mica_json_int(json, index_key, p + 1));
+  MICA_CALL(mica_json_open_array(json, "overrides"));
+  for (int a = 0; a < o->n; a++) MICA_CALL(mica_json_string(json, NULL, o->list[a]));
+  return mica_json_close(json);
+}
+
 void sweep_value_label(const SweepAxis *axis, int v, char *buf, size_t size) {
   if (axis->values) snprintf(buf, size, "%s=%g", axis->label, axis->values[v]);
   else snprintf(buf, size, "%s=%s", axis->label, axis->words[v]);

@@ -280,26 +280,26 @@ static const double *point_entries(const Layout *L, const MicaShapeCache *c, lon
  * scattered once instead of once per point (25 or 64 times), and the scatter is what costs; the bound keeps
  * each point's share of the group matrix (rows over the union) close to its own support
  * (docs/performance.md §kernel). */
-static long cell_group(MicaSolid *s, long first, long *u_out) {
+static long cell_group(MicaSolid *s, long first, long *nunion_out) {
   const MicaShapeCache *c = s->volume;
   const long n_first = c->ptr[first + 1] - c->ptr[first];
   const long bound = n_first + n_first / 8 < s->cell_cap ? n_first + n_first / 8 : s->cell_cap;
-  long u = 0, p = first;
+  long nunion = 0, p = first;
   for (; p < c->npoints; p++) {
     long extra = 0;
     for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) extra += s->cell_slot[c->index[e]] < 0;
-    if (p > first && u + extra > bound) break;
+    if (p > first && nunion + extra > bound) break;
     for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
-      if (s->cell_slot[c->index[e]] < 0) s->cell_slot[c->index[e]] = 0, s->cell_nodes[u++] = c->index[e];
+      if (s->cell_slot[c->index[e]] < 0) s->cell_slot[c->index[e]] = 0, s->cell_nodes[nunion++] = c->index[e];
   }
-  for (long i = 1; i < u; i++) { /* insertion sort: the union is short and mostly ascending already */
+  for (long i = 1; i < nunion; i++) { /* insertion sort: the union is short and mostly ascending already */
     const long node = s->cell_nodes[i];
     long j = i;
     for (; j > 0 && s->cell_nodes[j - 1] > node; j--) s->cell_nodes[j] = s->cell_nodes[j - 1];
     s->cell_nodes[j] = node;
   }
-  for (long i = 0; i < u; i++) s->cell_slot[s->cell_nodes[i]] = i;
-  *u_out = u;
+  for (long i = 0; i < nunion; i++) s->cell_slot[s->cell_nodes[i]] = i;
+  *nunion_out = nunion;
   return p;
 }
 
@@ -318,22 +318,24 @@ static int check_symmetric(const double *D, int nq, long p) {
   return MICA_SUCCESS;
 }
 
-/* A group of points through the kernel into one planar matrix, scattered once. */
-static int assemble_cell(MicaSolid *s, const VolumeTerms *v, long first, long last, long u, const double *uvec,
+/* A group of points through the kernel into one planar matrix, scattered once. nunion: the particles of the
+ * union of the group's supports (s->cell_nodes[0..nunion), cell_group), the rows and columns of that matrix,
+ * which every point of the group adds into at its particles' positions in the union; u: the unknowns. */
+static int assemble_cell(MicaSolid *s, const VolumeTerms *v, long first, long last, long nunion, const double *u,
                          double *R, MicaSparse *K) {
   const MicaShapeCache *c = s->volume;
   const int nc = s->ncomp, nd = shape_entries(v->L), width = nc * nd;
-  double *Kc = s->cell_matrix, *staging = Kc + mica_kernel_ke_size(nc, u);
-  double *A = staging + mica_kernel_chunk_size(nc, nd, u, s->chunk_points), *beta = A + width * width;
+  double *Kc = s->cell_matrix, *staging = Kc + mica_kernel_ke_size(nc, nunion);
+  double *A = staging + mica_kernel_chunk_size(nc, nd, nunion, s->chunk_points), *beta = A + width * width;
   const int classical = mica_type_has(&s->opt.field.ops->type, MICA_FIELD_CLASSICAL);
   int slot[MICA_MAX_COMP * 10];
   long *loc = s->work_nodes;
   MicaKernelChunk chunk;
-  mica_kernel_chunk_init(&chunk, nc, nd, u, s->chunk_points, staging);
+  mica_kernel_chunk_init(&chunk, nc, nd, nunion, s->chunk_points, staging);
   entry_slots(v->L, slot);
   int flags = MICA_KERNEL_HALF; /* the first flush writes Kc, the later ones add: no clearing of Kc */
   for (long p = first; p < last; p++) {
-    MICA_CALL(point_residual(s, v, p, uvec, R, 1));
+    MICA_CALL(point_residual(s, v, p, u, R, 1));
     if (!classical) MICA_CALL(check_symmetric(s->work, s->nq, p)); /* a classical A is symmetric by construction */
     const long n = c->ptr[p + 1] - c->ptr[p];
     for (long k = 0; k < n; k++) loc[k] = s->cell_slot[c->index[c->ptr[p] + k]];
@@ -345,7 +347,7 @@ static int assemble_cell(MicaSolid *s, const VolumeTerms *v, long first, long la
     mica_kernel_chunk_add(&chunk, n, point_entries(v->L, c, p, beta), loc, A, s->disc->qw[p]);
   }
   mica_kernel_chunk_flush(&chunk, flags, Kc);
-  return mica_sparse_add_clique_upper(K, u, s->cell_nodes, Kc, mica_kernel_padded(u));
+  return mica_sparse_add_clique_upper(K, nunion, s->cell_nodes, Kc, mica_kernel_padded(nunion));
 }
 
 /* Lower blocks (K ≤ I) of a row-major Ke over the point's n particles into the group's planar matrix at loc. */
@@ -362,16 +364,16 @@ static void add_lower_blocks(int nc, long n, const long *loc, long npu, const do
 
 /* A group of points through the general element stiffness, lower half, into one matrix scattered once:
  * axisymmetric solids (test = trial functions), whose hoop entries differ per component. */
-static int assemble_cell_general(MicaSolid *s, const VolumeTerms *v, long first, long last, long u, const double *uvec,
+static int assemble_cell_general(MicaSolid *s, const VolumeTerms *v, long first, long last, long nunion, const double *u,
                                  double *R, MicaSparse *K) {
   const MicaShapeCache *c = s->volume;
   const int nc = s->ncomp, nq = s->nq;
-  const long npu = mica_kernel_padded(u);
+  const long npu = mica_kernel_padded(nunion);
   double *Kc = s->cell_matrix;
   long *loc = s->work_nodes;
-  memset(Kc, 0, sizeof(double) * (size_t)mica_kernel_ke_size(nc, u));
+  memset(Kc, 0, sizeof(double) * (size_t)mica_kernel_ke_size(nc, nunion));
   for (long p = first; p < last; p++) {
-    MICA_CALL(point_residual(s, v, p, uvec, R, 1));
+    MICA_CALL(point_residual(s, v, p, u, R, 1));
     MICA_CALL(check_symmetric(s->work, nq, p));
     const long n = c->ptr[p + 1] - c->ptr[p], m = n * nc;
     double *D = s->work, *Ke = D + nq * nq, *G = Ke + m * m;
@@ -379,17 +381,17 @@ static int assemble_cell_general(MicaSolid *s, const VolumeTerms *v, long first,
     for (long k = 0; k < n; k++) loc[k] = s->cell_slot[c->index[c->ptr[p] + k]];
     add_lower_blocks(nc, n, loc, npu, Ke, Kc);
   }
-  return mica_sparse_add_clique_upper(K, u, s->cell_nodes, Kc, npu);
+  return mica_sparse_add_clique_upper(K, nunion, s->cell_nodes, Kc, npu);
 }
 
 static int assemble_points_grouped(MicaSolid *s, const VolumeTerms *v, int kernel, const double *u, double *R,
                                    MicaSparse *K) {
   const MicaShapeCache *c = s->volume;
-  for (long first = 0, last, nu; first < c->npoints; first = last) {
-    last = cell_group(s, first, &nu);
-    const int ierr = kernel ? assemble_cell(s, v, first, last, nu, u, R, K)
-                               : assemble_cell_general(s, v, first, last, nu, u, R, K);
-    for (long i = 0; i < nu; i++) s->cell_slot[s->cell_nodes[i]] = -1;
+  for (long first = 0, last, nunion; first < c->npoints; first = last) {
+    last = cell_group(s, first, &nunion);
+    const int ierr = kernel ? assemble_cell(s, v, first, last, nunion, u, R, K)
+                               : assemble_cell_general(s, v, first, last, nunion, u, R, K);
+    for (long i = 0; i < nunion; i++) s->cell_slot[s->cell_nodes[i]] = -1;
     MICA_CALL(ierr);
   }
   /* before the boundary terms, which add full (and for some methods unsymmetric) blocks */

@@ -69,7 +69,9 @@ static void restrict_s(int dim, const double s3[NQ3], double *s) {
 
 /* The constants the kernel uses; in 2-D α = β = 0 whatever param holds (one couple modulus). */
 static Constants constants_of(const MicaFieldModel *m, int dim) {
-  Constants c = {m->param[0], m->param[1], m->param[2], m->param[3], m->param[4], m->param[5]};
+  const double *p = m->param;
+  Constants c = {p[MICA_COSSERAT_LAMBDA], p[MICA_COSSERAT_MU],   p[MICA_COSSERAT_KAPPA],
+                 p[MICA_COSSERAT_ALPHA],  p[MICA_COSSERAT_BETA], p[MICA_COSSERAT_GAMMA]};
   if (dim == 2) c.alpha = c.beta = 0.0;
   return c;
 }
@@ -268,13 +270,13 @@ static int store(MicaFieldModel *m, int dim, Constants c) {
   m->ops = &mica_field_cosserat;
   m->material = classical_part(dim, &c);
   m->classical = NULL;
-  for (int i = 0; i < 16; i++) m->param[i] = 0.0;
-  m->param[0] = c.lambda;
-  m->param[1] = c.mu;
-  m->param[2] = c.kappa;
-  m->param[3] = c.alpha;
-  m->param[4] = c.beta;
-  m->param[5] = c.gamma;
+  for (int i = 0; i < MICA_FIELD_MODEL_NPARAM; i++) m->param[i] = 0.0;
+  m->param[MICA_COSSERAT_LAMBDA] = c.lambda;
+  m->param[MICA_COSSERAT_MU] = c.mu;
+  m->param[MICA_COSSERAT_KAPPA] = c.kappa;
+  m->param[MICA_COSSERAT_ALPHA] = c.alpha;
+  m->param[MICA_COSSERAT_BETA] = c.beta;
+  m->param[MICA_COSSERAT_GAMMA] = c.gamma;
   return MICA_SUCCESS;
 }
 

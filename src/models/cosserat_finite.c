@@ -182,7 +182,9 @@ static void geometric_hessian(const State *st, const double sm[NY], double H3[NQ
 /* ---- the kernel ---- */
 
 static Constants constants_of(const MicaFieldModel *m, int dim) {
-  Constants c = {m->param[0], m->param[1], m->param[2], m->param[3], m->param[4], m->param[5]};
+  const double *p = m->param;
+  Constants c = {p[MICA_COSSERAT_LAMBDA], p[MICA_COSSERAT_MU],   p[MICA_COSSERAT_KAPPA],
+                 p[MICA_COSSERAT_ALPHA],  p[MICA_COSSERAT_BETA], p[MICA_COSSERAT_GAMMA]};
   if (dim == 2) c.alpha = c.beta = 0.0;
   return c;
 }

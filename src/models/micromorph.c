@@ -12,7 +12,7 @@
  * The micro-space dimension is the smallest that carries a scene's size effect: a beam bent across its
  * thickness needs one micro axis along the thickness.
  *
- * param[] layout: src/models/micromorph_private.h. The other kinds: micromorph_isochoric.c, micromorph_rotation.c.
+ * param[] layout: MICRO_* of src/models/micromorph_private.h. The other kinds: micromorph_isochoric.c, micromorph_rotation.c.
  */
 #include <math.h>
 #include <string.h>
@@ -43,7 +43,7 @@ int mica_micromorph_points_(const MicaFieldModel *m, int dim, double (*Y)[3], do
   mica_gauss_legendre(MICRO_GAUSS, x, wx);
   int axes[3], naxes = 0;
   for (int K = 0; K < dim; K++)
-    if (m->param[K] > 0) axes[naxes++] = K;
+    if (m->param[MICRO_SIZE + K] > 0) axes[naxes++] = K;
   int n = 1;
   for (int i = 0; i < naxes; i++) n *= MICRO_GAUSS;
   for (int g = 0; g < n; g++) {
@@ -53,7 +53,7 @@ int mica_micromorph_points_(const MicaFieldModel *m, int dim, double (*Y)[3], do
     for (int i = 0; i < naxes; i++) {
       const int k = rest % MICRO_GAUSS;
       rest /= MICRO_GAUSS;
-      Y[g][axes[i]] = 0.5 * m->param[axes[i]] * x[k]; /* [−l/2, l/2] */
+      Y[g][axes[i]] = 0.5 * m->param[MICRO_SIZE + axes[i]] * x[k]; /* [−l/2, l/2] */
       w[g] *= 0.5 * wx[k];                             /* weights of [−1, 1] sum to 2 */
     }
   }
@@ -149,8 +149,8 @@ int mica_micromorph_init_(MicaFieldModel *m, const MicaFieldModelOps *ops, int d
   m->ops = ops;
   m->classical = micro_energy;
   m->material = *material;
-  for (int K = 0; K < dim; K++) m->param[K] = sizes[K];
-  m->param[3] = MICRO_GAUSS;
+  for (int K = 0; K < dim; K++) m->param[MICRO_SIZE + K] = sizes[K];
+  m->param[MICRO_POINTS] = MICRO_GAUSS;
   return MICA_SUCCESS;
 }
 

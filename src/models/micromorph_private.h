@@ -1,14 +1,21 @@
 /* Private to the gradient micromorph kinds (src/models/micromorph*.c): the micro-space Gauss points and the
  * param[] layout they share (docs/theory.md §micromorph).
  *
- * param[] layout: [0..2] micro size per axis x, y, z (0: no extent), [3] micro Gauss points per axis,
- * [4] the rotation kind's coupling modulus κ_c, [5] its coupling number N. */
+ * param[] layout: the MICRO_* slots below. */
 #ifndef MICA_MICROMORPH_PRIVATE_H
 #define MICA_MICROMORPH_PRIVATE_H
 
 #include "mica/model.h"
 
 enum { MICRO_MAX_POINTS = 27, MICRO_GAUSS = 3 };
+
+/* The slots of MicaFieldModel.param of the micromorph kinds. */
+enum {
+  MICRO_SIZE = 0,       /* [MICRO_SIZE + K], K = 0, 1, 2: the micro size along axis x, y, z (0: no extent) */
+  MICRO_POINTS = 3,     /* micro Gauss points per axis (MICRO_GAUSS) */
+  MICRO_COUPLING = 4,   /* the rotation kind's coupling modulus κ_c */
+  MICRO_COUPLING_N = 5  /* the rotation kind's coupling number N */
+};
 
 /* The packed Hessian slot of ∂²/∂X_J∂X_K (mls_hess_index of mica/mls.h: 2-D 00, 11, 01; 3-D 00, 11, 22, 12, 02, 01),
  * repeated here because src/models does not depend on src/mls. */

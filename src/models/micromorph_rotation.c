@@ -212,7 +212,7 @@ static int rotation_eval(const MicaFieldModel *m, int dim, const double *q, doub
   const int n = mica_micromorph_points_(m, dim, Y, wg);
   memset(sz, 0, sizeof sz);
   memset(Dz, 0, sizeof Dz);
-  double Wsum = coupling(&st, m->param[4], s ? sz : NULL, D ? Dz : NULL);
+  double Wsum = coupling(&st, m->param[MICRO_COUPLING], s ? sz : NULL, D ? Dz : NULL);
   for (int g = 0; g < n; g++) {
     micro_deformation(&st, Y[g], Yhat, Z, Fhat);
     for (int a = 0; a < dim; a++)
@@ -304,8 +304,8 @@ int mica_micromorph_rotation_set(MicaFieldModel *m, int dim, const MicaModelOps 
              "stores no energy and there is no size effect; for that use the kind \"F\" without micro axes (classical) "
              "or material.model = \"cosserat\"");
   MICA_CHECK(N >= 0 && N < 1, MICA_ERR_INPUT, "the coupling number N must be in [0, 1), not %g", N);
-  built.param[4] = 2 * material->mu * N * N / (1 - N * N);
-  built.param[5] = N;
+  built.param[MICRO_COUPLING] = 2 * material->mu * N * N / (1 - N * N);
+  built.param[MICRO_COUPLING_N] = N;
   *m = built;
   return MICA_SUCCESS;
 }

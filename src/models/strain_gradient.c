@@ -6,12 +6,19 @@
  * Both are quadratic in q = [u | ∇u | ∇∇u], so W = ½ qᵀDq, s = Dq, and D follows exactly from W by
  * polarization: D_ij = W(e_i + e_j) − W(e_i) − W(e_j). Natural boundary conditions: the traction and the
  * double traction (T n n with T = ∂W/∂∇∇u), zero on free surfaces.
- * param[] layout: [0] l, [1] kind (0: strain-gradient, 1: couple-stress).
+ * param[] layout: the GRADIENT_* slots below.
  */
 #include <math.h>
 #include <string.h>
 
 #include "models_private.h"
+
+/* The slots of MicaFieldModel.param of the gradient models, and the values of the kind slot. */
+enum {
+  GRADIENT_LENGTH = 0, /* the length scale l */
+  GRADIENT_KIND = 1    /* GRADIENT_STRAIN or GRADIENT_COUPLE_STRESS */
+};
+enum { GRADIENT_STRAIN = 0, GRADIENT_COUPLE_STRESS = 1 };
 
 static int sg_ncomp(int dim) { return dim; }
 
@@ -44,12 +51,12 @@ static double second(const double *q, int dim, int a, int J, int K) {
 }
 
 static double energy(const MicaFieldModel *m, int dim, const double *q) {
-  const double l = m->param[0];
+  const double l = m->param[GRADIENT_LENGTH];
   double eps[9] = {0};
   for (int i = 0; i < dim; i++)
     for (int j = 0; j < dim; j++) eps[i * dim + j] = 0.5 * (q[dim + i * dim + j] + q[dim + j * dim + i]);
   double W = 0.5 * contract(dim, &m->material, eps);
-  if (m->param[1] == 0) { /* strain gradient: ∂_K ε_ij = ½ (u_i,jK + u_j,iK) */
+  if (m->param[GRADIENT_KIND] == GRADIENT_STRAIN) { /* strain gradient: ∂_K ε_ij = ½ (u_i,jK + u_j,iK) */
     for (int K = 0; K < dim; K++) {
       double deps[9] = {0};
       for (int i = 0; i < dim; i++)
@@ -124,7 +131,7 @@ const MicaFieldModelOps mica_field_strain_gradient = {
     2, sg_ncomp, sg_components, sg_tractions, sg_eval, sg_stress, NULL,
 };
 
-/* The modified couple-stress theory: the same kernel with param[1] = 1. As a deck's type it only reads the
+/* The modified couple-stress theory: the same kernel with param[GRADIENT_KIND] = GRADIENT_COUPLE_STRESS. As a deck's type it only reads the
  * settings: the model it makes has the strain-gradient table (mica_strain_gradient_set). */
 const MicaFieldModelOps mica_field_couple_stress = {
     {"couple-stress", "modified couple-stress theory, small strain, length material.l", 0, NULL,
@@ -138,7 +145,7 @@ int mica_strain_gradient_set(MicaFieldModel *m, const MicaMaterial *material, do
   m->ops = &mica_field_strain_gradient;
   m->classical = &mica_model_linear;
   m->material = *material;
-  m->param[0] = l;
-  m->param[1] = couple_stress ? 1 : 0;
+  m->param[GRADIENT_LENGTH] = l;
+  m->param[GRADIENT_KIND] = couple_stress ? GRADIENT_COUPLE_STRESS : GRADIENT_STRAIN;
   return MICA_SUCCESS;
 }
