@@ -19,7 +19,9 @@ run_one() {
   local name=$1 dict=()
   [ -f "$here/$name.dict" ] && dict=(-dict="$here/$name.dict")
   mkdir -p "$out/corpus/$name" "$out/artifacts/$name"
-  nice -n 10 "$out/fuzz_$name" -fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 \
+  # the suite's suppressions (tests/lsan.supp: libmatheval's parser on a malformed expression, OpenMPI)
+  LSAN_OPTIONS="suppressions=$here/../lsan.supp:print_suppressions=0" \
+    nice -n 10 "$out/fuzz_$name" -fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 \
     -max_total_time="$seconds" -timeout="$timeout" -rss_limit_mb="$rss" -print_final_stats=1 \
     -artifact_prefix="$out/artifacts/$name/" "${dict[@]}" "$out/corpus/$name" "$here/corpus/$name" \
     >"$out/$name.log" 2>&1
