@@ -391,7 +391,7 @@ static void test_rigid_motion(void **state) {
       double w2 = dim == 3 ? w[0] * w[0] + w[1] * w[1] + w[2] * w[2] : w[2] * w[2];
       if (dim == 3) rigid_q3(c, w, x, -1.0, q);
       else rigid_q2(c, w[2], x, -1.0, q);
-      assert_relative(eval_W(&m, dim, q), 4.0 * m.param[2] * w2, EXACT_TOL, "W at φ = −ω");
+      assert_relative(eval_W(&m, dim, q), 4.0 * m.param[MICA_COSSERAT_KAPPA] * w2, EXACT_TOL, "W at φ = −ω");
     }
   }
   print_message("worst |W|, |s| at rigid motions: %.3g (relative to max|constant|)\n", worst);
@@ -513,7 +513,7 @@ static void test_limit_no_coupling(void **state) {
   for (int dim = 2; dim <= 3; dim++) {
     MicaFieldModel m;
     if (mica_cosserat_set_technical(&m, dim, 1000.0, 0.3, 0.0, 0.5, 0.5, 1.0)) fail_with_error("N = 0");
-    assert_true(m.param[2] == 0.0);
+    assert_true(m.param[MICA_COSSERAT_KAPPA] == 0.0);
     int nq = nq_of(&m, dim);
     for (int n = 0; n < NUM_RANDOM; n++) {
       double q[NQ_MAX], sc[9], sl[9];
@@ -548,7 +548,7 @@ static void test_limit_no_length(void **state) {
       cosserat_sigma(&m, dim, q, sc);
       double phi_z = q[dim == 2 ? 2 : 5];
       double skew01 = 0.5 * (q[grad(dim, nc, 1, 0)] - q[grad(dim, nc, 0, 1)]) - phi_z;
-      double err_skew = fabs(0.5 * (sc[1] - sc[3]) - m.param[2] * skew01) / max_abs(sc, 9);
+      double err_skew = fabs(0.5 * (sc[1] - sc[3]) - m.param[MICA_COSSERAT_KAPPA] * skew01) / max_abs(sc, 9);
       assert_true(err_skew <= EXACT_TOL);
       worst_skew = fmax(worst_skew, err_skew);
       set_phi_half_curl(dim, q);
@@ -583,7 +583,7 @@ static void test_stress_matches_s(void **state) {
       for (int kk = 0; kk < 3; kk++)
         for (int l = 0; l < 3; l++) err = fmax(err, fabs(couple[3 * kk + l] - s[grad(3, 6, 3 + l, kk)]));
     } else {
-      double lambda = m.param[0], gamma = m.param[5];
+      double lambda = m.param[MICA_COSSERAT_LAMBDA], gamma = m.param[MICA_COSSERAT_GAMMA];
       err = fmax(err, fabs(sigma[8] - lambda * (q[3] + q[6])));
       err = fmax(err, fabs(sigma[2]) + fabs(sigma[5]) + fabs(sigma[6]) + fabs(sigma[7]));
       err = fmax(err, fabs(couple[2] - gamma * q[7]) + fabs(couple[5] - gamma * q[8]));
@@ -674,11 +674,11 @@ static void test_plate_example_constants(void **state) {
   MicaFieldModel m;
   double l = 1.0 / 1.063;
   if (mica_cosserat_set_technical(&m, 2, 1000.0, 0.3, 0.93, l, l, 1.0)) fail_with_error("plate example");
-  assert_relative(m.param[0], 1500.0, EXACT_TOL, "λ");
-  assert_relative(m.param[1], -5401.9245003701, 1e-13, "μ");
-  assert_relative(m.param[2], 12803.849000740, 1e-13, "κ");
-  assert_true(m.param[3] == 0.0 && m.param[4] == 0.0);
-  assert_relative(m.param[5], 3539.9201217025, 1e-13, "γ");
+  assert_relative(m.param[MICA_COSSERAT_LAMBDA], 1500.0, EXACT_TOL, "λ");
+  assert_relative(m.param[MICA_COSSERAT_MU], -5401.9245003701, 1e-13, "μ");
+  assert_relative(m.param[MICA_COSSERAT_KAPPA], 12803.849000740, 1e-13, "κ");
+  assert_true(m.param[MICA_COSSERAT_ALPHA] == 0.0 && m.param[MICA_COSSERAT_BETA] == 0.0);
+  assert_relative(m.param[MICA_COSSERAT_GAMMA], 3539.9201217025, 1e-13, "γ");
   /* the classical part */
   assert_relative(m.material.mu, 1000.0, EXACT_TOL, "G");
   assert_relative(m.material.nu, 0.3, EXACT_TOL, "ν");
@@ -698,19 +698,19 @@ static void test_bone_constants(void **state) {
   MicaFieldModel m;
   if (mica_cosserat_set_technical(&m, 3, 3.5e3, 0.3, 0.62, 0.22, 0.44, 1.5)) fail_with_error("bone");
   double kappa = 7000.0 * 0.3844 / 0.6156;
-  assert_relative(m.param[0], 7000.0 * 0.3 / 0.4, EXACT_TOL, "λ");
-  assert_relative(m.param[1], 3500.0 - kappa / 2.0, EXACT_TOL, "μ");
-  assert_relative(m.param[2], kappa, EXACT_TOL, "κ");
-  assert_relative(m.param[3], -338.8 / 3.0, EXACT_TOL, "α");
-  assert_relative(m.param[4], -2371.6, EXACT_TOL, "β");
-  assert_relative(m.param[5], 2710.4, EXACT_TOL, "γ");
-  double a = m.param[3], b = m.param[4], g = m.param[5];
+  assert_relative(m.param[MICA_COSSERAT_LAMBDA], 7000.0 * 0.3 / 0.4, EXACT_TOL, "λ");
+  assert_relative(m.param[MICA_COSSERAT_MU], 3500.0 - kappa / 2.0, EXACT_TOL, "μ");
+  assert_relative(m.param[MICA_COSSERAT_KAPPA], kappa, EXACT_TOL, "κ");
+  assert_relative(m.param[MICA_COSSERAT_ALPHA], -338.8 / 3.0, EXACT_TOL, "α");
+  assert_relative(m.param[MICA_COSSERAT_BETA], -2371.6, EXACT_TOL, "β");
+  assert_relative(m.param[MICA_COSSERAT_GAMMA], 2710.4, EXACT_TOL, "γ");
+  double a = m.param[MICA_COSSERAT_ALPHA], b = m.param[MICA_COSSERAT_BETA], g = m.param[MICA_COSSERAT_GAMMA];
   print_message("bone: λ %.6g μ %.6g κ %.6g α %.6g β %.6g γ %.6g; 3α+β+γ = %.3g, γ+β = %.6g, γ−β = %.6g\n",
-                m.param[0], m.param[1], m.param[2], a, b, g, 3 * a + b + g, g + b, g - b);
+                m.param[MICA_COSSERAT_LAMBDA], m.param[MICA_COSSERAT_MU], m.param[MICA_COSSERAT_KAPPA], a, b, g, 3 * a + b + g, g + b, g - b);
   assert_true(fabs(3 * a + b + g) <= 1e-12 * g);
   /* the Eringen setter accepts them back */
   MicaFieldModel e;
-  if (mica_cosserat_set_eringen(&e, 3, m.param[0], m.param[1], m.param[2], a, b, g)) fail_with_error("bone back");
+  if (mica_cosserat_set_eringen(&e, 3, m.param[MICA_COSSERAT_LAMBDA], m.param[MICA_COSSERAT_MU], m.param[MICA_COSSERAT_KAPPA], a, b, g)) fail_with_error("bone back");
   assert_relative(e.material.E, 9100.0, EXACT_TOL, "E = 2G(1 + ν)");
 }
 
@@ -721,7 +721,7 @@ static void test_psi_edge_rounding(void **state) {
   MicaFieldModel m;
   if (mica_cosserat_set_technical(&m, 3, 1000.0, 0.3, 0.5, 1.822865689181055, 1.356231221796456, 1.5))
     fail_with_error("Ψ = 1.5");
-  double v = 3.0 * m.param[3] + m.param[4] + m.param[5];
+  double v = 3.0 * m.param[MICA_COSSERAT_ALPHA] + m.param[MICA_COSSERAT_BETA] + m.param[MICA_COSSERAT_GAMMA];
   print_message("Ψ = 1.5: 3α + β + γ = %.3g\n", v);
   assert_true(v < 0.0); /* otherwise this test no longer tests the allowance */
 }
@@ -768,9 +768,9 @@ static void test_two_d_constants(void **state) {
   (void)state;
   MicaFieldModel m;
   if (mica_cosserat_set_technical(&m, 2, 10.0, 0.25, 0.5, 0.3, 0.3, 7.0)) fail_with_error("2-D, Ψ ignored");
-  assert_relative(m.param[5], 4 * 10.0 * 0.09, EXACT_TOL, "γ");
+  assert_relative(m.param[MICA_COSSERAT_GAMMA], 4 * 10.0 * 0.09, EXACT_TOL, "γ");
   if (mica_cosserat_set_eringen(&m, 2, 1.0, 1.0, 1.0, -50.0, 9.0, 2.0)) fail_with_error("2-D, α and β ignored");
-  assert_true(m.param[3] == 0.0 && m.param[4] == 0.0 && m.param[5] == 2.0);
+  assert_true(m.param[MICA_COSSERAT_ALPHA] == 0.0 && m.param[MICA_COSSERAT_BETA] == 0.0 && m.param[MICA_COSSERAT_GAMMA] == 2.0);
   for (int i = 6; i < 16; i++) assert_true(m.param[i] == 0.0);
 }
 
