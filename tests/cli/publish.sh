@@ -17,6 +17,17 @@ long=(--set solver.steps=2000 --set output.monitor=false) # ~6 minutes: always k
 digest() { (cd "$1" && find . -type f | sort | xargs cksum); }
 staging_of() { ls -d "$(dirname "$1")/.$(basename "$1").staging-"* 2>/dev/null; }
 
+# child_of PID NAME: the pid of PID's child process called NAME, or PID itself (from /proc: a minimal Debian has no
+# pgrep)
+child_of() {
+  local parent=$1 name=$2 stat cpid comm state ppid rest
+  for stat in /proc/[0-9]*/stat; do
+    read -r cpid comm state ppid rest < "$stat" 2> /dev/null || continue
+    [ "$ppid" = "$parent" ] && [ "$comm" = "($name)" ] && { echo "$cpid"; return; }
+  done
+  echo "$parent"
+}
+
 # started_then SIGNAL DIR [mpirun...]: starts the long run, waits for its staging directory to hold a step
 # file (mid-run), sends SIGNAL to the process (mica, or mpirun), waits; sets rc and pid
 started_then() {
@@ -29,8 +40,8 @@ started_then() {
   done
   [ -n "$(staging_of "$dir")" ] || fail "no staging directory appeared: $(cat "$dir.$sig.log")"
   local target=$pid
-  [ $# -gt 0 ] || target=$(pgrep -P $pid -x mica || echo $pid) # the mica under timeout
-  [ $# -gt 0 ] && target=$(pgrep -P $pid -x mpirun || echo $pid)
+  [ $# -gt 0 ] || target=$(child_of $pid mica) # the mica under timeout
+  [ $# -gt 0 ] && target=$(child_of $pid mpirun)
   kill -s "$sig" "$target"
   wait $pid; rc=$?
 }
