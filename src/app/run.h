@@ -71,6 +71,20 @@ typedef struct RunProblem {
 int run_model_dim(const RunProblem *rp);
 const char *run_unknown_name(const RunProblem *rp, int c);
 
+/* ---- run_conditions.c: the conditions of the deck, read for the problem's model ---- */
+/* The unknowns' (traction = 0) or the tractions' names of model m in rp's geometry, NULL-ended; returns their
+ * number. */
+int run_model_names(const RunProblem *rp, const MicaFieldModel *m, int traction, const char **names);
+int run_read_dirichlet(const MicaDeck *deck, const RunProblem *rp, const MicaFieldModel *m, int *count,
+                       MicaDirichlet **out);
+int run_read_tractions(const MicaDeck *deck, const RunProblem *rp, const MicaFieldModel *m, int *count,
+                       MicaTraction **out);
+int run_read_body_force(const MicaDeck *deck, const RunProblem *rp, const MicaFieldModel *m, MicaFunction **body);
+/* bc.method and the method's own settings (bc.alpha) into opt. */
+int run_read_bc_method(const MicaDeck *deck, MicaSolidOptions *opt);
+/* The exact.* solution, when the deck gives one, into rp. */
+int run_read_exact(const MicaDeck *deck, RunProblem *rp, const MicaFieldModel *m);
+
 /* The model and its constants from material.* (run_material.c). */
 int run_read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt);
 
