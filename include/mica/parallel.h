@@ -26,6 +26,8 @@
 #ifndef MICA_PARALLEL_H
 #define MICA_PARALLEL_H
 
+#include <mpi.h>
+
 #include "mica/error.h"
 #include "mica/mls.h"
 #include "mica/sparse.h"
@@ -37,6 +39,10 @@ struct MicaDiscretization;
 /* After MPI_Init (only when launched by mpirun): records rank and size; ranks other than 0 send stdout to
  * /dev/null. Serial runs never call it: then rank is 0 and size 1. */
 void mica_parallel_start(void);
+/* The communicator of the ranks that share the work (MPI_COMM_WORLD; MPI_COMM_SELF in a serial run). Every
+ * collective of mica uses it, never MPI_COMM_WORLD itself, so that a command may give groups of ranks
+ * problems of their own. */
+MPI_Comm mica_parallel_comm(void);
 int mica_parallel_rank(void);
 int mica_parallel_size(void);
 /* 1 when more than one rank shares the work (and no mica_parallel_set_alone is in force). */

@@ -123,7 +123,7 @@ int run_parallel_ranks(const RunProblem *rp, const MicaNewtonStats *stats, MicaJ
   mica_parallel_residual_time(&mine[RANK_WAIT_WALL], &mine[RANK_WAIT_CPU], &calls);
   int ierr = root ? MICA_CALLOC(rows, (long)nranks * RANK_FIELDS) : MICA_SUCCESS;
   MICA_CALL(mica_parallel_agree(ierr));
-  MPI_Gather(mine, RANK_FIELDS, MPI_DOUBLE, rows, RANK_FIELDS, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  MPI_Gather(mine, RANK_FIELDS, MPI_DOUBLE, rows, RANK_FIELDS, MPI_DOUBLE, 0, mica_parallel_comm());
   if (!root) return MICA_SUCCESS;
   print_ranks(rows, nranks);
   /* the assembly's own CPU time: without the time spent (spinning) in the residual sum */

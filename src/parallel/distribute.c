@@ -82,14 +82,14 @@ cleanup:
 static void bcast_longs(long *v, long n) {
   for (long first = 0; first < n; first += 1L << 28) {
     const long count = n - first < (1L << 28) ? n - first : (1L << 28);
-    MPI_Bcast(v + first, (int)count, MPI_LONG, 0, MPI_COMM_WORLD);
+    MPI_Bcast(v + first, (int)count, MPI_LONG, 0, mica_parallel_comm());
   }
 }
 
 static void bcast_ints(int *v, long n) {
   for (long first = 0; first < n; first += 1L << 28) {
     const long count = n - first < (1L << 28) ? n - first : (1L << 28);
-    MPI_Bcast(v + first, (int)count, MPI_INT, 0, MPI_COMM_WORLD);
+    MPI_Bcast(v + first, (int)count, MPI_INT, 0, mica_parallel_comm());
   }
 }
 
@@ -103,7 +103,7 @@ static int broadcast_partition(MicaDistribution *dist, const MicaDiscretization 
     imbalance = dist->partition->imbalance;
   }
   bcast_longs(header, 3);
-  MPI_Bcast(&imbalance, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  MPI_Bcast(&imbalance, 1, MPI_DOUBLE, 0, mica_parallel_comm());
   int ierr = MICA_SUCCESS;
   if (!root) {
     MicaPartition *p = NULL;
@@ -237,8 +237,8 @@ int mica_distribution_create(const MicaDiscretization *disc, const MlsApprox *ml
   for (int r = 0; r < nparts; r++)
     if (ghost_counts[r] > st->ghost_particles_max) st->ghost_particles_max = ghost_counts[r];
   st->owned_points = dist->local->nquad;
-  MPI_Allreduce(&st->owned_points, &st->max_owned_points, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
-  MPI_Allreduce(&st->owned_points, &st->min_owned_points, 1, MPI_LONG, MPI_MIN, MPI_COMM_WORLD);
+  MPI_Allreduce(&st->owned_points, &st->max_owned_points, 1, MPI_LONG, MPI_MAX, mica_parallel_comm());
+  MPI_Allreduce(&st->owned_points, &st->min_owned_points, 1, MPI_LONG, MPI_MIN, mica_parallel_comm());
   st->time_partition = mica_wtime() - start;
   *out = dist;
   dist = NULL;

@@ -141,7 +141,7 @@ int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz) {
                           sendn);
   if (!ierr) ierr = MICA_MALLOC(send, sendn + 1);
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
-  MPI_Alltoall(counts, 1, MPI_INT, rcounts, 1, MPI_INT, MPI_COMM_WORLD);
+  MPI_Alltoall(counts, 1, MPI_INT, rcounts, 1, MPI_INT, mica_parallel_comm());
   for (int r = 0; r < P; r++) {
     displs[r + 1] = displs[r] + counts[r], rdispls[r + 1] = rdispls[r] + rcounts[r];
     cursor[r] = displs[r];
@@ -153,11 +153,11 @@ int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz) {
   }
   ierr = MICA_MALLOC(recv, nrecv + 1);
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
-  MPI_Alltoallv(send, counts, displs, MPI_LONG, recv, rcounts, rdispls, MPI_LONG, MPI_COMM_WORLD);
+  MPI_Alltoallv(send, counts, displs, MPI_LONG, recv, rcounts, rdispls, MPI_LONG, mica_parallel_comm());
   free(send);
   send = NULL;
   count_distinct(recv, nrecv, n, &mine[0], &mine[1]);
-  MPI_Allreduce(MPI_IN_PLACE, mine, 2, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, mine, 2, MPI_LONG, MPI_SUM, mica_parallel_comm());
   *nnz = 2 * mine[0] - mine[1];
 cleanup:
   free(counts), free(rcounts), free(cursor), free(send), free(recv);

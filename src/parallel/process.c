@@ -18,6 +18,7 @@
 #include "mica/timer.h"
 
 static int started, rank_, size_ = 1, alone;
+static MPI_Comm comm_ = MPI_COMM_NULL; /* the ranks that share the work: comm_ once started */
 static unsigned long agreed_generation; /* mica_error_generation() of the agreed error; 0: none */
 
 void mica_parallel_start(void) {
@@ -25,11 +26,13 @@ void mica_parallel_start(void) {
   MPI_Initialized(&initialized);
   if (!initialized) return;
   started = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
-  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  comm_ = MPI_COMM_WORLD;
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
   if (rank_ != 0 && !freopen("/dev/null", "w", stdout)) fclose(stdout);
 }
 
+MPI_Comm mica_parallel_comm(void) { return started ? comm_ : MPI_COMM_SELF; }
 int mica_parallel_rank(void) { return rank_; }
 int mica_parallel_size(void) { return size_; }
 int mica_parallel_active(void) { return started && size_ > 1 && !alone; }
@@ -48,7 +51,7 @@ int mica_parallel_agree(int ierr) {
   if (!mica_parallel_active()) return ierr;
   if (ierr && mica_parallel_error_agreed()) return ierr;
   int first = ierr ? rank_ : size_, failing = size_;
-  MPI_Allreduce(&first, &failing, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  MPI_Allreduce(&first, &failing, 1, MPI_INT, MPI_MIN, comm_);
   if (failing == size_) return MICA_SUCCESS;
   struct {
     int code;
@@ -59,7 +62,7 @@ int mica_parallel_agree(int ierr) {
     error.code = ierr;
     snprintf(error.message, sizeof error.message, "%s", mica_error_message());
   }
-  MPI_Bcast(&error, (int)sizeof error, MPI_BYTE, failing, MPI_COMM_WORLD);
+  MPI_Bcast(&error, (int)sizeof error, MPI_BYTE, failing, comm_);
   /* every rank, the failing one too, gets the message with the failing rank in front (rank 0's as it is:
    * a deck error fails every rank alike) */
   if (failing == 0 || strncmp(error.message, "rank ", 5) == 0)
@@ -98,9 +101,9 @@ int mica_parallel_sum(int ierr, double *v, long n) {
     const int count = (int)(n - first < CHUNK ? n - first : CHUNK);
     /* reduce to rank 0, then broadcast: every rank holds bitwise the same sums, so decisions taken on them
      * (convergence, step cuts) are the same everywhere */
-    if (rank_ == 0) MPI_Reduce(MPI_IN_PLACE, v + first, count, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
-    else MPI_Reduce(v + first, NULL, count, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
-    MPI_Bcast(v + first, count, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    if (rank_ == 0) MPI_Reduce(MPI_IN_PLACE, v + first, count, MPI_DOUBLE, MPI_SUM, 0, comm_);
+    else MPI_Reduce(v + first, NULL, count, MPI_DOUBLE, MPI_SUM, 0, comm_);
+    MPI_Bcast(v + first, count, MPI_DOUBLE, 0, comm_);
   }
   return MICA_SUCCESS;
 }
@@ -110,7 +113,7 @@ int mica_parallel_broadcast(int ierr, double *v, long n, int root) {
   if (!mica_parallel_active()) return MICA_SUCCESS;
   for (long first = 0; first < n; first += CHUNK) {
     const int count = (int)(n - first < CHUNK ? n - first : CHUNK);
-    MPI_Bcast(v + first, count, MPI_DOUBLE, root, MPI_COMM_WORLD);
+    MPI_Bcast(v + first, count, MPI_DOUBLE, root, comm_);
   }
   return MICA_SUCCESS;
 }
@@ -133,12 +136,12 @@ void mica_parallel_residual_time(double *wall, double *cpu, long *calls) {
 }
 
 long mica_parallel_max_long(long v) {
-  if (mica_parallel_active()) MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
+  if (mica_parallel_active()) MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_LONG, MPI_MAX, comm_);
   return v;
 }
 
 long mica_parallel_sum_long(long v) {
-  if (mica_parallel_active()) MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+  if (mica_parallel_active()) MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_LONG, MPI_SUM, comm_);
   return v;
 }
 

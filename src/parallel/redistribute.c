@@ -128,7 +128,7 @@ int redistribution_create(const MicaSparse *L, const char *const *member, long n
     }
   }
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
-  MPI_Alltoall(send_count, 1, MPI_LONG, recv_count, 1, MPI_LONG, MPI_COMM_WORLD);
+  MPI_Alltoall(send_count, 1, MPI_LONG, recv_count, 1, MPI_LONG, mica_parallel_comm());
   ierr = to_int_counts(recv_count, P, rd->recv_counts);
   long total_recv = 0;
   for (int s = 0; s < P; s++) total_recv += recv_count[s];
@@ -143,7 +143,7 @@ int redistribution_create(const MicaSparse *L, const char *const *member, long n
     rc[s] = 2 * rd->recv_counts[s], rdsp[s] = 2 * rd->recv_displs[s];
   }
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
-  MPI_Alltoallv(pairs_out, sc, sd, MPI_LONG, pairs_in, rc, rdsp, MPI_LONG, MPI_COMM_WORLD);
+  MPI_Alltoallv(pairs_out, sc, sd, MPI_LONG, pairs_in, rc, rdsp, MPI_LONG, mica_parallel_comm());
   rd->nrecv = total_recv;
   ierr = MICA_SUCCESS;
   if (member[me]) {
@@ -166,7 +166,7 @@ int redistribution_move(Redistribution *rd, int ierr, const MicaSparse *L) {
       for (long k = rd->send_displs[s]; k < rd->send_displs[s + 1]; k++) rd->send_buf[k] = L->val[rd->send_pos[k]];
   MICA_CALL(mica_parallel_agree(ierr));
   MPI_Alltoallv(rd->send_buf, rd->send_counts, rd->send_displs, MPI_DOUBLE, rd->recv_buf, rd->recv_counts,
-                rd->recv_displs, MPI_DOUBLE, MPI_COMM_WORLD);
+                rd->recv_displs, MPI_DOUBLE, mica_parallel_comm());
   if (rd->A) {
     mica_sparse_zero(rd->A);
     for (long k = 0; k < rd->nrecv; k++) rd->A->val[rd->recv_map[k]] += rd->recv_buf[k];

@@ -57,7 +57,7 @@ static int subdomain_sets(ParallelSolver *ps, const MicaSparse *L, char **member
       if (node < p->n) coupled[(long)p->part[node] * nextra + m] = 1;
     }
   }
-  MPI_Allreduce(MPI_IN_PLACE, coupled, (int)((long)P * nextra), MPI_UNSIGNED_CHAR, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, coupled, (int)((long)P * nextra), MPI_UNSIGNED_CHAR, MPI_MAX, mica_parallel_comm());
   for (long m = 0; m < nextra; m++) {
     int any = 0;
     for (int s = 0; s < P; s++) any |= member[s][p->n + m] = coupled[(long)s * nextra + m];
@@ -103,7 +103,7 @@ static int schwarz_setup(ParallelSolver *ps, const MicaSparse *L) {
   free(member);
   MICA_CALL(mica_parallel_agree(ierr));
   long range[2] = {k->nsub, -k->nsub};
-  MPI_Allreduce(MPI_IN_PLACE, range, 2, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, range, 2, MPI_LONG, MPI_MAX, mica_parallel_comm());
   ps->dist->stats.subdomain_dofs_max = range[0];
   ps->dist->stats.subdomain_dofs_min = -range[1];
   ps->pattern_n = L->n, ps->pattern_nnz = L->nnz;
