@@ -5,7 +5,7 @@
 #include "mica/command.h"
 #include "mica/fe.h"
 #include "mica/parallel.h"
-#include "mica/solid.h"
+#include "mica/bc.h"
 
 extern const MicaDeckKey mica_run_schema[];
 
