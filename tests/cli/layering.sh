@@ -33,6 +33,8 @@ for d in src/*/; do
   d=$(basename "$d")
   [[ " ${STAGES[*]} " == *" $d "* ]] || fail "src/$d has no place in the stage order of tests/cli/layering.sh"
   ls "$obj/src/$d/"*.o >/dev/null 2>&1 || fail "no objects in $obj/src/$d (build first)"
+  # the Makefile puts every folder but app and cli into lib/libmica.a, one part each (LIB_DIRS)
+  [[ $d == app || $d == cli || -f "$obj/lib/$d.o" ]] || fail "src/$d is a library stage without a part $obj/lib/$d.o"
   nm -g --defined-only "$obj/src/$d/"*.o | awk 'NF == 3 { print $3 }' | sort -u > "$work/$d.def"
   # "object symbol" for every undefined symbol of the folder's objects
   for o in "$obj/src/$d/"*.o; do nm -u "$o" | awk -v o="$(basename "$o")" '{ print o, $NF }'; done > "$work/$d.und"
