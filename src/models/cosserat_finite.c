@@ -300,7 +300,7 @@ const MicaFieldModelOps mica_field_cosserat_finite = {
 };
 
 int mica_cosserat_finite_set(MicaFieldModel *m) {
-  MICA_CHECK(m && m->ops == &mica_field_cosserat, MICA_ERR_ARGUMENT,
+  MICA_CHECK(m && m->ops && mica_type_has(&m->ops->type, MICA_FIELD_FINITE_ROTATION_FORM), MICA_ERR_ARGUMENT,
              "mica_cosserat_finite_set: set the constants with mica_cosserat_set_eringen or _technical first");
   m->ops = &mica_field_cosserat_finite;
   return MICA_SUCCESS;
