@@ -212,6 +212,11 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
                               int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
                               const MicaSolid *donor, MicaSolid **solid);
 int mica_solid_destroy(MicaSolid **solid);
+/* Destroys what mica_solid_create takes: the body-force functions body[MICA_MAX_COMP] (body may be NULL), the
+ * conditions' functions and the two arrays (NULLed; either may be NULL): for a caller whose conditions never
+ * reached a solid, and for the solid itself. */
+void mica_solid_conditions_free(MicaFunction **body, int ndirichlet, MicaDirichlet **dirichlet, int ntraction,
+                                MicaTraction **traction);
 
 /* 1 if the tangent is symmetric positive definite (CHOLMOD applies): the boundary method keeps it so and the
  * test functions are the trial functions (no VCI). */

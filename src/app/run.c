@@ -92,13 +92,7 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   rp->cpu_cache_pattern = mica_cputime() - cpu;
   return ierr; /* the solid owns the conditions now, whether or not it was built */
 cleanup:
-  for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&opt.body[a]);
-  for (int c = 0; c < ndirichlet; c++)
-    for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&dirichlet[c].value[a]);
-  for (int c = 0; c < ntraction; c++)
-    for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&traction[c].value[a]);
-  free(dirichlet);
-  free(traction);
+  mica_solid_conditions_free(opt.body, ndirichlet, &dirichlet, ntraction, &traction);
   return ierr;
 }
 
