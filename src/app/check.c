@@ -19,7 +19,6 @@ cleanup:
   return ierr;
 }
 
-
 const MicaCommand mica_command_check = {
     {"check",
      "validate a run deck and print its cost (particles, quadrature points, dofs, nnz, memory) without solving",
