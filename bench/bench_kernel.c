@@ -21,7 +21,7 @@
 #include <time.h>
 
 #include "mica/kernel.h"
-#include "mica/solid.h"
+#include "mica/bc.h"
 
 #define CHUNK_POINTS 8 /* points per chunk in the "chunk" column, as the assembly stages them */
 

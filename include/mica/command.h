@@ -1,6 +1,6 @@
 /* Commands of the `mica` program, a registry of types (mica/registry.h): each names its deck schema and runs
  * one study or solve on a checked deck, writing into outdir and adding its results to the summary. Adding a
- * command is one new file that fills one MicaCommand and one line in src/cli/commands.c. */
+ * command is one new file in src/app that fills one MicaCommand and one line in src/cli/commands.c. */
 #ifndef MICA_COMMAND_H
 #define MICA_COMMAND_H
 
@@ -19,10 +19,6 @@ extern const MicaCommand mica_command_mls, mica_command_run, mica_command_check,
     mica_command_study;
 extern const MicaCommand mica_command_stability;
 
-/* run (the default), check, mls, sweep, study, stability (src/cli/commands.c) */
-extern MicaRegistry mica_command_registry;
-const MicaCommand *mica_command_find(const char *name);
-/* The i-th command (registry order), or NULL past the last. */
-const MicaCommand *mica_command_at(int i);
+/* The registry of the program's commands is src/cli's (mica/command_registry.h). */
 
 #endif

@@ -78,5 +78,7 @@ int mica_fe_discretize(const MicaFe *fe, const MicaDiscretization *like, int ord
 /* ctx: a const MicaFe *. Points: the element's nodes as supports, N and ∇N through the isoparametric map,
  * first derivatives only. Particles: N_I(x_J) = δ_IJ, ∇N the average over the elements around the node. */
 extern const MicaApproxOps mica_approx_fe;
+/* problem.method: efg (mica_approx_mls, the default), fe. Here, above both types' folders. */
+extern MicaRegistry mica_approx_registry;
 
 #endif

@@ -72,7 +72,9 @@ enum {
   MICA_FIELD_FINITE = 1u << 0,        /* W is not quadratic in q (Newton iterates) */
   MICA_FIELD_USES_VALUES = 1u << 1,   /* W depends on the values of the unknowns, not only their derivatives */
   MICA_FIELD_CLASSICAL = 1u << 2,     /* the adapter of a classical kernel (m->classical: its P and A) */
-  MICA_FIELD_COUPLE_STRESS = 1u << 3  /* stress() reports a couple stress (the Cosserat models) */
+  MICA_FIELD_COUPLE_STRESS = 1u << 3, /* stress() reports a couple stress (the Cosserat models) */
+  MICA_FIELD_FINITE_ROTATION_FORM = 1u << 4 /* a small-rotation model whose constants (param) the finite-rotation
+                                               Cosserat model takes as they are (mica_cosserat_finite_set) */
 };
 
 typedef struct MicaFieldModelOps {

@@ -70,8 +70,8 @@ typedef struct MicaApprox {
 } MicaApprox;
 
 extern const MicaApproxOps mica_approx_mls;
-/* problem.method: efg (the default), fe (src/fe/fe_approx.c, above both types' folders). */
-extern MicaRegistry mica_approx_registry;
+/* The registry of approximations (problem.method) is mica_approx_registry of mica/fe.h, in src/fe: above both
+ * types' folders. */
 static inline int mica_approx_has(const MicaApproxOps *ops, unsigned flag) { return mica_type_has(&ops->type, flag); }
 
 /* Evaluates shape functions with gradients (order 1) or with gradients and Hessians (order 2) at
@@ -118,12 +118,10 @@ typedef struct MicaTraction {
 } MicaTraction;
 
 struct MicaSolid;
-struct MicaSolidOptions;
 
-/* Ways to impose Dirichlet conditions weakly: a registry of types (mica/registry.h). Each adds its terms for
- * one Dirichlet condition to the residual and tangent; Lagrange multipliers also own extra unknowns. A
- * method's own settings (penalty and nitsche: bc.alpha, each with its default) are read by its
- * type.from_settings into a MicaSolidOptions. */
+/* Ways to impose Dirichlet conditions weakly: the interface the solid calls (the types, their registry and
+ * bc.method's reading are src/bc's, mica/bc.h). Each adds its terms for one Dirichlet condition to the residual
+ * and tangent; Lagrange multipliers also own extra unknowns. */
 enum {
   MICA_BC_SYMMETRIC_DEFINITE = 1u << 0, /* the tangent stays symmetric positive definite (CHOLMOD can be used) */
   MICA_BC_MULTIPLIERS = 1u << 1,        /* multiplier nodes on the constrained sets */
@@ -136,21 +134,6 @@ typedef struct MicaBoundaryMethodOps {
   int (*add)(struct MicaSolid *s, const MicaDirichlet *c, double t, const double *u, double *R, MicaSparse *K);
 } MicaBoundaryMethodOps;
 
-/* bc.method: penalty, nitsche (the default), lagrange (src/bc/bc.c). */
-extern MicaRegistry mica_bc_method_registry;
-extern const MicaBoundaryMethodOps mica_bc_penalty, mica_bc_nitsche, mica_bc_lagrange;
-
-/* The rigid motions (translations, rotations; axisymmetric: along and about the axis) that no Dirichlet condition
- * holds, from the conditions' geometry alone (src/bc/rigid.c): a motion is held when one of its prescribed
- * components is nonzero at one of a condition's boundary points. names: the deck names of the ncomp unknowns (ux,
- * uy, phiz, ...; axisymmetric ur, utheta, uz, ...). A free motion is a MICA_ERR_INPUT error, "WHERE: the body can
- * move freely: N rigid modes are not held (...); add Dirichlet conditions on ...". */
-int mica_dirichlet_check_rigid(const MicaDiscretization *disc, int axisymmetric, int ncomp, const char *const *names,
-                               int ndirichlet, const MicaDirichlet *dirichlet, const char *where);
-const MicaBoundaryMethodOps *mica_bc_method_find(const char *name);
-/* The method chosen by bc.method and its own settings (bc.alpha) into opt (bc_method, bc_alpha: 0 for a
- * method without one). */
-int mica_bc_method_from_settings(const MicaSettings *settings, struct MicaSolidOptions *opt);
 static inline int mica_bc_method_has(const MicaBoundaryMethodOps *ops, unsigned flag) {
   return mica_type_has(&ops->type, flag);
 }
@@ -229,6 +212,11 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
                               int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
                               const MicaSolid *donor, MicaSolid **solid);
 int mica_solid_destroy(MicaSolid **solid);
+/* Destroys what mica_solid_create takes: the body-force functions body[MICA_MAX_COMP] (body may be NULL), the
+ * conditions' functions and the two arrays (NULLed; either may be NULL): for a caller whose conditions never
+ * reached a solid, and for the solid itself. */
+void mica_solid_conditions_free(MicaFunction **body, int ndirichlet, MicaDirichlet **dirichlet, int ntraction,
+                                MicaTraction **traction);
 
 /* 1 if the tangent is symmetric positive definite (CHOLMOD applies): the boundary method keeps it so and the
  * test functions are the trial functions (no VCI). */

@@ -1,155 +1,14 @@
 /* `mica run`: solve a solid-mechanics deck (the pipeline of docs/architecture.md: deck → discretization → MLS →
- * cache → assembly → Newton → output); `mica check`: build everything but the solve and print the cost. */
-#include <libgen.h>
-#include <limits.h>
-#include <math.h>
+ * cache → assembly → Newton → output). Here: the solid built on the geometry (run_geometry.c) and the
+ * conditions (run_conditions.c), what consecutive runs reuse, and the solve; `mica check` (check.c) shares
+ * everything before the solve (run_counts.c). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 #include "mica/timer.h"
 #include "run.h"
 #include "study_common.h"
-
-/* ---- geometry ------------------------------------------------------------------------------------------ */
-
-static int read_floats_exact(const MicaDeck *deck, const char *path, double *v, int want) {
-  int n;
-  MICA_CALL(mica_deck_floats(deck, path, v, want, &n));
-  char where[256];
-  mica_deck_where(deck, path, where, sizeof where);
-  MICA_CHECK(n == want, MICA_ERR_INPUT, "%s: %s needs %d values, not %d", where, path, want, n);
-  return MICA_SUCCESS;
-}
-
-static int require(const MicaDeck *deck, const char *path, const char *shape) {
-  if (mica_deck_has(deck, path)) return MICA_SUCCESS;
-  char where[256];
-  mica_deck_where(deck, "geometry.shape", where, sizeof where);
-  MICA_ERROR(MICA_ERR_INPUT, "%s: geometry.shape = \"%s\" needs %s", where, shape, path);
-}
-
-/* Gmsh paths are relative to the deck's directory, so a deck runs from anywhere. */
-static int mesh_path(const MicaDeck *deck, char *buf, size_t size) {
-  const char *name;
-  MICA_CALL(mica_deck_string(deck, "geometry.mesh", &name));
-  char deck_path[PATH_MAX];
-  snprintf(deck_path, sizeof deck_path, "%s", mica_deck_path(deck));
-  const int n = name[0] == '/' ? snprintf(buf, size, "%s", name) : snprintf(buf, size, "%s/%s", dirname(deck_path), name);
-  if (n >= 0 && (size_t)n < size) return MICA_SUCCESS;
-  char where[256];
-  mica_deck_where(deck, "geometry.mesh", where, sizeof where);
-  MICA_ERROR(MICA_ERR_INPUT, "%s: the mesh's path, beside the deck, is %d bytes long; at most %zu are allowed: move the "
-             "deck or the mesh to a shorter path", where, n, size - 1);
-}
-
-/* geometry.mesh_size_factor scales the sizes Gmsh meshes a .geo with; for anything else it would do nothing. */
-static int read_size_factor(const MicaDeck *deck, MicaShapeSpec *shape) {
-  if (!mica_deck_has(deck, "geometry.mesh_size_factor")) return MICA_SUCCESS;
-  const char *p = shape->mesh_path;
-  const size_t n = p ? strlen(p) : 0;
-  char where[256];
-  mica_deck_where(deck, "geometry.mesh_size_factor", where, sizeof where);
-  MICA_CHECK(n > 4 && !strcasecmp(p + n - 4, ".geo"), MICA_ERR_INPUT,
-             "%s: geometry.mesh_size_factor scales the mesh of a .geo that mica meshes; %s", where,
-             p ? "geometry.mesh names a mesh file, which is meshed already (re-mesh it: gmsh -clscale)"
-               : "this shape is not a Gmsh geometry");
-  return mica_deck_float(deck, "geometry.mesh_size_factor", &shape->mesh_size_factor);
-}
-
-static int read_shape(const MicaDeck *deck, MicaShapeSpec *shape, char *mesh, size_t mesh_size) {
-  const char *kind;
-  memset(shape, 0, sizeof *shape);
-  MICA_CALL(mica_deck_string(deck, "geometry.shape", &kind));
-  shape->dim = 2;
-  if (!strcmp(kind, "box")) {
-    int nl, nu;
-    MICA_CALL(require(deck, "geometry.lower", kind));
-    MICA_CALL(require(deck, "geometry.upper", kind));
-    MICA_CALL(mica_deck_floats(deck, "geometry.lower", shape->lower, 3, &nl));
-    MICA_CALL(mica_deck_floats(deck, "geometry.upper", shape->upper, 3, &nu));
-    char where[256];
-    mica_deck_where(deck, "geometry.upper", where, sizeof where);
-    MICA_CHECK(nl == nu, MICA_ERR_INPUT, "%s: geometry.upper has %d values, geometry.lower %d", where, nu, nl);
-    shape->kind = MICA_SHAPE_BOX;
-    shape->dim = nl;
-  } else if (!strcmp(kind, "polygon")) {
-    double v[8];
-    MICA_CALL(require(deck, "geometry.vertices", kind));
-    MICA_CALL(read_floats_exact(deck, "geometry.vertices", v, 8));
-    shape->kind = MICA_SHAPE_POLYGON;
-    for (int i = 0; i < 4; i++) shape->vertices[i][0] = v[2 * i], shape->vertices[i][1] = v[2 * i + 1];
-  } else if (!strcmp(kind, "plate_hole")) {
-    MICA_CALL(require(deck, "geometry.hole_radius", kind));
-    MICA_CALL(require(deck, "geometry.plate_size", kind));
-    shape->kind = MICA_SHAPE_PLATE_HOLE;
-    MICA_CALL(mica_deck_float(deck, "geometry.hole_radius", &shape->hole_radius));
-    MICA_CALL(read_floats_exact(deck, "geometry.plate_size", shape->plate_size, 2));
-  } else if (!strcmp(kind, "annulus")) {
-    double angles[2];
-    MICA_CALL(require(deck, "geometry.r_inner", kind));
-    MICA_CALL(require(deck, "geometry.r_outer", kind));
-    shape->kind = MICA_SHAPE_ANNULUS;
-    MICA_CALL(mica_deck_float(deck, "geometry.r_inner", &shape->r_inner));
-    MICA_CALL(mica_deck_float(deck, "geometry.r_outer", &shape->r_outer));
-    MICA_CALL(read_floats_exact(deck, "geometry.angles", angles, 2));
-    const double degree = 3.14159265358979323846 / 180;
-    shape->theta0 = angles[0] * degree;
-    shape->theta1 = angles[1] * degree;
-  } else if (!strcmp(kind, "cylinder")) {
-    MICA_CALL(require(deck, "geometry.radius", kind));
-    MICA_CALL(require(deck, "geometry.height", kind));
-    shape->kind = MICA_SHAPE_CYLINDER;
-    shape->dim = 3;
-    MICA_CALL(mica_deck_float(deck, "geometry.radius", &shape->radius));
-    MICA_CALL(mica_deck_float(deck, "geometry.height", &shape->height));
-  } else {
-    MICA_CALL(require(deck, "geometry.mesh", kind));
-    shape->kind = MICA_SHAPE_GMSH;
-    MICA_CALL(mesh_path(deck, mesh, mesh_size));
-    MICA_CALL(run_mesh_file_check(deck, mesh));
-    shape->mesh_path = mesh;
-  }
-  return read_size_factor(deck, shape);
-}
-
-static int read_layout(const MicaDeck *deck, int dim, int gmsh, MicaLayoutSpec *layout, MicaCellSpec *cells) {
-  const char *kind;
-  memset(layout, 0, sizeof *layout);
-  memset(cells, 0, sizeof *cells);
-  MICA_CALL(mica_deck_string(deck, "particles.layout", &kind));
-  layout->kind = !strcmp(kind, "graded")     ? MICA_LAYOUT_GRADED
-                 : !strcmp(kind, "jittered") ? MICA_LAYOUT_JITTERED
-                 : !strcmp(kind, "irregular") ? MICA_LAYOUT_IRREGULAR
-                                              : MICA_LAYOUT_REGULAR;
-  MICA_CALL(mica_deck_float(deck, "particles.jitter", &layout->jitter));
-  MICA_CALL(mica_deck_int(deck, "particles.seed", &layout->seed));
-  double grading[3];
-  int ng;
-  MICA_CALL(mica_deck_floats(deck, "particles.grading", grading, 3, &ng));
-  for (int d = 0; d < 3; d++) layout->grading[d] = grading[ng == 1 ? 0 : (d < ng ? d : ng - 1)];
-  char where[256];
-  if (!gmsh) {
-    int nc;
-    MICA_CALL(require(deck, "particles.count", "any built-in shape"));
-    MICA_CALL(mica_deck_ints(deck, "particles.count", layout->count, 3, &nc));
-    mica_deck_where(deck, "particles.count", where, sizeof where);
-    MICA_CHECK(nc == dim, MICA_ERR_INPUT, "%s: particles.count needs %d entries for this %d-D shape, not %d", where,
-               dim, dim, nc);
-  }
-  long order, border;
-  MICA_CALL(mica_deck_int(deck, "quadrature.order", &order));
-  MICA_CALL(mica_deck_int(deck, "quadrature.boundary_order", &border));
-  cells->order = (int)order, cells->boundary_order = (int)border;
-  if (mica_deck_has(deck, "quadrature.cells")) {
-    int nc;
-    MICA_CALL(mica_deck_ints(deck, "quadrature.cells", cells->count, 3, &nc));
-    mica_deck_where(deck, "quadrature.cells", where, sizeof where);
-    MICA_CHECK(nc == dim, MICA_ERR_INPUT, "%s: quadrature.cells needs %d entries, not %d", where, dim, nc);
-  }
-  return MICA_SUCCESS;
-}
 
 /* ---- building the problem ------------------------------------------------------------------------------- */
 
@@ -233,85 +92,8 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   rp->cpu_cache_pattern = mica_cputime() - cpu;
   return ierr; /* the solid owns the conditions now, whether or not it was built */
 cleanup:
-  for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&opt.body[a]);
-  for (int c = 0; c < ndirichlet; c++)
-    for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&dirichlet[c].value[a]);
-  for (int c = 0; c < ntraction; c++)
-    for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&traction[c].value[a]);
-  free(dirichlet);
-  free(traction);
+  mica_solid_conditions_free(opt.body, ndirichlet, &dirichlet, ntraction, &traction);
   return ierr;
-}
-
-/* geometry.axisymmetric: the 2-D section in (x, y) = (r, z) is revolved about the y axis. */
-static int read_axisymmetric(const MicaDeck *deck, RunProblem *rp) {
-  MICA_CALL(mica_deck_bool(deck, "geometry.axisymmetric", &rp->axisymmetric));
-  if (!rp->axisymmetric) return MICA_SUCCESS;
-  int ierr = mica_discretization_revolve(rp->disc);
-  if (ierr) {
-    char where[256];
-    mica_deck_where(deck, "geometry.axisymmetric", where, sizeof where);
-    mica_error_prefix("%s", where);
-    return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
-  }
-  return MICA_SUCCESS;
-}
-
-/* Discretization (revolved for an axisymmetric section) and MLS approximation. */
-static int build_geometry(const MicaDeck *deck, RunProblem *rp) {
-  MicaShapeSpec shape;
-  MicaLayoutSpec layout;
-  MicaCellSpec cells;
-  MlsOptions mls_opt;
-  char mesh[PATH_MAX];
-  int fe = 0, fe_order = 0;
-  MICA_CALL(read_shape(deck, &shape, mesh, sizeof mesh));
-  MICA_CALL(read_layout(deck, shape.dim, shape.kind == MICA_SHAPE_GMSH, &layout, &cells));
-  MICA_CALL(run_is_fe(deck, &fe));
-  if (fe) MICA_CALL(run_check_fe_deck(deck, &shape, &layout, &cells, &fe_order));
-  double start = mica_wtime();
-  MICA_CALL(mica_discretization_create(&shape, &layout, &cells, &rp->disc));
-  if (shape.kind == MICA_SHAPE_GMSH) { /* the counts are the mesh's: estimated once it is read */
-    MICA_CALL(run_estimate(deck, &shape, &layout, &cells, rp->disc, &rp->estimate));
-    MICA_CALL(run_estimate_guard(deck, NULL, rp->disc->dim, &rp->estimate));
-  }
-  if (fe) MICA_CALL(run_build_fe(&layout, &cells, fe_order, rp));
-  MICA_CALL(run_read_integration(deck, &shape, &layout, &cells, rp));
-  MICA_CALL(read_axisymmetric(deck, rp));
-  rp->time_discretize = mica_wtime() - start - rp->time_mls;
-  if (!fe) {
-    MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
-    start = mica_wtime();
-    MICA_CALL(mica_study_mls_input(mls_create(rp->disc->dim, rp->disc->nparticles, rp->disc->x, &mls_opt, &rp->mls)));
-    rp->time_mls = mica_wtime() - start;
-    rp->approx = (MicaApprox){&mica_approx_mls, rp->mls};
-  }
-  return MICA_SUCCESS;
-}
-
-int run_error_discretization(const RunProblem *rp, MicaDiscretization **disc) {
-  long order;
-  *disc = NULL;
-  MICA_CALL(mica_deck_int(rp->deck, "quadrature.error_order", &order));
-  if (order <= 0) return MICA_SUCCESS;
-  MicaShapeSpec shape;
-  MicaLayoutSpec layout;
-  MicaCellSpec cells;
-  char mesh[PATH_MAX];
-  MICA_CALL(read_shape(rp->deck, &shape, mesh, sizeof mesh));
-  MICA_CALL(read_layout(rp->deck, shape.dim, shape.kind == MICA_SHAPE_GMSH, &layout, &cells));
-  cells.order = (int)order;
-  MICA_CALL(mica_discretization_create(&shape, &layout, &cells, disc));
-  const int ierr = rp->axisymmetric ? mica_discretization_revolve(*disc) : MICA_SUCCESS;
-  if (ierr) mica_discretization_destroy(disc);
-  return ierr;
-}
-
-int run_body_create(const MicaDeck *deck, MicaBody **body) {
-  MicaShapeSpec shape;
-  char mesh[PATH_MAX];
-  MICA_CALL(read_shape(deck, &shape, mesh, sizeof mesh));
-  return mica_body_create(&shape, body);
 }
 
 /* ---- reuse between runs ---------------------------------------------------------------------------------- */
@@ -376,7 +158,7 @@ static int take_or_build_geometry(const MicaDeck *deck, RunProblem *rp, RunReuse
   }
   reuse_clear(reuse);
   rp->owns_geometry = 1;
-  int ierr = build_geometry(deck, rp);
+  int ierr = run_build_geometry(deck, rp);
   if (ierr) {
     free(key);
     return ierr;
@@ -386,31 +168,19 @@ static int take_or_build_geometry(const MicaDeck *deck, RunProblem *rp, RunReuse
   return MICA_SUCCESS;
 }
 
-/* The cost guard (estimate.c): a built-in shape's cost from its counts, before anything is allocated. */
-static int guard_cost(const MicaDeck *deck, RunEstimate *est) {
-  MicaShapeSpec shape;
-  MicaLayoutSpec layout;
-  MicaCellSpec cells;
-  char mesh[PATH_MAX];
-  MICA_CALL(read_shape(deck, &shape, mesh, sizeof mesh));
-  if (shape.kind == MICA_SHAPE_GMSH) return MICA_SUCCESS; /* build_geometry, once the mesh is read */
-  MICA_CALL(read_layout(deck, shape.dim, 0, &layout, &cells));
-  MICA_CALL(run_estimate(deck, &shape, &layout, &cells, NULL, est));
-  return run_estimate_guard(deck, &layout, shape.dim, est);
-}
 
 int run_problem_build_reusing(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse) {
   memset(rp, 0, sizeof *rp);
   rp->deck = deck;
   rp->reuse = reuse;
-  MICA_CALL(guard_cost(deck, &rp->estimate));
+  MICA_CALL(run_guard_cost(deck, &rp->estimate));
   if (reuse) {
     char *key = NULL;
     MICA_CALL(reuse_key(deck, &key));
     MICA_CALL(take_or_build_geometry(deck, rp, reuse, key));
   } else {
     rp->owns_geometry = 1;
-    MICA_CALL(build_geometry(deck, rp));
+    MICA_CALL(run_build_geometry(deck, rp));
   }
   MICA_CALL(build_solid(deck, rp, reuse ? reuse->solid : NULL));
   MICA_CALL(run_read_exact(deck, rp, &rp->solid->opt.field));
@@ -447,90 +217,6 @@ void run_problem_free(RunProblem *rp) {
   }
 }
 
-/* ---- summary of the discretization ---------------------------------------------------------------------- */
-
-static long boundary_points(const MicaDiscretization *disc) {
-  long n = 0;
-  for (int i = 0; i < disc->nsets; i++) n += disc->sets[i].n;
-  return n;
-}
-
-static size_t cache_bytes(const MicaSolid *s) {
-  size_t bytes = mica_shape_cache_bytes(s->volume);
-  for (int set = 0; set < s->disc->nsets; set++) bytes += mica_shape_cache_bytes(s->boundary[set]);
-  return bytes;
-}
-
-/* The sizes of the problem; under MPI, totals over the ranks (run_parallel.c). */
-static int count_totals(const RunProblem *rp, RunTotals *c) {
-  const MicaSolid *s = rp->solid;
-  c->nnz = s->K->nnz;
-  c->support_entries = s->volume->ptr[s->volume->npoints];
-  c->support_points = s->volume->npoints;
-  c->max_support = s->volume->max_support;
-  c->cache_bytes = (long)cache_bytes(s);
-  if (rp->dist) MICA_CALL(run_parallel_totals(rp, c));
-  return MICA_SUCCESS;
-}
-
-static int add_counts(RunProblem *rp, const RunTotals *c, MicaJson *summary) {
-  const MicaSolid *s = rp->solid;
-  if (!rp->error_disc) MICA_CALL(run_error_discretization(rp, &rp->error_disc)); /* NULL without error_order */
-  MICA_CALL(mica_json_string(summary, "method", rp->approx.ops->type.name));
-  if (rp->fe) MICA_CALL(mica_json_string(summary, "element", mica_fe_element_name(rp->fe->dim, rp->fe->order)));
-  MICA_CALL(mica_json_int(summary, "dim", rp->disc->dim));
-  MICA_CALL(mica_json_int(summary, "particles", rp->disc->nparticles));
-  MICA_CALL(mica_json_int(summary, "cells", rp->disc->ncells));
-  MICA_CALL(mica_json_string(summary, "integration", rp->integration));
-  MICA_CALL(mica_json_int(summary, "quadrature_points", rp->disc->nquad));
-  /* the error norms' points: quadrature.error_order's own, else the solve's (the Gauss points of the nodal cells
-   * for the nodal modes) */
-  const long error_points = rp->error_disc ? rp->error_disc->nquad : rp->disc->nodal ? rp->disc->ngauss : rp->disc->nquad;
-  MICA_CALL(mica_json_int(summary, "error_points", error_points));
-  MICA_CALL(mica_json_int(summary, "boundary_points", boundary_points(rp->disc)));
-  MICA_CALL(mica_json_int(summary, "dofs", s->ndof));
-  MICA_CALL(mica_json_int(summary, "multiplier_nodes", s->nmultiplier_nodes));
-  MICA_CALL(mica_json_int(summary, "nnz", c->nnz));
-  MICA_CALL(mica_json_int(summary, "support_max", c->max_support));
-  MICA_CALL(mica_json_number(summary, "support_mean", (double)c->support_entries / (double)c->support_points));
-  MICA_CALL(mica_json_int(summary, "cache_bytes", c->cache_bytes));
-  MICA_CALL(mica_json_int(summary, "matrix_bytes", (long)(c->nnz * 16 + (s->ndof + 1) * 8)));
-  MICA_CALL(mica_json_number(summary, "volume", rp->disc->volume));
-  MICA_CALL(mica_json_string(summary, "model", mica_type_has(&s->opt.field.ops->type, MICA_FIELD_CLASSICAL)
-                                                   ? s->opt.field.classical->type.name
-                                                   : s->opt.field.ops->type.name));
-  MICA_CALL(mica_json_int(summary, "unknowns_per_particle", s->ncomp));
-  MICA_CALL(mica_json_string(summary, "bc_method", s->opt.bc_method->type.name));
-  MICA_CALL(mica_json_number(summary, "bc_alpha", s->opt.bc_alpha));
-  MICA_CALL(mica_json_number(summary, "time_discretize", rp->time_discretize));
-  MICA_CALL(mica_json_number(summary, "time_mls_setup", rp->time_mls));
-  MICA_CALL(mica_json_number(summary, "time_cache_and_pattern", rp->time_cache_pattern));
-  MICA_CALL(mica_json_bool(summary, "vci", s->opt.vci));
-  MICA_CALL(mica_json_number(summary, "time_vci", s->time_vci)); /* part of time_cache_and_pattern */
-  /* the split of time_cache_and_pattern: shape functions (without their neighbor search), search, pattern */
-  MICA_CALL(mica_json_number(summary, "time_search", s->time_search));
-  MICA_CALL(mica_json_number(summary, "time_shape_functions", s->time_shape - s->time_search));
-  MICA_CALL(mica_json_number(summary, "time_pattern", s->time_pattern));
-  MICA_CALL(mica_json_bool(summary, "reused_discretization", rp->reused_geometry));
-  MICA_CALL(mica_json_int(summary, "shape_caches_built", s->caches_built));
-  MICA_CALL(mica_json_int(summary, "shape_caches_shared", s->caches_shared));
-  return MICA_SUCCESS;
-}
-
-static void print_counts(const RunProblem *rp, const RunTotals *c) {
-  const MicaSolid *s = rp->solid;
-  printf("%ld particles, %ld %s cells, %ld quadrature points (+%ld on the boundary), %ld dofs, nnz %ld, support "
-         "%.1f mean / %ld max, cache %.1f MB, matrix %.1f MB\n",
-         rp->disc->nparticles, rp->disc->ncells, rp->disc->nodal ? "nodal" : "background", rp->disc->nquad,
-         boundary_points(rp->disc), s->ndof, c->nnz, (double)c->support_entries / (double)c->support_points,
-         c->max_support, (double)c->cache_bytes / 1e6, (double)(c->nnz * 16) / 1e6);
-  if (s->opt.vci) printf("VCI: corrected test gradients in %.3g s\n", s->time_vci);
-  if (rp->fe)
-    printf("finite elements: %ld %s elements on the particles\n", rp->fe->nelements,
-           mica_fe_element_name(rp->fe->dim, rp->fe->order));
-  if (s->opt.scni) printf("SCNI: smoothed gradients on the nodal cells\n");
-  fflush(stdout);
-}
 
 /* ---- the commands --------------------------------------------------------------------------------------- */
 
@@ -615,18 +301,6 @@ static int read_vtu(const MicaDeck *deck, const RunProblem *rp, RunOutput *out) 
   return MICA_SUCCESS;
 }
 
-/* A body its conditions do not hold has a singular tangent: said before anything is assembled, with the motions
- * and the components to hold; on the whole discretization (an MPI rank's share holds part of each set). Not part
- * of building the problem: `mica stability` builds free bodies on purpose, to count their rigid modes. */
-static int check_rigid_modes(const MicaDeck *deck, const RunProblem *rp) {
-  const MicaSolid *s = rp->solid;
-  const char *names[MICA_MAX_COMP + 1];
-  const int ncomp = run_model_names(rp, &s->opt.field, 0, names);
-  char where[256];
-  mica_deck_where(deck, s->ndirichlet ? "bcs.dirichlet" : "bcs", where, sizeof where);
-  return mica_dirichlet_check_rigid(rp->disc, rp->axisymmetric, ncomp, names, s->ndirichlet, s->dirichlet, where);
-}
-
 /* What every solve reports, converged or not: Newton's and the linear solvers' statistics and the memory
  * (collective under MPI). */
 static int add_solve_stats(const RunProblem *rp, const RunTotals *totals, const MicaNewtonStats *stats,
@@ -683,16 +357,8 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   int ierr = MICA_SUCCESS;
   memset(&stats, 0, sizeof stats);
   memset(&out, 0, sizeof out);
-  MICA_CALL_CLEANUP(run_problem_build_reusing(deck, &rp, reuse));
-  MICA_CALL_CLEANUP(check_rigid_modes(deck, &rp));
-  MICA_CALL_CLEANUP(run_quadrature_fields_check(deck, &rp));
-  MICA_CALL_CLEANUP(run_check_probes(&rp));
   RunTotals totals;
-  MICA_CALL_CLEANUP(count_totals(&rp, &totals));
-  print_counts(&rp, &totals);
-  MICA_CALL_CLEANUP(add_counts(&rp, &totals, summary));
-  MICA_CALL_CLEANUP(run_parallel_counts(&rp, summary));
-  MICA_CALL_CLEANUP(run_estimate_report(&rp.estimate, summary));
+  MICA_CALL_CLEANUP(run_problem_prepare(deck, &rp, reuse, 1, &totals, summary));
   MICA_CALL_CLEANUP(read_newton(deck, rp.solid, &nopt));
   out.rp = &rp, out.outdir = outdir;
   MICA_CALL_CLEANUP(read_vtu(deck, &rp, &out));
@@ -723,28 +389,6 @@ static int run_solve(const MicaDeck *deck, const char *outdir, MicaJson *summary
   return run_solve_reusing(deck, outdir, summary, NULL);
 }
 
-static int run_check(const MicaDeck *deck, const char *outdir, MicaJson *summary) {
-  (void)outdir;
-  RunProblem rp;
-  int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(run_problem_build(deck, &rp));
-  MICA_CALL_CLEANUP(check_rigid_modes(deck, &rp));
-  MICA_CALL_CLEANUP(run_check_probes(&rp));
-  RunTotals totals;
-  MICA_CALL_CLEANUP(count_totals(&rp, &totals));
-  print_counts(&rp, &totals);
-  MICA_CALL_CLEANUP(add_counts(&rp, &totals, summary));
-  MICA_CALL_CLEANUP(run_parallel_counts(&rp, summary));
-  MICA_CALL_CLEANUP(run_estimate_report(&rp.estimate, summary));
-  const double nnz = (double)totals.nnz;
-  const char *size_class = nnz < 1e6 ? "small (seconds)" : nnz < 3e7 ? "medium (minutes)" : "large (hours, or use MPI)";
-  MICA_CALL_CLEANUP(mica_json_string(summary, "cost_class", size_class));
-  printf("deck is valid; cost class: %s\n", size_class);
-cleanup:
-  run_problem_free(&rp);
-  return ierr;
-}
-
 const MicaCommand mica_command_run = {
     {"run",
      "solve a solid: EFG with MLS, background-cell quadrature, weak boundary conditions, Newton", 0, NULL, NULL},
@@ -756,14 +400,4 @@ const MicaCommand mica_command_run = {
     "and summary.json with \"status\": \"failed\", the load factor reached and the reason, and exits 3.",
     mica_run_schema,
     run_solve,
-};
-
-const MicaCommand mica_command_check = {
-    {"check",
-     "validate a run deck and print its cost (particles, quadrature points, dofs, nnz, memory) without solving",
-     0, NULL, NULL},
-    "Reads and checks the deck like `mica run`, builds the discretization, shape-function cache and sparsity\n"
-    "pattern, and reports their sizes and a cost class. Nothing is solved.",
-    mica_run_schema,
-    run_check,
 };

@@ -5,7 +5,7 @@
 #include "mica/command.h"
 #include "mica/fe.h"
 #include "mica/parallel.h"
-#include "mica/solid.h"
+#include "mica/bc.h"
 
 extern const MicaDeckKey mica_run_schema[];
 
@@ -113,6 +113,17 @@ int run_read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const
 int run_read_scni(const MicaDeck *deck, RunProblem *rp, MicaSolidOptions *opt);
 int run_check_serial_only(const MicaDeck *deck, const RunProblem *rp);
 
+/* The deck's geometry (run_geometry.c): the shape (mesh: a buffer for a Gmsh mesh's path, beside the deck), the
+ * particle layout and the background cells (gmsh: the counts come from the mesh), checked with the deck line. */
+int run_read_shape(const MicaDeck *deck, MicaShapeSpec *shape, char *mesh, size_t mesh_size);
+int run_read_layout(const MicaDeck *deck, int dim, int gmsh, MicaLayoutSpec *layout, MicaCellSpec *cells);
+/* The cost guard (estimate.c) for a built-in shape, from its counts, before anything is allocated (a Gmsh
+ * mesh's is run_build_geometry's, once the mesh is read). */
+int run_guard_cost(const MicaDeck *deck, RunEstimate *est);
+/* The discretization (revolved for an axisymmetric section), with the finite elements or the MLS
+ * approximation of problem.method, into rp. */
+int run_build_geometry(const MicaDeck *deck, RunProblem *rp);
+
 /* Builds discretization, MLS, model, conditions and the solid from the deck; with reuse, takes what the
  * previous run left there when it fits, and leaves this run's parts there in run_problem_free. */
 int run_problem_build(const MicaDeck *deck, RunProblem *rp);
@@ -143,6 +154,12 @@ int run_parallel_solver_stats(const RunProblem *rp, MicaJson *summary);
  * pattern, assemblies, and the assemblies' wait for the residual sum), printed per rank and in the summary
  * ("cpu_assemble", "cpu_cache_and_pattern" of this process also in a serial run). */
 int run_parallel_ranks(const RunProblem *rp, const MicaNewtonStats *stats, MicaJson *summary);
+
+/* What run and check share (run_counts.c): the problem built (with reuse, NULL: none), its rigid modes and
+ * probes checked (solving: also output.quadrature_fields), its sizes counted into totals, printed and in the
+ * summary with the cost estimate. rp is the caller's to free (run_problem_free), also on failure. */
+int run_problem_prepare(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse, int solving, RunTotals *totals,
+                        MicaJson *summary);
 
 /* The iterative linear solver (run_linear.c): solver.linear_rtol, .linear_max_iterations, .preconditioner
  * into opt->krylov; cg's iterations in the summary; the process's peak memory ("peak_memory", bytes). */

@@ -82,21 +82,29 @@ const char *run_unknown_name(const RunProblem *rp, int c) {
   return names[c];
 }
 
+/* Element i of a list of conditions (bcs.dirichlet, bcs.traction): its deck line (into where), its boundary set
+ * and the components it gives, of the model's names (all: every name the schema knows). */
+static int read_condition(const MicaDeck *deck, const MicaDiscretization *disc, const char *list, int i,
+                          const char *const *names, const char *const *all, char (*where)[160], int *set,
+                          MicaFunction **value, int *mask) {
+  char element[64], path[96];
+  snprintf(element, sizeof element, "%s.[%d]", list, i);
+  snprintf(path, sizeof path, "%s.set", element);
+  mica_deck_where(deck, path, *where, sizeof *where);
+  MICA_CALL(find_set(deck, disc, path, set));
+  return read_components(deck, element, names, all, value, mask);
+}
+
 int run_read_dirichlet(const MicaDeck *deck, const RunProblem *rp, const MicaFieldModel *m, int *count,
-                          MicaDirichlet **out) {
-  const MicaDiscretization *disc = rp->disc;
+                       MicaDirichlet **out) {
   const char *names[MICA_MAX_COMP + 1];
   run_model_names(rp, m, 0, names);
   *count = mica_deck_list_length(deck, "bcs.dirichlet");
   MICA_CALL(MICA_CALLOC(*out, *count > 0 ? *count : 1));
   for (int i = 0; i < *count; i++) {
     MicaDirichlet *c = &(*out)[i];
-    char element[64], path[96];
-    snprintf(element, sizeof element, "bcs.dirichlet.[%d]", i);
-    snprintf(path, sizeof path, "%s.set", element);
-    mica_deck_where(deck, path, c->where, sizeof c->where);
-    MICA_CALL(find_set(deck, disc, path, &c->set));
-    MICA_CALL(read_components(deck, element, names, ALL_UNKNOWNS, c->value, &c->mask));
+    MICA_CALL(read_condition(deck, rp->disc, "bcs.dirichlet", i, names, ALL_UNKNOWNS, &c->where, &c->set, c->value,
+                             &c->mask));
     MICA_CHECK(c->mask, MICA_ERR_INPUT, "%s: this condition prescribes nothing; give %s, %s, ...", c->where, names[0],
                names[1]);
   }
@@ -104,21 +112,15 @@ int run_read_dirichlet(const MicaDeck *deck, const RunProblem *rp, const MicaFie
 }
 
 int run_read_tractions(const MicaDeck *deck, const RunProblem *rp, const MicaFieldModel *m, int *count,
-                          MicaTraction **out) {
-  const MicaDiscretization *disc = rp->disc;
+                       MicaTraction **out) {
   const char *names[MICA_MAX_COMP + 1];
   run_model_names(rp, m, 1, names);
   *count = mica_deck_list_length(deck, "bcs.traction");
   MICA_CALL(MICA_CALLOC(*out, *count > 0 ? *count : 1));
-  for (int i = 0; i < *count; i++) {
+  for (int i = 0, mask; i < *count; i++) {
     MicaTraction *c = &(*out)[i];
-    char element[64], path[96];
-    int mask;
-    snprintf(element, sizeof element, "bcs.traction.[%d]", i);
-    snprintf(path, sizeof path, "%s.set", element);
-    mica_deck_where(deck, path, c->where, sizeof c->where);
-    MICA_CALL(find_set(deck, disc, path, &c->set));
-    MICA_CALL(read_components(deck, element, names, ALL_TRACTIONS, c->value, &mask));
+    MICA_CALL(read_condition(deck, rp->disc, "bcs.traction", i, names, ALL_TRACTIONS, &c->where, &c->set, c->value,
+                             &mask));
   }
   return MICA_SUCCESS;
 }

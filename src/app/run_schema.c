@@ -10,6 +10,19 @@ MICA_SCHEMA_TABLES
 
 #define NOLIMIT 1.0, 0.0
 
+/* The values of one varied setting, the same for a sweep's parameters and a study's choices (one list element,
+ * read by sweep_spec.c: sweep_axis_read). */
+static const MicaDeckKey varied_values[] = {
+    {"values", MICA_KEY_FLOATS, NULL, NOLIMIT, NULL, 1, 0, "its values: numbers, or expressions of the deck's parameters"},
+    {"words", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, MICA_DECK_LONG_TEXT_MAX,
+     "... or, for a string setting, its values as words: \"linear, svk\""},
+    {"range", MICA_KEY_FLOATS, NULL, NOLIMIT, NULL, 2, 2, "... or the first and last of `points` values spaced by `scale`"},
+    {"points", MICA_KEY_INT, NULL, 2, SWEEP_LIMIT_MOST, NULL, 0, 0, "number of values of a range"},
+    {"scale", MICA_KEY_CHOICE, "\"linear\"", NOLIMIT, "linear|log", 0, 0,
+     "spacing of a range: equal differences or equal ratios"},
+    {NULL},
+};
+
 /* The mls.* settings are the same as `mica mls`'s, with solid-mechanics defaults. */
 const MicaDeckKey mica_run_schema[] = {
     {"parameters", MICA_KEY_PARAMETERS, NULL, NOLIMIT, NULL, 0, 0,
@@ -204,15 +217,7 @@ const MicaDeckKey mica_run_schema[] = {
      "the swept settings: ( { path = \"parameters.L\"; values = [4.0, 8.0]; }, ... ); any scalar setting of the run deck"},
     {"sweep.parameters.[].path", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, 0,
      "the setting swept: \"parameters.L\", \"mls.dilation\", \"material.model\", ..."},
-    {"sweep.parameters.[].values", MICA_KEY_FLOATS, NULL, NOLIMIT, NULL, 1, 0,
-     "its values: numbers, or expressions of the deck's parameters"},
-    {"sweep.parameters.[].words", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, MICA_DECK_LONG_TEXT_MAX,
-     "... or, for a string setting, its values as words: \"linear, svk\""},
-    {"sweep.parameters.[].range", MICA_KEY_FLOATS, NULL, NOLIMIT, NULL, 2, 2,
-     "... or the first and last of `points` values spaced by `scale`"},
-    {"sweep.parameters.[].points", MICA_KEY_INT, NULL, 2, SWEEP_LIMIT_MOST, NULL, 0, 0, "number of values of a range"},
-    {"sweep.parameters.[].scale", MICA_KEY_CHOICE, "\"linear\"", NOLIMIT, "linear|log", 0, 0,
-     "spacing of a range: equal differences or equal ratios"},
+    {.path = "sweep.parameters.[]", .type = MICA_KEY_FRAGMENT, .fragment = varied_values},
     {"sweep.mode", MICA_KEY_CHOICE, "\"grid\"", NOLIMIT, "grid|zip", 0, 0,
      "grid: every combination of the values; zip: the i-th values together (equal numbers of values)"},
     {"sweep.probe", MICA_KEY_STRING, "\"\"", NOLIMIT, NULL, 0, 0,
@@ -250,15 +255,7 @@ const MicaDeckKey mica_run_schema[] = {
      "the setting: \"mls.order\", \"parameters.n\", \"quadrature.order\", \"bc.method\", ..."},
     {"study.choices.[].name", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, 0,
      "its short name in labels (default: the parameter's name, or the path)"},
-    {"study.choices.[].values", MICA_KEY_FLOATS, NULL, NOLIMIT, NULL, 1, 0,
-     "its values: numbers, or expressions of the deck's parameters"},
-    {"study.choices.[].words", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, MICA_DECK_LONG_TEXT_MAX,
-     "... or, for a string setting, its values as words: \"nitsche, penalty\""},
-    {"study.choices.[].range", MICA_KEY_FLOATS, NULL, NOLIMIT, NULL, 2, 2,
-     "... or the first and last of `points` values spaced by `scale`"},
-    {"study.choices.[].points", MICA_KEY_INT, NULL, 2, SWEEP_LIMIT_MOST, NULL, 0, 0, "number of values of a range"},
-    {"study.choices.[].scale", MICA_KEY_CHOICE, "\"linear\"", NOLIMIT, "linear|log", 0, 0,
-     "spacing of a range: equal differences or equal ratios"},
+    {.path = "study.choices.[]", .type = MICA_KEY_FRAGMENT, .fragment = varied_values},
     {"study.error", MICA_KEY_STRING, "\"energy\"", NOLIMIT, NULL, 0, 0,
      "the error measured: energy, l2, h1 (relative norms against exact.*) or a probe's name (with reference)"},
     {"study.reference", MICA_KEY_FLOAT, NULL, NOLIMIT, NULL, 0, 0,

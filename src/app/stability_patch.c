@@ -140,11 +140,7 @@ static int patch_solid(const RunProblem *rp, const Polynomial *p, const MicaMate
   }
   return mica_solid_create(disc, &rp->approx, &opt, disc->nsets, dirichlet, 0, traction, solid);
 cleanup:
-  for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&opt.body[a]);
-  for (int c = 0; dirichlet && c < disc->nsets; c++)
-    for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&dirichlet[c].value[a]);
-  free(dirichlet);
-  free(traction);
+  mica_solid_conditions_free(opt.body, disc->nsets, &dirichlet, 0, &traction);
   return ierr;
 }
 

@@ -17,15 +17,6 @@ enum { LABEL_MAX = 2048 };
 
 /* ---- study.csv ---------------------------------------------------------------------------------------- */
 
-static void put_quoted(FILE *fp, const char *text) {
-  fputc('"', fp);
-  for (const char *c = text; *c; c++) {
-    if (*c == '"') fputc('"', fp);
-    fputc(*c == '\n' || *c == '\r' ? ' ' : *c, fp);
-  }
-  fputc('"', fp);
-}
-
 /* A number, or an empty field when there is none. */
 static void put_number(FILE *fp, const char *format, double v) {
   fputc(',', fp);
@@ -33,13 +24,7 @@ static void put_number(FILE *fp, const char *format, double v) {
 }
 
 static void put_row(FILE *fp, const StudySpec *spec, long p, const StudyRow *row) {
-  fprintf(fp, "%ld", p + 1);
-  for (int c = 0; c < spec->nchoices; c++) {
-    const SweepAxis *axis = &spec->choices[c];
-    fputc(',', fp);
-    if (axis->values) fprintf(fp, "%.17g", axis->values[row->choice[c]]);
-    else put_quoted(fp, axis->words[row->choice[c]]);
-  }
+  sweep_csv_choices(fp, spec->choices, spec->nchoices, p, row->choice);
   const int ok = row->status == MICA_SUCCESS;
   fprintf(fp, ",%s", ok ? "ok" : row->reached ? "failed" : "error");
   if (ok)
@@ -57,7 +42,7 @@ static void put_row(FILE *fp, const StudySpec *spec, long p, const StudyRow *row
   put_number(fp, "%.17g", row->error);
   put_number(fp, "%.17g", row->time); /* exact: the Pareto flags can be checked from the file */
   fprintf(fp, ",%d,", row->pareto);
-  if (!ok) put_quoted(fp, row->message ? row->message : "");
+  if (!ok) sweep_csv_quoted(fp, row->message ? row->message : "");
   fputc('\n', fp);
 }
 
@@ -65,8 +50,7 @@ int study_write_csv(const StudySpec *spec, const StudyRow *rows, const char *out
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_out_open_in(outdir, "study.csv", &out));
-  fprintf(out.fp, "index");
-  for (int c = 0; c < spec->nchoices; c++) fprintf(out.fp, ",%s", spec->choices[c].path);
+  sweep_csv_header(out.fp, spec->choices, spec->nchoices);
   fprintf(out.fp, ",status,dofs,particles,quadrature_points,nnz,nnz_factor,cache_bytes,matrix_bytes,memory_bytes");
   for (int k = 0; k < STUDY_NPHASES; k++) fprintf(out.fp, ",%s", study_phase_column[k]);
   fprintf(out.fp, ",time_solve_total,time_total,error_l2,error_h1,error_energy");

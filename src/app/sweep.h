@@ -6,6 +6,8 @@
 #ifndef MICA_SWEEP_H
 #define MICA_SWEEP_H
 
+#include <stdio.h>
+
 #include "mica/command.h"
 #include "mica/deck.h"
 
@@ -118,6 +120,13 @@ int sweep_deck_load(const MicaDeck *base, int nforced, const char *const *forced
 /* The same for the sweep's deck. */
 int sweep_load(const SweepSpec *spec, int nforced, const char *const *forced, int nextra,
                const char *const *extra, MicaDeck **deck);
+
+/* The CSV tables of sweep.csv and study.csv (sweep_output.c): a field in double quotes, inner quotes doubled,
+ * line breaks flattened; the columns "index,PATH,..." of the varied settings; a row's "N,VALUE,..." (p + 1, and
+ * per axis its value: a number as %.17g, a word quoted). */
+void sweep_csv_quoted(FILE *fp, const char *text);
+void sweep_csv_header(FILE *fp, const SweepAxis *axes, int naxes);
+void sweep_csv_choices(FILE *fp, const SweepAxis *axes, int naxes, long p, const int *choice);
 
 /* Reads sweep.experiments' files (relative to the deck's directory): x,y rows; other lines are skipped. */
 int sweep_read_experiments(SweepSpec *spec);

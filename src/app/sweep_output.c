@@ -21,8 +21,7 @@ enum { VALUES_MAX = 4096, TITLE_MAX = VALUES_MAX + 512 };
 
 /* ---- sweep.csv -------------------------------------------------------------------------------------- */
 
-/* A CSV field in double quotes, inner quotes doubled, line breaks flattened. */
-static void put_quoted(FILE *fp, const char *text) {
+void sweep_csv_quoted(FILE *fp, const char *text) {
   fputc('"', fp);
   for (const char *c = text; *c; c++) {
     if (*c == '"') fputc('"', fp);
@@ -31,20 +30,28 @@ static void put_quoted(FILE *fp, const char *text) {
   fputc('"', fp);
 }
 
-static void put_row(FILE *fp, const SweepSpec *spec, long p, const SweepPoint *pt) {
+void sweep_csv_header(FILE *fp, const SweepAxis *axes, int naxes) {
+  fprintf(fp, "index");
+  for (int a = 0; a < naxes; a++) fprintf(fp, ",%s", axes[a].path);
+}
+
+void sweep_csv_choices(FILE *fp, const SweepAxis *axes, int naxes, long p, const int *choice) {
   fprintf(fp, "%ld", p + 1);
-  for (int a = 0; a < spec->naxes; a++) {
-    const SweepAxis *axis = &spec->axes[a];
+  for (int a = 0; a < naxes; a++) {
     fputc(',', fp);
-    if (axis->values) fprintf(fp, "%.17g", axis->values[pt->choice[a]]);
-    else put_quoted(fp, axis->words[pt->choice[a]]);
+    if (axes[a].values) fprintf(fp, "%.17g", axes[a].values[choice[a]]);
+    else sweep_csv_quoted(fp, axes[a].words[choice[a]]);
   }
+}
+
+static void put_row(FILE *fp, const SweepSpec *spec, long p, const SweepPoint *pt) {
+  sweep_csv_choices(fp, spec->axes, spec->naxes, p, pt->choice);
   for (int i = 0; i < spec->nprobes; i++) {
     fputc(',', fp);
     if (isfinite(pt->probe[i])) fprintf(fp, "%.17g", pt->probe[i]);
   }
   fprintf(fp, ",%.6g,%s,", pt->time, !pt->status ? "ok" : pt->reached ? "failed" : "error");
-  if (pt->status) put_quoted(fp, pt->message ? pt->message : "");
+  if (pt->status) sweep_csv_quoted(fp, pt->message ? pt->message : "");
   fputc('\n', fp);
 }
 
@@ -52,8 +59,7 @@ int sweep_write_csv(const SweepSpec *spec, const SweepPoint *points, const char 
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_out_open_in(outdir, "sweep.csv", &out));
-  fprintf(out.fp, "index");
-  for (int a = 0; a < spec->naxes; a++) fprintf(out.fp, ",%s", spec->axes[a].path);
+  sweep_csv_header(out.fp, spec->axes, spec->naxes);
   for (int i = 0; i < spec->nprobes; i++) fprintf(out.fp, ",%s", spec->probes[i]);
   fprintf(out.fp, ",time_total,status,message\n");
   for (long p = 0; p < spec->npoints; p++) put_row(out.fp, spec, p, &points[p]);

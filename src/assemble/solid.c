@@ -300,6 +300,17 @@ cleanup:
   return ierr;
 }
 
+void mica_solid_conditions_free(MicaFunction **body, int ndirichlet, MicaDirichlet **dirichlet, int ntraction,
+                                MicaTraction **traction) {
+  for (int a = 0; body && a < MICA_MAX_COMP; a++) mica_function_destroy(&body[a]);
+  for (int c = 0; *dirichlet && c < ndirichlet; c++)
+    for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&(*dirichlet)[c].value[a]);
+  for (int c = 0; *traction && c < ntraction; c++)
+    for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&(*traction)[c].value[a]);
+  MICA_FREE(*dirichlet);
+  MICA_FREE(*traction);
+}
+
 int mica_solid_destroy(MicaSolid **solid) {
   MicaSolid *s = *solid;
   if (!s) return MICA_SUCCESS;
@@ -311,13 +322,7 @@ int mica_solid_destroy(MicaSolid **solid) {
     }
   MICA_FREE(s->boundary);
   MICA_FREE(s->boundary_h);
-  for (int c = 0; c < s->ndirichlet; c++)
-    for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&s->dirichlet[c].value[a]);
-  for (int c = 0; c < s->ntraction; c++)
-    for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&s->traction[c].value[a]);
-  for (int a = 0; a < MICA_MAX_COMP; a++) mica_function_destroy(&s->opt.body[a]);
-  MICA_FREE(s->dirichlet);
-  MICA_FREE(s->traction);
+  mica_solid_conditions_free(s->opt.body, s->ndirichlet, &s->dirichlet, s->ntraction, &s->traction);
   MICA_FREE(s->multiplier_offset);
   mica_sparse_destroy(&s->K);
   MICA_FREE(s->work);

@@ -2,7 +2,7 @@
 #ifndef MICA_BC_PRIVATE_H
 #define MICA_BC_PRIVATE_H
 
-#include "mica/solid.h"
+#include "mica/bc.h"
 
 /* One boundary quadrature point of a Dirichlet condition, gathered for the methods. */
 typedef struct {

@@ -16,7 +16,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "mica/solid.h"
+#include "mica/bc.h"
 
 enum { MAX_MODES = 6 };
 

@@ -6,7 +6,7 @@
 
 #include <stdio.h>
 
-#include "mica/command.h"
+#include "mica/command_registry.h"
 
 #define MICA_VERSION "0.1.0"
 

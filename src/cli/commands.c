@@ -1,5 +1,5 @@
 /* The registry of commands: one line per command. */
-#include "mica/command.h"
+#include "mica/command_registry.h"
 
 static const MicaType *const builtin_commands[] = {
     &mica_command_run.type,   &mica_command_check.type, &mica_command_mls.type, &mica_command_sweep.type,

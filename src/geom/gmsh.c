@@ -376,18 +376,22 @@ static int read_entities(GmshReader *rd, GmshMesh *mesh) {
   return MICA_SUCCESS;
 }
 
+int gmsh_nodes_alloc(GmshMesh *mesh, GmshRawTags *raw, long n) {
+  MICA_FREE(mesh->x);
+  MICA_FREE(raw->tag);
+  MICA_FREE(raw->line);
+  MICA_CALL(MICA_MALLOC(mesh->x, n * 3));
+  MICA_CALL(MICA_MALLOC(raw->tag, n));
+  return MICA_MALLOC(raw->line, n);
+}
+
 static int read_nodes(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw) {
   long nblocks, nnodes, min_tag, max_tag, count = 0;
   MICA_CALL(gmsh_read_count(rd, "numEntityBlocks", &nblocks));
   MICA_CALL(gmsh_read_count(rd, "numNodes", &nnodes));
   MICA_CALL(gmsh_read_long(rd, "minNodeTag", &min_tag));
   MICA_CALL(gmsh_read_long(rd, "maxNodeTag", &max_tag));
-  MICA_FREE(mesh->x);
-  MICA_FREE(raw->tag);
-  MICA_FREE(raw->line);
-  MICA_CALL(MICA_MALLOC(mesh->x, nnodes * 3));
-  MICA_CALL(MICA_MALLOC(raw->tag, nnodes));
-  MICA_CALL(MICA_MALLOC(raw->line, nnodes));
+  MICA_CALL(gmsh_nodes_alloc(mesh, raw, nnodes));
   for (long b = 0; b < nblocks; b++) {
     int edim, etag, parametric;
     long n;

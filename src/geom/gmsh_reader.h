@@ -45,6 +45,9 @@ int gmsh_read_int(GmshReader *rd, const char *what, int *v);    /* binary: an in
 int gmsh_read_double(GmshReader *rd, const char *what, double *v);
 /* Grows raw->elem_tag to hold `need` node tags. */
 int gmsh_reserve_element_nodes(GmshRawTags *raw, long need);
+/* The node arrays for n nodes (coordinates, tags and their lines), replacing any earlier ones: a file may list
+ * its $Nodes section more than once. */
+int gmsh_nodes_alloc(GmshMesh *mesh, GmshRawTags *raw, long n);
 
 /* ---- MSH 2.2 ASCII (gmsh_v22.c) ---- */
 int gmsh_v22_nodes(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw);

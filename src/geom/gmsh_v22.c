@@ -15,12 +15,7 @@ enum { NODES_MAX = 8 };
 int gmsh_v22_nodes(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw) {
   long n;
   MICA_CALL(gmsh_read_count(rd, "the number of nodes", &n));
-  MICA_FREE(mesh->x);
-  MICA_FREE(raw->tag);
-  MICA_FREE(raw->line);
-  MICA_CALL(MICA_MALLOC(mesh->x, n * 3));
-  MICA_CALL(MICA_MALLOC(raw->tag, n));
-  MICA_CALL(MICA_MALLOC(raw->line, n));
+  MICA_CALL(gmsh_nodes_alloc(mesh, raw, n));
   for (long i = 0; i < n; i++) {
     MICA_CALL(gmsh_read_long(rd, "a node tag", &raw->tag[i]));
     if (raw->tag[i] < 1) return gmsh_fail(rd, rd->token_line, "node tag %ld must be positive", raw->tag[i]);

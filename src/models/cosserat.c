@@ -189,7 +189,7 @@ const char *const *mica_rotation_model_tractions_(int dim) {
 const MicaFieldModelOps mica_field_cosserat = {
     .type = {.name = "cosserat",
              .description = "small-strain micropolar continuum (u, φ)",
-             .flags = MICA_FIELD_USES_VALUES | MICA_FIELD_COUPLE_STRESS, /* φ enters ε */
+             .flags = MICA_FIELD_USES_VALUES | MICA_FIELD_COUPLE_STRESS | MICA_FIELD_FINITE_ROTATION_FORM, /* φ enters ε */
              .from_settings = mica_cosserat_from_settings_},
     .order = 1,
     .ncomp = ncomp_of,

@@ -234,15 +234,25 @@ static int check_args(const MicaFieldModel *m, int dim, const double *q) {
   return MICA_SUCCESS;
 }
 
-static int finite_eval(const MicaFieldModel *m, int dim, const double *q, double *W, double *s, double *D) {
+/* What eval and stress both start from: the checked q in 3-D, the constants, the kinematics (derivatives up to
+ * order) and the material stresses sm of the strain measures. */
+static int finite_state(const MicaFieldModel *m, int dim, const double *q, int order, Constants *c, State *st,
+                        double *sm) {
   MICA_CALL(check_args(m, dim, q));
-  double q3[NQ3], sm[NY];
+  double q3[NQ3];
   embed_q(dim, q, q3);
   MICA_CALL(check_rotation(dim, q3));
-  const Constants c = constants_of(m, dim);
+  *c = constants_of(m, dim);
+  kinematics(dim, q3, order, st);
+  stresses(c, st->y, sm);
+  return MICA_SUCCESS;
+}
+
+static int finite_eval(const MicaFieldModel *m, int dim, const double *q, double *W, double *s, double *D) {
+  Constants c;
   State st;
-  kinematics(dim, q3, D ? 2 : s ? 1 : 0, &st);
-  stresses(&c, st.y, sm);
+  double sm[NY];
+  MICA_CALL(finite_state(m, dim, q, D ? 2 : s ? 1 : 0, &c, &st, sm));
   if (W) *W = energy(st.y, sm);
   if (s) {
     double Jy[NY][NQ3];
@@ -264,14 +274,10 @@ static int finite_eval(const MicaFieldModel *m, int dim, const double *q, double
  *   m = J⁻¹ F Mᵀ Rᵀ   (the material couple M rotated by R and pushed forward by F),
  * J = det F. At small strain these are the σ and m of cosserat.c. */
 static int finite_stress(const MicaFieldModel *m, int dim, const double *q, double *sigma, double *couple) {
-  MICA_CALL(check_args(m, dim, q));
-  double q3[NQ3], sm[NY];
-  embed_q(dim, q, q3);
-  MICA_CALL(check_rotation(dim, q3));
-  const Constants c = constants_of(m, dim);
+  Constants c;
   State st;
-  kinematics(dim, q3, 0, &st);
-  stresses(&c, st.y, sm);
+  double sm[NY];
+  MICA_CALL(finite_state(m, dim, q, 0, &c, &st, sm));
   const double J = t3_det(st.F);
   MICA_CHECK(J > 0.0, MICA_ERR_NUMERIC, "finite-rotation Cosserat: det F = %.3g ≤ 0 at an output point", J);
   double FSt[9], FMt[9], out_s[9], out_m[9];
@@ -300,7 +306,7 @@ const MicaFieldModelOps mica_field_cosserat_finite = {
 };
 
 int mica_cosserat_finite_set(MicaFieldModel *m) {
-  MICA_CHECK(m && m->ops == &mica_field_cosserat, MICA_ERR_ARGUMENT,
+  MICA_CHECK(m && m->ops && mica_type_has(&m->ops->type, MICA_FIELD_FINITE_ROTATION_FORM), MICA_ERR_ARGUMENT,
              "mica_cosserat_finite_set: set the constants with mica_cosserat_set_eringen or _technical first");
   m->ops = &mica_field_cosserat_finite;
   return MICA_SUCCESS;

@@ -13,7 +13,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "mica/command.h"
+#include "mica/command_registry.h"
 #include "mica/deck.h"
 #include "mica/error.h"
 

@@ -23,7 +23,7 @@
 #include <cmocka.h>
 
 #include "mica/cosserat.h"
-#include "mica/solid.h"
+#include "mica/bc.h"
 #include "field_check.h"
 
 static void check_ok(int ierr) {

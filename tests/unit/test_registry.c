@@ -9,7 +9,8 @@
 
 #include <string.h>
 
-#include "mica/solid.h"
+#include "mica/bc.h"
+#include "mica/fe.h"
 
 MICA_SCHEMA_TABLES
 

@@ -9,7 +9,7 @@
 
 #include <string.h>
 
-#include "mica/solid.h"
+#include "mica/bc.h"
 
 static const char *const PLANE[] = {"ux", "uy", NULL};
 static const char *const COSSERAT[] = {"ux", "uy", "phiz", NULL};

@@ -1,0 +1,114 @@
+/* What `mica run` and `mica check` both do before run solves: the problem built and checked (rigid modes,
+ * probes), and its sizes counted (under MPI, over the ranks), printed and put in the summary. */
+#include <stdio.h>
+#include <string.h>
+
+#include "run.h"
+
+static long boundary_points(const MicaDiscretization *disc) {
+  long n = 0;
+  for (int i = 0; i < disc->nsets; i++) n += disc->sets[i].n;
+  return n;
+}
+
+static size_t cache_bytes(const MicaSolid *s) {
+  size_t bytes = mica_shape_cache_bytes(s->volume);
+  for (int set = 0; set < s->disc->nsets; set++) bytes += mica_shape_cache_bytes(s->boundary[set]);
+  return bytes;
+}
+
+/* The sizes of the problem; under MPI, totals over the ranks (run_parallel.c). */
+static int count_totals(const RunProblem *rp, RunTotals *c) {
+  const MicaSolid *s = rp->solid;
+  c->nnz = s->K->nnz;
+  c->support_entries = s->volume->ptr[s->volume->npoints];
+  c->support_points = s->volume->npoints;
+  c->max_support = s->volume->max_support;
+  c->cache_bytes = (long)cache_bytes(s);
+  if (rp->dist) MICA_CALL(run_parallel_totals(rp, c));
+  return MICA_SUCCESS;
+}
+
+static int add_counts(RunProblem *rp, const RunTotals *c, MicaJson *summary) {
+  const MicaSolid *s = rp->solid;
+  if (!rp->error_disc) MICA_CALL(run_error_discretization(rp, &rp->error_disc)); /* NULL without error_order */
+  MICA_CALL(mica_json_string(summary, "method", rp->approx.ops->type.name));
+  if (rp->fe) MICA_CALL(mica_json_string(summary, "element", mica_fe_element_name(rp->fe->dim, rp->fe->order)));
+  MICA_CALL(mica_json_int(summary, "dim", rp->disc->dim));
+  MICA_CALL(mica_json_int(summary, "particles", rp->disc->nparticles));
+  MICA_CALL(mica_json_int(summary, "cells", rp->disc->ncells));
+  MICA_CALL(mica_json_string(summary, "integration", rp->integration));
+  MICA_CALL(mica_json_int(summary, "quadrature_points", rp->disc->nquad));
+  /* the error norms' points: quadrature.error_order's own, else the solve's (the Gauss points of the nodal cells
+   * for the nodal modes) */
+  const long error_points = rp->error_disc ? rp->error_disc->nquad : rp->disc->nodal ? rp->disc->ngauss : rp->disc->nquad;
+  MICA_CALL(mica_json_int(summary, "error_points", error_points));
+  MICA_CALL(mica_json_int(summary, "boundary_points", boundary_points(rp->disc)));
+  MICA_CALL(mica_json_int(summary, "dofs", s->ndof));
+  MICA_CALL(mica_json_int(summary, "multiplier_nodes", s->nmultiplier_nodes));
+  MICA_CALL(mica_json_int(summary, "nnz", c->nnz));
+  MICA_CALL(mica_json_int(summary, "support_max", c->max_support));
+  MICA_CALL(mica_json_number(summary, "support_mean", (double)c->support_entries / (double)c->support_points));
+  MICA_CALL(mica_json_int(summary, "cache_bytes", c->cache_bytes));
+  MICA_CALL(mica_json_int(summary, "matrix_bytes", (long)(c->nnz * 16 + (s->ndof + 1) * 8)));
+  MICA_CALL(mica_json_number(summary, "volume", rp->disc->volume));
+  MICA_CALL(mica_json_string(summary, "model", mica_type_has(&s->opt.field.ops->type, MICA_FIELD_CLASSICAL)
+                                                   ? s->opt.field.classical->type.name
+                                                   : s->opt.field.ops->type.name));
+  MICA_CALL(mica_json_int(summary, "unknowns_per_particle", s->ncomp));
+  MICA_CALL(mica_json_string(summary, "bc_method", s->opt.bc_method->type.name));
+  MICA_CALL(mica_json_number(summary, "bc_alpha", s->opt.bc_alpha));
+  MICA_CALL(mica_json_number(summary, "time_discretize", rp->time_discretize));
+  MICA_CALL(mica_json_number(summary, "time_mls_setup", rp->time_mls));
+  MICA_CALL(mica_json_number(summary, "time_cache_and_pattern", rp->time_cache_pattern));
+  MICA_CALL(mica_json_bool(summary, "vci", s->opt.vci));
+  MICA_CALL(mica_json_number(summary, "time_vci", s->time_vci)); /* part of time_cache_and_pattern */
+  /* the split of time_cache_and_pattern: shape functions (without their neighbor search), search, pattern */
+  MICA_CALL(mica_json_number(summary, "time_search", s->time_search));
+  MICA_CALL(mica_json_number(summary, "time_shape_functions", s->time_shape - s->time_search));
+  MICA_CALL(mica_json_number(summary, "time_pattern", s->time_pattern));
+  MICA_CALL(mica_json_bool(summary, "reused_discretization", rp->reused_geometry));
+  MICA_CALL(mica_json_int(summary, "shape_caches_built", s->caches_built));
+  MICA_CALL(mica_json_int(summary, "shape_caches_shared", s->caches_shared));
+  return MICA_SUCCESS;
+}
+
+static void print_counts(const RunProblem *rp, const RunTotals *c) {
+  const MicaSolid *s = rp->solid;
+  printf("%ld particles, %ld %s cells, %ld quadrature points (+%ld on the boundary), %ld dofs, nnz %ld, support "
+         "%.1f mean / %ld max, cache %.1f MB, matrix %.1f MB\n",
+         rp->disc->nparticles, rp->disc->ncells, rp->disc->nodal ? "nodal" : "background", rp->disc->nquad,
+         boundary_points(rp->disc), s->ndof, c->nnz, (double)c->support_entries / (double)c->support_points,
+         c->max_support, (double)c->cache_bytes / 1e6, (double)(c->nnz * 16) / 1e6);
+  if (s->opt.vci) printf("VCI: corrected test gradients in %.3g s\n", s->time_vci);
+  if (rp->fe)
+    printf("finite elements: %ld %s elements on the particles\n", rp->fe->nelements,
+           mica_fe_element_name(rp->fe->dim, rp->fe->order));
+  if (s->opt.scni) printf("SCNI: smoothed gradients on the nodal cells\n");
+  fflush(stdout);
+}
+
+/* A body its conditions do not hold has a singular tangent: said before anything is assembled, with the motions
+ * and the components to hold; on the whole discretization (an MPI rank's share holds part of each set). Not part
+ * of building the problem: `mica stability` builds free bodies on purpose, to count their rigid modes. */
+static int check_rigid_modes(const MicaDeck *deck, const RunProblem *rp) {
+  const MicaSolid *s = rp->solid;
+  const char *names[MICA_MAX_COMP + 1];
+  const int ncomp = run_model_names(rp, &s->opt.field, 0, names);
+  char where[256];
+  mica_deck_where(deck, s->ndirichlet ? "bcs.dirichlet" : "bcs", where, sizeof where);
+  return mica_dirichlet_check_rigid(rp->disc, rp->axisymmetric, ncomp, names, s->ndirichlet, s->dirichlet, where);
+}
+
+int run_problem_prepare(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse, int solving, RunTotals *totals,
+                        MicaJson *summary) {
+  MICA_CALL(run_problem_build_reusing(deck, rp, reuse));
+  MICA_CALL(check_rigid_modes(deck, rp));
+  if (solving) MICA_CALL(run_quadrature_fields_check(deck, rp));
+  MICA_CALL(run_check_probes(rp));
+  MICA_CALL(count_totals(rp, totals));
+  print_counts(rp, totals);
+  MICA_CALL(add_counts(rp, totals, summary));
+  MICA_CALL(run_parallel_counts(rp, summary));
+  return run_estimate_report(&rp->estimate, summary);
+}

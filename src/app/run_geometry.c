@@ -1,0 +1,264 @@
+/* The deck's geometry for `mica run` and `mica check` (and every command that builds a run's problem): the
+ * shape (geometry.*), the particle layout (particles.*) and the background cells (quadrature.cells, .order,
+ * .boundary_order), checked against each other; from them the discretization (revolved for an axisymmetric
+ * section) and the MLS approximation, the cost guard's estimate, the error norms' own discretization and the
+ * body that probes are tested against. */
+#include <libgen.h>
+#include <limits.h>
+#include <stdio.h>
+#include <string.h>
+#include <strings.h>
+
+#include "mica/timer.h"
+#include "run.h"
+#include "study_common.h"
+
+static int read_floats_exact(const MicaDeck *deck, const char *path, double *v, int want) {
+  int n;
+  MICA_CALL(mica_deck_floats(deck, path, v, want, &n));
+  char where[256];
+  mica_deck_where(deck, path, where, sizeof where);
+  MICA_CHECK(n == want, MICA_ERR_INPUT, "%s: %s needs %d values, not %d", where, path, want, n);
+  return MICA_SUCCESS;
+}
+
+static int require(const MicaDeck *deck, const char *path, const char *shape) {
+  if (mica_deck_has(deck, path)) return MICA_SUCCESS;
+  char where[256];
+  mica_deck_where(deck, "geometry.shape", where, sizeof where);
+  MICA_ERROR(MICA_ERR_INPUT, "%s: geometry.shape = \"%s\" needs %s", where, shape, path);
+}
+
+/* Gmsh paths are relative to the deck's directory, so a deck runs from anywhere. */
+static int mesh_path(const MicaDeck *deck, char *buf, size_t size) {
+  const char *name;
+  MICA_CALL(mica_deck_string(deck, "geometry.mesh", &name));
+  char deck_path[PATH_MAX];
+  snprintf(deck_path, sizeof deck_path, "%s", mica_deck_path(deck));
+  const int n = name[0] == '/' ? snprintf(buf, size, "%s", name) : snprintf(buf, size, "%s/%s", dirname(deck_path), name);
+  if (n >= 0 && (size_t)n < size) return MICA_SUCCESS;
+  char where[256];
+  mica_deck_where(deck, "geometry.mesh", where, sizeof where);
+  MICA_ERROR(MICA_ERR_INPUT, "%s: the mesh's path, beside the deck, is %d bytes long; at most %zu are allowed: move the "
+             "deck or the mesh to a shorter path", where, n, size - 1);
+}
+
+/* geometry.mesh_size_factor scales the sizes Gmsh meshes a .geo with; for anything else it would do nothing. */
+static int read_size_factor(const MicaDeck *deck, MicaShapeSpec *shape) {
+  if (!mica_deck_has(deck, "geometry.mesh_size_factor")) return MICA_SUCCESS;
+  const char *p = shape->mesh_path;
+  const size_t n = p ? strlen(p) : 0;
+  char where[256];
+  mica_deck_where(deck, "geometry.mesh_size_factor", where, sizeof where);
+  MICA_CHECK(n > 4 && !strcasecmp(p + n - 4, ".geo"), MICA_ERR_INPUT,
+             "%s: geometry.mesh_size_factor scales the mesh of a .geo that mica meshes; %s", where,
+             p ? "geometry.mesh names a mesh file, which is meshed already (re-mesh it: gmsh -clscale)"
+               : "this shape is not a Gmsh geometry");
+  return mica_deck_float(deck, "geometry.mesh_size_factor", &shape->mesh_size_factor);
+}
+
+/* One reader per geometry.shape: its own settings, required ones first (a missing one names the shape). */
+static int read_box(const MicaDeck *deck, const char *kind, MicaShapeSpec *shape) {
+  int nl, nu;
+  MICA_CALL(require(deck, "geometry.lower", kind));
+  MICA_CALL(require(deck, "geometry.upper", kind));
+  MICA_CALL(mica_deck_floats(deck, "geometry.lower", shape->lower, 3, &nl));
+  MICA_CALL(mica_deck_floats(deck, "geometry.upper", shape->upper, 3, &nu));
+  char where[256];
+  mica_deck_where(deck, "geometry.upper", where, sizeof where);
+  MICA_CHECK(nl == nu, MICA_ERR_INPUT, "%s: geometry.upper has %d values, geometry.lower %d", where, nu, nl);
+  shape->dim = nl;
+  return MICA_SUCCESS;
+}
+
+static int read_polygon(const MicaDeck *deck, const char *kind, MicaShapeSpec *shape) {
+  double v[8];
+  MICA_CALL(require(deck, "geometry.vertices", kind));
+  MICA_CALL(read_floats_exact(deck, "geometry.vertices", v, 8));
+  for (int i = 0; i < 4; i++) shape->vertices[i][0] = v[2 * i], shape->vertices[i][1] = v[2 * i + 1];
+  return MICA_SUCCESS;
+}
+
+static int read_plate_hole(const MicaDeck *deck, const char *kind, MicaShapeSpec *shape) {
+  MICA_CALL(require(deck, "geometry.hole_radius", kind));
+  MICA_CALL(require(deck, "geometry.plate_size", kind));
+  MICA_CALL(mica_deck_float(deck, "geometry.hole_radius", &shape->hole_radius));
+  return read_floats_exact(deck, "geometry.plate_size", shape->plate_size, 2);
+}
+
+static int read_annulus(const MicaDeck *deck, const char *kind, MicaShapeSpec *shape) {
+  double angles[2];
+  MICA_CALL(require(deck, "geometry.r_inner", kind));
+  MICA_CALL(require(deck, "geometry.r_outer", kind));
+  MICA_CALL(mica_deck_float(deck, "geometry.r_inner", &shape->r_inner));
+  MICA_CALL(mica_deck_float(deck, "geometry.r_outer", &shape->r_outer));
+  MICA_CALL(read_floats_exact(deck, "geometry.angles", angles, 2));
+  const double degree = 3.14159265358979323846 / 180;
+  shape->theta0 = angles[0] * degree;
+  shape->theta1 = angles[1] * degree;
+  return MICA_SUCCESS;
+}
+
+static int read_cylinder(const MicaDeck *deck, const char *kind, MicaShapeSpec *shape) {
+  MICA_CALL(require(deck, "geometry.radius", kind));
+  MICA_CALL(require(deck, "geometry.height", kind));
+  MICA_CALL(mica_deck_float(deck, "geometry.radius", &shape->radius));
+  return mica_deck_float(deck, "geometry.height", &shape->height);
+}
+
+/* The shapes geometry.shape chooses among (its schema lists the same words), each with its reader and the
+ * dimension it has unless the reader says otherwise (a box: its corners' length). gmsh, last, reads its mesh
+ * path itself (read_shape), since the path lives in the caller's buffer. */
+static const struct {
+  const char *name;
+  MicaShapeKind kind;
+  int dim;
+  int (*read)(const MicaDeck *deck, const char *kind, MicaShapeSpec *shape);
+} shape_types[] = {
+    {"box", MICA_SHAPE_BOX, 2, read_box},
+    {"polygon", MICA_SHAPE_POLYGON, 2, read_polygon},
+    {"plate_hole", MICA_SHAPE_PLATE_HOLE, 2, read_plate_hole},
+    {"annulus", MICA_SHAPE_ANNULUS, 2, read_annulus},
+    {"cylinder", MICA_SHAPE_CYLINDER, 3, read_cylinder},
+};
+
+int run_read_shape(const MicaDeck *deck, MicaShapeSpec *shape, char *mesh, size_t mesh_size) {
+  const char *kind;
+  memset(shape, 0, sizeof *shape);
+  MICA_CALL(mica_deck_string(deck, "geometry.shape", &kind));
+  shape->dim = 2;
+  for (size_t i = 0; i < sizeof shape_types / sizeof *shape_types; i++) {
+    if (strcmp(kind, shape_types[i].name)) continue;
+    shape->kind = shape_types[i].kind;
+    shape->dim = shape_types[i].dim;
+    MICA_CALL(shape_types[i].read(deck, kind, shape));
+    return read_size_factor(deck, shape);
+  }
+  MICA_CALL(require(deck, "geometry.mesh", kind)); /* gmsh */
+  shape->kind = MICA_SHAPE_GMSH;
+  MICA_CALL(mesh_path(deck, mesh, mesh_size));
+  MICA_CALL(run_mesh_file_check(deck, mesh));
+  shape->mesh_path = mesh;
+  return read_size_factor(deck, shape);
+}
+
+int run_read_layout(const MicaDeck *deck, int dim, int gmsh, MicaLayoutSpec *layout, MicaCellSpec *cells) {
+  const char *kind;
+  memset(layout, 0, sizeof *layout);
+  memset(cells, 0, sizeof *cells);
+  MICA_CALL(mica_deck_string(deck, "particles.layout", &kind));
+  layout->kind = !strcmp(kind, "graded")     ? MICA_LAYOUT_GRADED
+                 : !strcmp(kind, "jittered") ? MICA_LAYOUT_JITTERED
+                 : !strcmp(kind, "irregular") ? MICA_LAYOUT_IRREGULAR
+                                              : MICA_LAYOUT_REGULAR;
+  MICA_CALL(mica_deck_float(deck, "particles.jitter", &layout->jitter));
+  MICA_CALL(mica_deck_int(deck, "particles.seed", &layout->seed));
+  double grading[3];
+  int ng;
+  MICA_CALL(mica_deck_floats(deck, "particles.grading", grading, 3, &ng));
+  for (int d = 0; d < 3; d++) layout->grading[d] = grading[ng == 1 ? 0 : (d < ng ? d : ng - 1)];
+  char where[256];
+  if (!gmsh) {
+    int nc;
+    MICA_CALL(require(deck, "particles.count", "any built-in shape"));
+    MICA_CALL(mica_deck_ints(deck, "particles.count", layout->count, 3, &nc));
+    mica_deck_where(deck, "particles.count", where, sizeof where);
+    MICA_CHECK(nc == dim, MICA_ERR_INPUT, "%s: particles.count needs %d entries for this %d-D shape, not %d", where,
+               dim, dim, nc);
+  }
+  long order, border;
+  MICA_CALL(mica_deck_int(deck, "quadrature.order", &order));
+  MICA_CALL(mica_deck_int(deck, "quadrature.boundary_order", &border));
+  cells->order = (int)order, cells->boundary_order = (int)border;
+  if (mica_deck_has(deck, "quadrature.cells")) {
+    int nc;
+    MICA_CALL(mica_deck_ints(deck, "quadrature.cells", cells->count, 3, &nc));
+    mica_deck_where(deck, "quadrature.cells", where, sizeof where);
+    MICA_CHECK(nc == dim, MICA_ERR_INPUT, "%s: quadrature.cells needs %d entries, not %d", where, dim, nc);
+  }
+  return MICA_SUCCESS;
+}
+
+/* geometry.axisymmetric: the 2-D section in (x, y) = (r, z) is revolved about the y axis. */
+static int read_axisymmetric(const MicaDeck *deck, RunProblem *rp) {
+  MICA_CALL(mica_deck_bool(deck, "geometry.axisymmetric", &rp->axisymmetric));
+  if (!rp->axisymmetric) return MICA_SUCCESS;
+  int ierr = mica_discretization_revolve(rp->disc);
+  if (ierr) {
+    char where[256];
+    mica_deck_where(deck, "geometry.axisymmetric", where, sizeof where);
+    mica_error_prefix("%s", where);
+    return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
+  }
+  return MICA_SUCCESS;
+}
+
+/* Discretization (revolved for an axisymmetric section) and MLS approximation. */
+int run_build_geometry(const MicaDeck *deck, RunProblem *rp) {
+  MicaShapeSpec shape;
+  MicaLayoutSpec layout;
+  MicaCellSpec cells;
+  MlsOptions mls_opt;
+  char mesh[PATH_MAX];
+  int fe = 0, fe_order = 0;
+  MICA_CALL(run_read_shape(deck, &shape, mesh, sizeof mesh));
+  MICA_CALL(run_read_layout(deck, shape.dim, shape.kind == MICA_SHAPE_GMSH, &layout, &cells));
+  MICA_CALL(run_is_fe(deck, &fe));
+  if (fe) MICA_CALL(run_check_fe_deck(deck, &shape, &layout, &cells, &fe_order));
+  double start = mica_wtime();
+  MICA_CALL(mica_discretization_create(&shape, &layout, &cells, &rp->disc));
+  if (shape.kind == MICA_SHAPE_GMSH) { /* the counts are the mesh's: estimated once it is read */
+    MICA_CALL(run_estimate(deck, &shape, &layout, &cells, rp->disc, &rp->estimate));
+    MICA_CALL(run_estimate_guard(deck, NULL, rp->disc->dim, &rp->estimate));
+  }
+  if (fe) MICA_CALL(run_build_fe(&layout, &cells, fe_order, rp));
+  MICA_CALL(run_read_integration(deck, &shape, &layout, &cells, rp));
+  MICA_CALL(read_axisymmetric(deck, rp));
+  rp->time_discretize = mica_wtime() - start - rp->time_mls;
+  if (!fe) {
+    MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
+    start = mica_wtime();
+    MICA_CALL(mica_study_mls_input(mls_create(rp->disc->dim, rp->disc->nparticles, rp->disc->x, &mls_opt, &rp->mls)));
+    rp->time_mls = mica_wtime() - start;
+    rp->approx = (MicaApprox){&mica_approx_mls, rp->mls};
+  }
+  return MICA_SUCCESS;
+}
+
+int run_error_discretization(const RunProblem *rp, MicaDiscretization **disc) {
+  long order;
+  *disc = NULL;
+  MICA_CALL(mica_deck_int(rp->deck, "quadrature.error_order", &order));
+  if (order <= 0) return MICA_SUCCESS;
+  MicaShapeSpec shape;
+  MicaLayoutSpec layout;
+  MicaCellSpec cells;
+  char mesh[PATH_MAX];
+  MICA_CALL(run_read_shape(rp->deck, &shape, mesh, sizeof mesh));
+  MICA_CALL(run_read_layout(rp->deck, shape.dim, shape.kind == MICA_SHAPE_GMSH, &layout, &cells));
+  cells.order = (int)order;
+  MICA_CALL(mica_discretization_create(&shape, &layout, &cells, disc));
+  const int ierr = rp->axisymmetric ? mica_discretization_revolve(*disc) : MICA_SUCCESS;
+  if (ierr) mica_discretization_destroy(disc);
+  return ierr;
+}
+
+int run_body_create(const MicaDeck *deck, MicaBody **body) {
+  MicaShapeSpec shape;
+  char mesh[PATH_MAX];
+  MICA_CALL(run_read_shape(deck, &shape, mesh, sizeof mesh));
+  return mica_body_create(&shape, body);
+}
+
+/* The cost guard (estimate.c): a built-in shape's cost from its counts, before anything is allocated. */
+int run_guard_cost(const MicaDeck *deck, RunEstimate *est) {
+  MicaShapeSpec shape;
+  MicaLayoutSpec layout;
+  MicaCellSpec cells;
+  char mesh[PATH_MAX];
+  MICA_CALL(run_read_shape(deck, &shape, mesh, sizeof mesh));
+  if (shape.kind == MICA_SHAPE_GMSH) return MICA_SUCCESS; /* run_build_geometry, once the mesh is read */
+  MICA_CALL(run_read_layout(deck, shape.dim, 0, &layout, &cells));
+  MICA_CALL(run_estimate(deck, &shape, &layout, &cells, NULL, est));
+  return run_estimate_guard(deck, &layout, shape.dim, est);
+}
