@@ -432,6 +432,10 @@ static int sweep_run(const MicaDeck *deck, const char *outdir, MicaJson *summary
   MICA_CALL_CLEANUP(mica_path_join(outdir, "points", &points));
   printf("sweep: %ld point%s (%s of %d setting%s)\n", spec.npoints, spec.npoints > 1 ? "s" : "",
          spec.zip ? "zip" : "grid", spec.naxes, spec.naxes > 1 ? "s" : "");
+  if (mica_parallel_world_size() > 1)
+    printf("sweep: %d group%s of %d rank%s, point i solved by group i mod %d\n",
+           mica_parallel_world_size() / spec.ranks_per_point, mica_parallel_world_size() > spec.ranks_per_point ? "s" : "",
+           spec.ranks_per_point, spec.ranks_per_point > 1 ? "s" : "", mica_parallel_world_size() / spec.ranks_per_point);
   MICA_CALL_CLEANUP(points_create(&spec, &pts));
   MICA_CALL_CLEANUP(run_points(&spec, pts, outdir, &nfailed));
   MICA_CALL_CLEANUP(sweep_write_csv(&spec, pts, outdir));
