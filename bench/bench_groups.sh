@@ -31,7 +31,7 @@ wall() {
   awk -v s="$start" -v e="$end" 'BEGIN { printf "%.3f", e - s }'
 }
 min() { awk -v a="$1" -v b="$2" 'BEGIN { print (a == "" || b + 0 < a + 0) ? b : a }'; }
-echo "cores: $(nproc --all) (this process may use $(nproc)), load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "cores: $(nproc --all), load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
 serial="" groups="" startup=""
 for r in $(seq 1 "$REPEAT"); do
   s=$(wall "$MICA" "${sweep[@]}" -o "$out/serial")

@@ -102,6 +102,7 @@ int mica_parallel_groups_begin(int ranks_per_group, MicaParallelGroups *groups) 
   memset(groups, 0, sizeof *groups);
   groups->ngroups = 1;
   groups->ranks = 1;
+  groups->leader = 1;
   groups->outer = MPI_COMM_NULL;
   if (!started) { /* serial: one group of one rank, nothing changes */
     MICA_CHECK(ranks_per_group == 1, MICA_ERR_ARGUMENT, "groups of %d ranks in a serial run", ranks_per_group);
