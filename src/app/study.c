@@ -503,7 +503,9 @@ const MicaCommand mica_command_study = {
     "study.csv (per combination: the values, dofs, nnz, memory, the time of every phase, the error norms and\n"
     "probes, the status and whether it is on the Pareto front of error against time), summary.json (the\n"
     "front, and the fastest combination that reaches the target error), and the charts study_time.png (error\n"
-    "against time, the front drawn and labelled) and study_dofs.png (error against dofs).",
+    "against time, the front drawn and labelled) and study_dofs.png (error against dofs). Under mpirun -np P\n"
+    "the combinations are dealt to P / study.ranks_per_point groups of ranks (default: one rank each), which\n"
+    "solve at the same time: their times are measured while the groups share the machine.",
     mica_run_schema,
     study_run,
 };

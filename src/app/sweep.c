@@ -464,7 +464,9 @@ const MicaCommand mica_command_sweep = {
     "sweep goes on. Writes sweep.csv (per point: the swept values, every probe, the time, the status),\n"
     "summary.json, and sweep.png/.svg: the chosen probe against the x path, one curve per combination of the\n"
     "other paths, with analytic curves and measured points. When material.model is swept, the summary says\n"
-    "above which x each model agrees with the classical one within the tolerance.",
+    "above which x each model agrees with the classical one within the tolerance. Under mpirun -np P the\n"
+    "points are dealt to P / sweep.ranks_per_point groups of ranks (default: one rank per point) and the\n"
+    "table is gathered to rank 0.",
     mica_run_schema,
     sweep_run,
 };
