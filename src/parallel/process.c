@@ -6,7 +6,11 @@
  * there; all then unwind with the same code. The command line agrees once more at the end of a command, so
  * an error that does not pass through the solver (a deck error, a failure while building) is met there. An
  * error once agreed is not agreed again (its generation is remembered), so ranks that unwind through
- * several agreement points stay in step. */
+ * several agreement points stay in step.
+ *
+ * Groups: comm_ is the current group's communicator between mica_parallel_groups_begin and _end (rank_
+ * and size_ then the group's); the remembered agreement is dropped at both ends, because an error one
+ * group agreed on is not known to the others. Messages, injection and abort use the rank in MPI_COMM_WORLD. */
 #include <limits.h>
 #include <mpi.h>
 #include <stdio.h>
