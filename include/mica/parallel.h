@@ -19,8 +19,15 @@
  * all ranks unwind with the same error code and message, and rank 0 alone reports it. Rank 0 alone
  * prints (other ranks' stdout goes to /dev/null) and writes files.
  *
- * Testing aid: MICA_INJECT_FAILURE=RANK:PHASE[:exit] makes rank RANK fail at PHASE (deck, build, assemble,
- * solve, output) with an error (or, with ":exit", leave the process at once without MPI_Finalize, as a
+ * Groups: a command whose runs are independent (the points of a sweep, the combinations of a study) splits
+ * the ranks into groups of consecutive ranks (mica_parallel_groups_begin); while the groups last, the
+ * group's communicator is mica_parallel_comm(), rank and size are the group's, errors are agreed inside the
+ * group, and a group of one rank takes the serial path. After mica_parallel_groups_end the outer ranks agree
+ * again: an error one group agreed on is not agreed by the others until they meet there.
+ *
+ * Testing aid: MICA_INJECT_FAILURE=RANK:PHASE[:exit] makes rank RANK of MPI_COMM_WORLD fail at PHASE (deck,
+ * build, assemble, solve, output; point: the start of each point of a sweep or combination of a study that
+ * the rank solves) with an error (or, with ":exit", leave the process at once without MPI_Finalize, as a
  * crash would), so the tests can check that every rank stops.
  */
 #ifndef MICA_PARALLEL_H
@@ -45,6 +52,9 @@ void mica_parallel_start(void);
 MPI_Comm mica_parallel_comm(void);
 int mica_parallel_rank(void);
 int mica_parallel_size(void);
+/* The rank in MPI_COMM_WORLD and its size (0 and 1 in a serial run), whatever group is current. */
+int mica_parallel_world_rank(void);
+int mica_parallel_world_size(void);
 /* 1 when more than one rank shares the work (and no mica_parallel_set_alone is in force). */
 int mica_parallel_active(void);
 /* 1: this rank works alone from now on (each rank solves whole problems, e.g. the points of a sweep);
@@ -57,6 +67,28 @@ int mica_parallel_set_alone(int alone);
 int mica_parallel_agree(int ierr);
 /* 1 if the current error was agreed on by all ranks (or the run is serial). */
 int mica_parallel_error_agreed(void);
+
+/* Groups of ranks (see the head of this file). */
+typedef struct MicaParallelGroups {
+  int group;   /* this rank's group, 0 .. ngroups − 1 */
+  int ngroups; /* outer size / ranks */
+  int ranks;   /* ranks per group */
+  int leader;  /* 1 on rank 0 of the group */
+  MPI_Comm outer; /* the communicator before the split (MPI_COMM_NULL: serial, nothing was split) */
+  int outer_rank, outer_size;
+} MicaParallelGroups;
+
+/* Collective over the current communicator: splits its ranks into groups of ranks_per_group consecutive
+ * ranks (it must divide their number; serial: only 1) and makes this rank's group current. */
+int mica_parallel_groups_begin(int ranks_per_group, MicaParallelGroups *groups);
+/* Frees the group's communicator and makes the outer one current again (not collective). */
+void mica_parallel_groups_end(MicaParallelGroups *groups);
+
+/* Collective, after agreeing on ierr: the nbytes bytes of every rank, concatenated in rank order, in *all
+ * (allocated, *total bytes) on every rank. */
+int mica_parallel_allgather(int ierr, const void *mine, long nbytes, char **all, long *total);
+/* Collective, after agreeing on ierr: rank 0's text in *copy (allocated) on every rank. */
+int mica_parallel_broadcast_text(int ierr, const char *text, char **copy);
 
 /* The failure injected by MICA_INJECT_FAILURE for this rank at this phase, or MICA_SUCCESS. */
 int mica_parallel_inject(const char *phase);

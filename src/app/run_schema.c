@@ -247,6 +247,9 @@ const MicaDeckKey mica_run_schema[] = {
      "when material.model is swept: the model the others are compared with"},
     {"sweep.tolerance", MICA_KEY_FLOAT, "0.01", 0, 1e300, NULL, 0, 0,
      "... a model agrees with it where |probe / probe_classical - 1| <= tolerance"},
+    {"sweep.ranks_per_point", MICA_KEY_INT, "1", 1, 1000000, NULL, 0, 0,
+     "under mpirun -np P: ranks that solve each point together; the P ranks form P / ranks_per_point groups and "
+     "point i goes to group i mod groups (it must divide P; P: every point distributed over every rank)"},
     /* speed against accuracy (src/study/study*.c) */
     {"study.choices", MICA_KEY_LIST, NULL, NOLIMIT, NULL, 1, 0,
      "the varied settings, every combination solved: ( { path = \"mls.order\"; values = [1, 2]; }, ... ); any "
@@ -266,6 +269,9 @@ const MicaDeckKey mica_run_schema[] = {
      "the time of the front and of the fastest: solve (assembly + factorization + solution) or total (every phase)"},
     {"study.repeat", MICA_KEY_INT, "1", 1, 100, NULL, 0, 0,
      "solves per combination; each phase's minimum time is kept (fairer on a shared machine)"},
+    {"study.ranks_per_point", MICA_KEY_INT, "1", 1, 1000000, NULL, 0, 0,
+     "under mpirun -np P: ranks that solve each combination together; P / ranks_per_point groups solve at once, "
+     "combination i in group i mod groups (it must divide P), so the groups share the machine during the timings"},
     {"study.chart", MICA_KEY_BOOL, "true", NOLIMIT, NULL, 0, 0, "draw study_time.png and study_dofs.png (and .svg) with gnuplot"},
     /* the stability study (src/study/stability*.c): `mica run` and `mica sweep` leave the group alone */
     {"stability.eigen", MICA_KEY_BOOL, "true", NOLIMIT, NULL, 0, 0,

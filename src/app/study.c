@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "mica/files.h"
+#include "mica/parallel.h"
 #include "mica/timer.h"
 #include "run.h"
 #include "study.h"
@@ -81,12 +82,20 @@ static int record_failure(StudyRow *row, int ierr) {
   return MICA_SUCCESS;
 }
 
+/* Under mpirun, the group of ranks that solved the combination (1-based) and how many ranks it has. */
+static int add_group(MicaJson *json, int group) {
+  if (mica_parallel_world_size() == 1) return MICA_SUCCESS;
+  MICA_CALL(mica_json_int(json, "group", group + 1));
+  return mica_json_int(json, "group_ranks", mica_parallel_size());
+}
+
 static int write_failure_summary(const StudySpec *spec, long p, const SweepOverrides *o, const StudyRow *row,
                                  const char *path) {
   MicaJson *json = NULL;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_json_create(&json));
   MICA_CALL_CLEANUP(sweep_summary_header(json, spec->deck, "study_combination", p, o));
+  MICA_CALL_CLEANUP(add_group(json, row->group));
   MICA_CALL_CLEANUP(mica_json_string(json, "status", "error"));
   MICA_CALL_CLEANUP(mica_json_string(json, "error", row->message ? row->message : ""));
   MICA_CALL_CLEANUP(mica_json_int(json, "exit_status", mica_exit_status(row->status)));
@@ -113,7 +122,9 @@ static int run_combination(const StudySpec *spec, long p, const char *outdir, St
   for (int r = 0; r < spec->repeat && !row->status; r++) {
     MICA_CALL_CLEANUP(mica_json_create(&json));
     MICA_CALL_CLEANUP(sweep_summary_header(json, spec->deck, "study_combination", p, &o));
-    const int failed = solve_once(spec, dir, &o, json, &row->reference);
+    MICA_CALL_CLEANUP(add_group(json, row->group));
+    int failed = mica_parallel_inject("point");
+    if (!failed) failed = solve_once(spec, dir, &o, json, &row->reference);
     if (failed) {
       MICA_CALL_CLEANUP(record_failure(row, failed));
       row->reached = mica_study_solve_reached(json);
@@ -158,8 +169,10 @@ cleanup:
 
 /* ---- progress ----------------------------------------------------------------------------------------- */
 
-/* "combination 3/60  order=1 m=8  energy 2.07e-02  time 0.052 s  elapsed 4.1 s  remaining ~60 s" */
-static void print_progress(const StudySpec *spec, long p, const StudyRow *row, double elapsed) {
+/* "combination 3/60  order=1 m=8  energy 2.07e-02  time 0.052 s  elapsed 4.1 s  remaining ~60 s" for a
+ * combination this rank solved (the done-th of its own); another group's ends "(group 2 of 2)". */
+static void print_progress(const StudySpec *spec, long p, const StudyRow *row, int ngroups, double elapsed,
+                           long done, long own) {
   char text[CHOICE_TEXT];
   study_choice_text(spec, row->choice, text, sizeof text);
   printf("combination %ld/%ld  %s", p + 1, spec->ncombinations, text);
@@ -167,8 +180,9 @@ static void print_progress(const StudySpec *spec, long p, const StudyRow *row, d
     printf("  %s %.3e  time %.3g s", spec->error_name, row->error, row->time);
   else
     printf("  failed: %.*s", (int)strcspn(row->message, "\n"), row->message);
-  const double remaining = elapsed / (double)(p + 1) * (double)(spec->ncombinations - p - 1);
-  printf("  elapsed %.1f s  remaining ~%.0f s\n", elapsed, remaining);
+  if (ngroups > 1) printf("  (group %d of %d)", row->group + 1, ngroups);
+  if (done > 0) printf("  elapsed %.1f s  remaining ~%.0f s", elapsed, elapsed / (double)done * (double)(own - done));
+  printf("\n");
   fflush(stdout);
 }
 
@@ -319,25 +333,116 @@ static void rows_destroy(long n, StudyRow **rows) {
   MICA_FREE(*rows);
 }
 
-/* Every combination, in order; with no success, the first failure is the study's error. */
-static int run_all(const StudySpec *spec, StudyRow *rows, const char *outdir, long *nfailed) {
+/* This rank's combinations (all of them when serial), in order; the ranks of a group agree after each. */
+static int run_own(const StudySpec *spec, StudyRow *rows, const MicaStudyGroups *g) {
   const double start = mica_wtime();
+  long own = 0, done = 0;
+  int ierr = MICA_SUCCESS;
+  for (long p = 0; p < spec->ncombinations; p++) own += mica_study_groups_mine(g, p);
+  for (long p = 0; p < spec->ncombinations && !ierr; p++) {
+    if (!mica_study_groups_mine(g, p)) continue;
+    rows[p].group = g->groups.group;
+    ierr = run_combination(spec, p, mica_study_groups_outdir(g), &rows[p]);
+    ierr = mica_parallel_agree(ierr);
+    if (!ierr) print_progress(spec, p, &rows[p], g->groups.ngroups, mica_wtime() - start, ++done, own);
+  }
+  return ierr;
+}
+
+/* The scalar members of a row, in the order they are packed. */
+static int pack_row(const StudySpec *spec, long p, const StudyRow *row, MicaPack *pack) {
+  const long counts[] = {row->dofs, row->particles, row->quadrature_points, row->nnz, row->nnz_factor,
+                         row->cache_bytes, row->matrix_bytes};
+  const double measures[] = {row->error_l2, row->error_h1, row->error_energy, row->reference, row->error, row->time};
+  MICA_CALL(mica_pack_put(pack, &p, sizeof p));
+  MICA_CALL(mica_pack_put(pack, &row->group, sizeof row->group));
+  MICA_CALL(mica_pack_put(pack, &row->status, sizeof row->status));
+  MICA_CALL(mica_pack_put(pack, &row->reached, sizeof row->reached));
+  MICA_CALL(mica_pack_put(pack, counts, sizeof counts));
+  MICA_CALL(mica_pack_put(pack, row->phase, sizeof row->phase));
+  MICA_CALL(mica_pack_put(pack, measures, sizeof measures));
+  MICA_CALL(mica_pack_put(pack, row->probe, (long)sizeof *row->probe * spec->nprobes));
+  return mica_pack_put_text(pack, row->message);
+}
+
+static int unpack_row(const StudySpec *spec, StudyRow *rows, MicaPack *pack) {
+  long p, counts[7];
+  double measures[6];
+  MICA_CALL(mica_pack_get(pack, &p, sizeof p));
+  MICA_CHECK(p >= 0 && p < spec->ncombinations, MICA_ERR_LIBRARY, "a gathered combination has index %ld of %ld", p,
+             spec->ncombinations);
+  StudyRow *row = &rows[p];
+  MICA_CALL(mica_pack_get(pack, &row->group, sizeof row->group));
+  MICA_CALL(mica_pack_get(pack, &row->status, sizeof row->status));
+  MICA_CALL(mica_pack_get(pack, &row->reached, sizeof row->reached));
+  MICA_CALL(mica_pack_get(pack, counts, sizeof counts));
+  MICA_CALL(mica_pack_get(pack, row->phase, sizeof row->phase));
+  MICA_CALL(mica_pack_get(pack, measures, sizeof measures));
+  MICA_CALL(mica_pack_get(pack, row->probe, (long)sizeof *row->probe * spec->nprobes));
+  MICA_FREE(row->message);
+  MICA_CALL(mica_pack_get_text(pack, &row->message));
+  row->dofs = counts[0], row->particles = counts[1], row->quadrature_points = counts[2], row->nnz = counts[3];
+  row->nnz_factor = counts[4], row->cache_bytes = counts[5], row->matrix_bytes = counts[6];
+  row->error_l2 = measures[0], row->error_h1 = measures[1], row->error_energy = measures[2];
+  row->reference = measures[3], row->error = measures[4], row->time = measures[5];
+  study_combination(spec, p, row->choice);
+  return MICA_SUCCESS;
+}
+
+/* Every rank gets every row from the leader of the group that solved it; rank 0 prints the progress lines of
+ * the other groups' combinations. */
+static int gather_rows(int ierr, const StudySpec *spec, StudyRow *rows, const MicaStudyGroups *g) {
+  MicaPack mine = {0}, all = {0};
+  for (long p = 0; p < spec->ncombinations && !ierr && g->groups.leader; p++)
+    if (mica_study_groups_mine(g, p)) ierr = pack_row(spec, p, &rows[p], &mine);
+  ierr = mica_pack_allgather(ierr, &mine, &all);
+  while (!ierr && all.at < all.size) ierr = unpack_row(spec, rows, &all);
+  mica_pack_free(&mine);
+  mica_pack_free(&all);
+  MICA_CALL(mica_parallel_agree(ierr));
+  for (long p = 0; p < spec->ncombinations; p++)
+    if (rows[p].group != g->groups.group) print_progress(spec, p, &rows[p], g->groups.ngroups, 0, 0, 0);
+  return MICA_SUCCESS;
+}
+
+/* Every combination, by the groups of ranks (one group of the one rank when serial); with no success, the
+ * first failure is the study's error. */
+static int run_all(const StudySpec *spec, StudyRow *rows, const char *outdir, long *nfailed) {
+  MicaStudyGroups g;
   long first_failure = -1;
   *nfailed = 0;
-  for (long p = 0; p < spec->ncombinations; p++) {
-    MICA_CALL(run_combination(spec, p, outdir, &rows[p]));
+  int ierr = mica_study_groups_begin(spec->ranks_per_point, outdir, &g);
+  if (!ierr) ierr = run_own(spec, rows, &g);
+  ierr = mica_study_groups_end(ierr, &g);
+  if (!ierr) ierr = gather_rows(ierr, spec, rows, &g);
+  mica_study_groups_free(&g);
+  MICA_CALL(ierr);
+  for (long p = 0; p < spec->ncombinations; p++)
     if (rows[p].status) {
       ++*nfailed;
       if (first_failure < 0) first_failure = p;
     }
-    print_progress(spec, p, &rows[p], mica_wtime() - start);
-  }
   for (long p = 0; p < spec->ncombinations; p++)
     if (usable(&rows[p])) return MICA_SUCCESS;
   if (first_failure < 0) /* every combination ran, none has a finite error */
     MICA_ERROR(MICA_ERR_NUMERIC, "no combination of the study has a finite %s error", spec->error_name);
   MICA_ERROR(rows[first_failure].status, "every combination of the study failed (%ld); combination %ld: %s",
              spec->ncombinations, first_failure + 1, rows[first_failure].message);
+}
+
+/* Under mpirun: how the combinations were dealt, and how many each group solved (as the groups reported). */
+static int add_groups(const StudySpec *spec, const StudyRow *rows, MicaJson *summary) {
+  if (mica_parallel_world_size() == 1) return MICA_SUCCESS;
+  const int ngroups = mica_parallel_world_size() / spec->ranks_per_point;
+  MICA_CALL(mica_json_int(summary, "ranks_per_point", spec->ranks_per_point));
+  MICA_CALL(mica_json_int(summary, "groups", ngroups));
+  MICA_CALL(mica_json_open_array(summary, "combinations_per_group"));
+  for (int g = 0; g < ngroups; g++) {
+    long n = 0;
+    for (long p = 0; p < spec->ncombinations; p++) n += rows[p].group == g;
+    MICA_CALL(mica_json_int(summary, NULL, n));
+  }
+  return mica_json_close(summary);
 }
 
 /* The charts are drawn last and are not the result: when gnuplot fails, the numbers still stand. */
@@ -363,12 +468,20 @@ static int study_run(const MicaDeck *deck, const char *outdir, MicaJson *summary
          spec.ncombinations > 1 ? "s" : "", spec.nchoices, spec.nchoices > 1 ? "s" : "",
          study_error_title(&spec, title, sizeof title), spec.time_total ? "total" : "solve", spec.repeat,
          spec.repeat > 1 ? "s (the minimum time is kept)" : "");
+  if (mica_parallel_world_size() > 1)
+    printf("study: %d group%s of %d rank%s%s\n", mica_parallel_world_size() / spec.ranks_per_point,
+           mica_parallel_world_size() > spec.ranks_per_point ? "s" : "", spec.ranks_per_point,
+           spec.ranks_per_point > 1 ? "s" : "",
+           mica_parallel_world_size() > spec.ranks_per_point
+               ? " solving at the same time: each time is measured while the other groups share the machine"
+               : "");
   MICA_CALL_CLEANUP(rows_create(&spec, &rows));
   MICA_CALL_CLEANUP(run_all(&spec, rows, outdir, &nfailed));
   mark_pareto(&spec, rows);
   const long fastest = fastest_for_target(&spec, rows);
   MICA_CALL_CLEANUP(study_write_csv(&spec, rows, outdir));
   MICA_CALL_CLEANUP(add_summary(&spec, rows, nfailed, fastest, summary));
+  MICA_CALL_CLEANUP(add_groups(&spec, rows, summary));
   MICA_CALL_CLEANUP(print_report(&spec, rows, nfailed, fastest));
   MICA_CALL_CLEANUP(draw_charts(&spec, rows, fastest, outdir, summary));
 cleanup:
@@ -390,7 +503,9 @@ const MicaCommand mica_command_study = {
     "study.csv (per combination: the values, dofs, nnz, memory, the time of every phase, the error norms and\n"
     "probes, the status and whether it is on the Pareto front of error against time), summary.json (the\n"
     "front, and the fastest combination that reaches the target error), and the charts study_time.png (error\n"
-    "against time, the front drawn and labelled) and study_dofs.png (error against dofs).",
+    "against time, the front drawn and labelled) and study_dofs.png (error against dofs). Under mpirun -np P\n"
+    "the combinations are dealt to P / study.ranks_per_point groups of ranks (default: one rank each), which\n"
+    "solve at the same time: their times are measured while the groups share the machine.",
     mica_run_schema,
     study_run,
 };

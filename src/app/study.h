@@ -39,6 +39,7 @@ typedef struct StudySpec {
   int time_total;         /* study.time: 0 "solve" (assembly + factorization + solution), 1 "total" (every phase) */
   int repeat;             /* study.repeat: solves per combination; the minimum time of each phase is kept */
   int chart;
+  int ranks_per_point;    /* study.ranks_per_point: under mpirun, the ranks of the group that solves a combination */
 } StudySpec;
 
 /* One combination and what it measured. */
@@ -54,6 +55,7 @@ typedef struct StudyRow {
   double reference;      /* STUDY_ERROR_PROBE: the probe's reference for this combination */
   double error, time;    /* the study's measures (study.error, study.time) */
   int pareto;            /* 1: no other combination has both a smaller time and a smaller error */
+  int group;             /* the group of ranks that solved it (0 when serial) */
 } StudyRow;
 
 int study_spec_read(const MicaDeck *deck, StudySpec *spec);

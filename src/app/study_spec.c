@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "run.h"
+#include "study_common.h"
 #include "study.h"
 
 const char *const study_phase_key[STUDY_NPHASES] = {"time_discretize", "time_mls_setup", "time_cache_and_pattern",
@@ -134,6 +135,7 @@ static int read_options(StudySpec *spec) {
   MICA_CALL(mica_deck_string(deck, "study.time", &time));
   spec->time_total = !strcmp(time, "total");
   MICA_CALL(mica_deck_int(deck, "study.repeat", &repeat));
+  MICA_CALL(mica_study_ranks_per_point(deck, "study.ranks_per_point", &spec->ranks_per_point));
   spec->repeat = (int)repeat;
   MICA_CALL(mica_deck_bool(deck, "study.chart", &spec->chart));
   return MICA_SUCCESS;

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "mica/files.h"
+#include "mica/parallel.h"
 #include "mica/timer.h"
 #include "run.h"
 #include "study_common.h"
@@ -87,6 +88,13 @@ static void read_probes(const SweepSpec *spec, const MicaJson *json, SweepPoint 
     }
 }
 
+/* Under mpirun, the group of ranks that solved the point (1-based) and how many ranks it has. */
+static int add_group(MicaJson *json, int group) {
+  if (mica_parallel_world_size() == 1) return MICA_SUCCESS;
+  MICA_CALL(mica_json_int(json, "group", group + 1));
+  return mica_json_int(json, "group_ranks", mica_parallel_size());
+}
+
 /* A failed run may have left its summary half-built: the point's summary is then written afresh. */
 static int write_failure_summary(const SweepSpec *spec, long p, const SweepOverrides *o, const SweepPoint *pt,
                                  const char *path) {
@@ -94,6 +102,7 @@ static int write_failure_summary(const SweepSpec *spec, long p, const SweepOverr
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(mica_json_create(&json));
   MICA_CALL_CLEANUP(sweep_summary_header(json, spec->deck, "sweep_point", p, o));
+  MICA_CALL_CLEANUP(add_group(json, pt->group));
   MICA_CALL_CLEANUP(mica_json_string(json, "status", "error"));
   MICA_CALL_CLEANUP(mica_json_string(json, "error", pt->message ? pt->message : ""));
   MICA_CALL_CLEANUP(mica_json_int(json, "exit_status", mica_exit_status(pt->status)));
@@ -117,7 +126,9 @@ static int run_point(const SweepSpec *spec, long p, const char *outdir, RunReuse
   MICA_CALL_CLEANUP(mica_path_join(dir, "summary.json", &path));
   MICA_CALL_CLEANUP(mica_json_create(&json));
   MICA_CALL_CLEANUP(sweep_summary_header(json, spec->deck, "sweep_point", p, &o));
-  const int failed = point_solve(spec, dir, &o, json, reuse);
+  MICA_CALL_CLEANUP(add_group(json, pt->group));
+  int failed = mica_parallel_inject("point");
+  if (!failed) failed = point_solve(spec, dir, &o, json, reuse);
   pt->time = mica_wtime() - start;
   if (failed) MICA_CALL_CLEANUP(record_failure(pt, failed)); /* first: reading the summary clears errors */
   pt->reached = failed && mica_study_solve_reached(json);
@@ -140,8 +151,10 @@ cleanup:
 
 /* ---- progress --------------------------------------------------------------------------------------- */
 
-/* "point 3/12  L=8 model=svk  tip_uy=0.0256  elapsed 4.1 s  remaining ~12 s" */
-static void print_progress(const SweepSpec *spec, long p, const SweepPoint *pt, double elapsed) {
+/* "point 3/12  L=8 model=svk  tip_uy=0.0256  elapsed 4.1 s  remaining ~12 s" for a point this rank solved
+ * (the done-th of its own), "point 4/12  L=16 model=svk  tip_uy=0.204  (group 2 of 2)" for another group's. */
+static void print_progress(const SweepSpec *spec, long p, const SweepPoint *pt, int ngroups, double elapsed,
+                           long done, long own) {
   printf("point %ld/%ld ", p + 1, spec->npoints);
   for (int a = 0; a < spec->naxes; a++) {
     char label[2048]; /* "path = word": a path and a word of at most MICA_DECK_LONG_TEXT_MAX */
@@ -152,8 +165,9 @@ static void print_progress(const SweepSpec *spec, long p, const SweepPoint *pt, 
     printf("  %s=%.6g", spec->probes[spec->probe], pt->probe[spec->probe]);
   else
     printf("  failed: %.*s", (int)strcspn(pt->message, "\n"), pt->message);
-  const double remaining = elapsed / (double)(p + 1) * (double)(spec->npoints - p - 1);
-  printf("  elapsed %.1f s  remaining ~%.0f s\n", elapsed, remaining);
+  if (ngroups > 1) printf("  (group %d of %d)", pt->group + 1, ngroups);
+  if (done > 0) printf("  elapsed %.1f s  remaining ~%.0f s", elapsed, elapsed / (double)done * (double)(own - done));
+  printf("\n");
   fflush(stdout);
 }
 
@@ -264,30 +278,95 @@ static void points_free(const SweepSpec *spec, SweepPoint **pts) {
   MICA_FREE(*pts);
 }
 
-/* Every point, in order, each reusing what the previous one built when it can; *nfailed counts the
- * failures. With no success, the first failure is the error. */
-static int run_points(const SweepSpec *spec, SweepPoint *pts, const char *outdir, long *nfailed) {
+/* This rank's points (all of them when serial), in order, each reusing what the previous one built when it
+ * can. The ranks of a group agree after every point, so that they take the next one together. */
+static int run_own_points(const SweepSpec *spec, SweepPoint *pts, const MicaStudyGroups *g) {
   const double start = mica_wtime();
-  long first_failure = -1;
+  long own = 0, done = 0;
   RunReuse *reuse = NULL;
   int ierr = MICA_SUCCESS;
-  *nfailed = 0;
+  for (long p = 0; p < spec->npoints; p++) own += mica_study_groups_mine(g, p);
   MICA_CALL(run_reuse_create(&reuse));
-  for (long p = 0; p < spec->npoints; p++) {
-    MICA_CALL_CLEANUP(run_point(spec, p, outdir, reuse, &pts[p]));
+  for (long p = 0; p < spec->npoints && !ierr; p++) {
+    if (!mica_study_groups_mine(g, p)) continue;
+    pts[p].group = g->groups.group;
+    ierr = run_point(spec, p, mica_study_groups_outdir(g), reuse, &pts[p]);
+    ierr = mica_parallel_agree(ierr);
+    if (!ierr) print_progress(spec, p, &pts[p], g->groups.ngroups, mica_wtime() - start, ++done, own);
+  }
+  run_reuse_destroy(&reuse);
+  return ierr;
+}
+
+/* One point's outcome, packed for the other ranks (the leader of the group that solved it sends it). */
+static int pack_point(const SweepSpec *spec, long p, const SweepPoint *pt, MicaPack *pack) {
+  MICA_CALL(mica_pack_put(pack, &p, sizeof p));
+  MICA_CALL(mica_pack_put(pack, &pt->group, sizeof pt->group));
+  MICA_CALL(mica_pack_put(pack, &pt->status, sizeof pt->status));
+  MICA_CALL(mica_pack_put(pack, &pt->reached, sizeof pt->reached));
+  MICA_CALL(mica_pack_put(pack, &pt->time, sizeof pt->time));
+  MICA_CALL(mica_pack_put(pack, &pt->setup, sizeof pt->setup));
+  MICA_CALL(mica_pack_put(pack, &pt->caches_built, sizeof pt->caches_built));
+  MICA_CALL(mica_pack_put(pack, pt->probe, (long)sizeof *pt->probe * spec->nprobes));
+  return mica_pack_put_text(pack, pt->message);
+}
+
+static int unpack_point(const SweepSpec *spec, SweepPoint *pts, MicaPack *pack) {
+  long p;
+  MICA_CALL(mica_pack_get(pack, &p, sizeof p));
+  MICA_CHECK(p >= 0 && p < spec->npoints, MICA_ERR_LIBRARY, "a gathered point has index %ld of %ld", p, spec->npoints);
+  SweepPoint *pt = &pts[p];
+  MICA_CALL(mica_pack_get(pack, &pt->group, sizeof pt->group));
+  MICA_CALL(mica_pack_get(pack, &pt->status, sizeof pt->status));
+  MICA_CALL(mica_pack_get(pack, &pt->reached, sizeof pt->reached));
+  MICA_CALL(mica_pack_get(pack, &pt->time, sizeof pt->time));
+  MICA_CALL(mica_pack_get(pack, &pt->setup, sizeof pt->setup));
+  MICA_CALL(mica_pack_get(pack, &pt->caches_built, sizeof pt->caches_built));
+  MICA_CALL(mica_pack_get(pack, pt->probe, (long)sizeof *pt->probe * spec->nprobes));
+  MICA_FREE(pt->message);
+  MICA_CALL(mica_pack_get_text(pack, &pt->message));
+  sweep_point_choice(spec, p, pt->choice);
+  return MICA_SUCCESS;
+}
+
+/* Every rank gets every point's outcome from the leader of the group that solved it; rank 0 prints the
+ * progress lines of the other groups' points. */
+static int gather_points(int ierr, const SweepSpec *spec, SweepPoint *pts, const MicaStudyGroups *g) {
+  MicaPack mine = {0}, all = {0};
+  for (long p = 0; p < spec->npoints && !ierr && g->groups.leader; p++)
+    if (mica_study_groups_mine(g, p)) ierr = pack_point(spec, p, &pts[p], &mine);
+  ierr = mica_pack_allgather(ierr, &mine, &all);
+  while (!ierr && all.at < all.size) ierr = unpack_point(spec, pts, &all);
+  mica_pack_free(&mine);
+  mica_pack_free(&all);
+  MICA_CALL(mica_parallel_agree(ierr));
+  for (long p = 0; p < spec->npoints; p++)
+    if (pts[p].group != g->groups.group) print_progress(spec, p, &pts[p], g->groups.ngroups, 0, 0, 0);
+  return MICA_SUCCESS;
+}
+
+/* Every point, by the groups of ranks (one group of the one rank when serial); *nfailed counts the failures.
+ * With no success, the first failure is the error. */
+static int run_points(const SweepSpec *spec, SweepPoint *pts, const char *outdir, long *nfailed) {
+  MicaStudyGroups g;
+  long first_failure = -1;
+  *nfailed = 0;
+  int ierr = mica_study_groups_begin(spec->ranks_per_point, outdir, &g);
+  if (!ierr) ierr = run_own_points(spec, pts, &g);
+  ierr = mica_study_groups_end(ierr, &g);
+  if (!ierr) ierr = gather_points(ierr, spec, pts, &g);
+  mica_study_groups_free(&g);
+  MICA_CALL(ierr);
+  for (long p = 0; p < spec->npoints; p++)
     if (pts[p].status) {
       ++*nfailed;
       if (first_failure < 0) first_failure = p;
     }
-    print_progress(spec, p, &pts[p], mica_wtime() - start);
-  }
   if (*nfailed == spec->npoints)
-    ierr = mica_error_set(__FILE__, __LINE__, __func__, pts[first_failure].status,
+    return mica_error_set(__FILE__, __LINE__, __func__, pts[first_failure].status,
                           "every point of the sweep failed (%ld); point %ld: %s", spec->npoints, first_failure + 1,
                           pts[first_failure].message);
-cleanup:
-  run_reuse_destroy(&reuse);
-  return ierr;
+  return MICA_SUCCESS;
 }
 
 /* How much the points reused: those that computed no shape function, and the setup time of the first
@@ -328,6 +407,21 @@ static int add_summary(const SweepSpec *spec, long nfailed, MicaJson *summary) {
   return MICA_SUCCESS;
 }
 
+/* Under mpirun: how the points were dealt, and how many each group solved (as the groups reported them). */
+static int add_groups(const SweepSpec *spec, const SweepPoint *pts, MicaJson *summary) {
+  if (mica_parallel_world_size() == 1) return MICA_SUCCESS;
+  const int ngroups = mica_parallel_world_size() / spec->ranks_per_point;
+  MICA_CALL(mica_json_int(summary, "ranks_per_point", spec->ranks_per_point));
+  MICA_CALL(mica_json_int(summary, "groups", ngroups));
+  MICA_CALL(mica_json_open_array(summary, "points_per_group"));
+  for (int g = 0; g < ngroups; g++) {
+    long n = 0;
+    for (long p = 0; p < spec->npoints; p++) n += pts[p].group == g;
+    MICA_CALL(mica_json_int(summary, NULL, n));
+  }
+  return mica_json_close(summary);
+}
+
 static int sweep_run(const MicaDeck *deck, const char *outdir, MicaJson *summary) {
   SweepSpec spec;
   SweepPoint *pts = NULL;
@@ -338,10 +432,15 @@ static int sweep_run(const MicaDeck *deck, const char *outdir, MicaJson *summary
   MICA_CALL_CLEANUP(mica_path_join(outdir, "points", &points));
   printf("sweep: %ld point%s (%s of %d setting%s)\n", spec.npoints, spec.npoints > 1 ? "s" : "",
          spec.zip ? "zip" : "grid", spec.naxes, spec.naxes > 1 ? "s" : "");
+  if (mica_parallel_world_size() > 1)
+    printf("sweep: %d group%s of %d rank%s, point i solved by group i mod %d\n",
+           mica_parallel_world_size() / spec.ranks_per_point, mica_parallel_world_size() > spec.ranks_per_point ? "s" : "",
+           spec.ranks_per_point, spec.ranks_per_point > 1 ? "s" : "", mica_parallel_world_size() / spec.ranks_per_point);
   MICA_CALL_CLEANUP(points_create(&spec, &pts));
   MICA_CALL_CLEANUP(run_points(&spec, pts, outdir, &nfailed));
   MICA_CALL_CLEANUP(sweep_write_csv(&spec, pts, outdir));
   MICA_CALL_CLEANUP(add_summary(&spec, nfailed, summary));
+  MICA_CALL_CLEANUP(add_groups(&spec, pts, summary));
   MICA_CALL_CLEANUP(add_reuse(&spec, pts, summary));
   MICA_CALL_CLEANUP(compare_models(&spec, pts, summary));
   MICA_CALL_CLEANUP(draw_chart(&spec, pts, outdir, summary));
@@ -365,7 +464,9 @@ const MicaCommand mica_command_sweep = {
     "sweep goes on. Writes sweep.csv (per point: the swept values, every probe, the time, the status),\n"
     "summary.json, and sweep.png/.svg: the chosen probe against the x path, one curve per combination of the\n"
     "other paths, with analytic curves and measured points. When material.model is swept, the summary says\n"
-    "above which x each model agrees with the classical one within the tolerance.",
+    "above which x each model agrees with the classical one within the tolerance. Under mpirun -np P the\n"
+    "points are dealt to P / sweep.ranks_per_point groups of ranks (default: one rank per point) and the\n"
+    "table is gathered to rank 0.",
     mica_run_schema,
     sweep_run,
 };

@@ -63,6 +63,7 @@ typedef struct SweepSpec {
   int logx, logy, chart;
   int nanalytic, nexperiments;
   SweepData *experiments; /* [nexperiments], read before anything is solved */
+  int ranks_per_point; /* sweep.ranks_per_point: under mpirun, the ranks of the group that solves a point */
 } SweepSpec;
 
 /* The outcome of one point. */
@@ -75,6 +76,7 @@ typedef struct SweepPoint {
   int reached;      /* 1: the point failed but wrote what it reached (a Newton run that stopped: "failed") */
   double setup;     /* seconds building discretization, MLS, shape caches and pattern (NAN if it failed) */
   double caches_built; /* shape-function caches the point computed (0: it shared the previous point's) */
+  int group;        /* the group of ranks that solved it (0 when serial) */
 } SweepPoint;
 
 int sweep_spec_read(const MicaDeck *deck, SweepSpec *spec);

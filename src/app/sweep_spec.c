@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "run.h"
+#include "study_common.h"
 #include "sweep.h"
 
 /* ---- small helpers ---------------------------------------------------------------------------------- */
@@ -382,6 +383,7 @@ static int read_options(SweepSpec *spec) {
   MICA_CALL(mica_deck_bool(deck, "sweep.logy", &spec->logy));
   MICA_CALL(mica_deck_bool(deck, "sweep.chart", &spec->chart));
   MICA_CALL(mica_deck_float(deck, "sweep.tolerance", &spec->tolerance));
+  MICA_CALL(mica_study_ranks_per_point(deck, "sweep.ranks_per_point", &spec->ranks_per_point));
   MICA_CALL(mica_deck_string(deck, "sweep.classical", &spec->classical));
   spec->model_axis = -1;
   for (int a = 0; a < spec->naxes; a++)

@@ -1,7 +1,7 @@
 # Every command under mpirun (issue 6, item 4): `mica mls`, `mica sweep` and `mica study` with -np 2 give the
 # serial numbers — MLS errors to 1e-12 relative (each rank evaluates, rank 0 writes), sweep probes and study
-# error norms to 1e-9 relative (every point is a distributed run with the gather solver, which matches the
-# serial factorization to 1e-10) — and write their files once: the same set of files as the serial run,
+# error norms to 1e-9 relative (with ranks_per_point = 2 every point is a distributed run with the gather solver,
+# which matches the serial factorization to 1e-10; groups of one rank per point: tests/cli/mpi_groups.sh) — and write their files once: the same set of files as the serial run,
 # the closing line printed once, no rank's scratch directory left behind. `timeout` only keeps a hang from
 # blocking the suite.
 source "$(dirname "$0")/common.bash"
@@ -51,7 +51,8 @@ ok "mls -np 2: the serial errors to 1e-12, files written once"
 
 # -- sweep: the cantilever over four lengths
 "$MICA" sweep input/sweep_cantilever.cfg -o "$work/sweep_1" > "$work/sweep_1.log" 2>&1 || fail "serial sweep failed"
-"${MPIRUN[@]}" -np 2 "$MICA" sweep input/sweep_cantilever.cfg -o "$work/sweep_2" > "$work/sweep_2.log" 2>&1 \
+"${MPIRUN[@]}" -np 2 "$MICA" sweep input/sweep_cantilever.cfg -o "$work/sweep_2" --set sweep.ranks_per_point=2 \
+  > "$work/sweep_2.log" 2>&1 \
   || fail "sweep under mpirun failed: $(tail -n 3 "$work/sweep_2.log")"
 column tip_uy "$work/sweep_1/sweep.csv" > "$work/a" && column tip_uy "$work/sweep_2/sweep.csv" > "$work/b"
 same_numbers "$work/a" "$work/b" 1e-9 || fail "sweep: tip_uy differs under mpirun: $(paste -d' ' "$work/a" "$work/b")"
@@ -62,7 +63,8 @@ ok "sweep -np 2: tip_uy of every point to 1e-9 of the serial sweep, each point d
 
 # -- study: linear and quadratic bases at three resolutions
 "$MICA" study input/study_timoshenko.cfg -o "$work/study_1" > "$work/study_1.log" 2>&1 || fail "serial study failed"
-"${MPIRUN[@]}" -np 2 "$MICA" study input/study_timoshenko.cfg -o "$work/study_2" > "$work/study_2.log" 2>&1 \
+"${MPIRUN[@]}" -np 2 "$MICA" study input/study_timoshenko.cfg -o "$work/study_2" --set study.ranks_per_point=2 \
+  > "$work/study_2.log" 2>&1 \
   || fail "study under mpirun failed: $(tail -n 3 "$work/study_2.log")"
 # The error norms are relative to the exact solution's norm, so by the triangle inequality they move by at most
 # |u_parallel − u_serial| / |u|, about 1e-10: an absolute 1e-9 on them (a relative bound would demand more of
