@@ -127,7 +127,10 @@ struct MicaSolidOptions;
 enum {
   MICA_BC_SYMMETRIC_DEFINITE = 1u << 0, /* the tangent stays symmetric positive definite (CHOLMOD can be used) */
   MICA_BC_MULTIPLIERS = 1u << 1,        /* multiplier nodes on the constrained sets */
-  MICA_BC_MODEL_TRACTION = 1u << 2      /* uses the model's traction s·n (Nitsche): first-order models only */
+  MICA_BC_MODEL_TRACTION = 1u << 2,     /* uses the model's traction s·n (Nitsche): first-order models only */
+  MICA_BC_COLLOCATION = 1u << 3,        /* replaces the equations of the set's particles (collocation points at the
+                                           set's vertices, which must be particles); one process only, since a
+                                           replaced row is not the sum of the ranks' contributions */
 };
 
 typedef struct MicaBoundaryMethodOps {
@@ -136,9 +139,9 @@ typedef struct MicaBoundaryMethodOps {
   int (*add)(struct MicaSolid *s, const MicaDirichlet *c, double t, const double *u, double *R, MicaSparse *K);
 } MicaBoundaryMethodOps;
 
-/* bc.method: penalty, nitsche (the default), lagrange (src/bc/bc.c). */
+/* bc.method: penalty, nitsche (the default), lagrange, collocation (src/bc/bc.c). */
 extern MicaRegistry mica_bc_method_registry;
-extern const MicaBoundaryMethodOps mica_bc_penalty, mica_bc_nitsche, mica_bc_lagrange;
+extern const MicaBoundaryMethodOps mica_bc_penalty, mica_bc_nitsche, mica_bc_lagrange, mica_bc_collocation;
 
 /* The rigid motions (translations, rotations; axisymmetric: along and about the axis) that no Dirichlet condition
  * holds, from the conditions' geometry alone (src/bc/rigid.c): a motion is held when one of its prescribed
@@ -198,6 +201,9 @@ typedef struct MicaSolid {
   MicaDirichlet *dirichlet;
   MicaTraction *traction;
   long *multiplier_offset;        /* [ndirichlet]: first multiplier node of condition c (lagrange) */
+  MicaShapeCache **collocation;   /* [ndirichlet] (collocation): shape functions at the set's vertices */
+  long **collocation_particle;    /* [ndirichlet][vertices]: the particle at each vertex, whose rows are replaced */
+  double **collocation_scale;     /* [ndirichlet][vertices]: E h^(dim−2) at that particle, the rows' scale */
   long nmultiplier_nodes;
   MicaSparse *K;                  /* the tangent, pattern built once */
   double time_vci;                /* seconds spent on the VCI correction (0 without it, or shared) */
