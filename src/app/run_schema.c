@@ -60,7 +60,7 @@ const MicaDeckKey mica_run_schema[] = {
      "(first-order models; unsymmetric tangent)"},
     {.path = "quadrature.mode", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &run_integration_registry,
      .help = "gauss: Gauss points of the background cells; nodal: direct nodal integration at the particles, "
-     "weighted by their nodal cells' volumes (unstable: spurious zero-energy modes; shown, not cured); scni: stabilized "
+     "weighted by their nodal cells' volumes (fails the patch test, a low-energy mode on the free block; shown, not cured); scni: stabilized "
      "conforming nodal integration, smoothed gradients on the nodal cells (passes the linear patch test; "
      "first-order models). nodal and scni need a built-in shape with a regular, graded or jittered layout; error "
      "norms stay on the background Gauss points"},
