@@ -242,6 +242,12 @@ const MicaDeckKey mica_run_schema[] = {
      "when material.model is swept: the model the others are compared with"},
     {"sweep.tolerance", MICA_KEY_FLOAT, "0.01", 0, 1e300, NULL, 0, 0,
      "... a model agrees with it where |probe / probe_classical - 1| <= tolerance"},
+    {"sweep.threshold_steps", MICA_KEY_INT, "8", 0, 60, NULL, 0, 0,
+     "... bisection steps narrowing each model's threshold between the sampled x values (each step solves the "
+     "model and the classical one at the midpoint, for every combination of the other paths; 0: the sampled "
+     "bracket only)"},
+    {"sweep.threshold_rtol", MICA_KEY_FLOAT, "0.01", 1e-12, 1, NULL, 0, 0,
+     "... bisection stops once the bracket is at most this fraction of its upper end wide"},
     /* speed against accuracy (src/study/study*.c) */
     {"study.choices", MICA_KEY_LIST, NULL, NOLIMIT, NULL, 1, 0,
      "the varied settings, every combination solved: ( { path = \"mls.order\"; values = [1, 2]; }, ... ); any "
