@@ -7,9 +7,9 @@
 
 #include "mica/solid.h"
 
-/* bc.method: penalty, nitsche (the default), lagrange (src/bc/bc.c). */
+/* bc.method: penalty, nitsche (the default), lagrange, collocation (src/bc/bc.c). */
 extern MicaRegistry mica_bc_method_registry;
-extern const MicaBoundaryMethodOps mica_bc_penalty, mica_bc_nitsche, mica_bc_lagrange;
+extern const MicaBoundaryMethodOps mica_bc_penalty, mica_bc_nitsche, mica_bc_lagrange, mica_bc_collocation;
 
 /* The rigid motions (translations, rotations; axisymmetric: along and about the axis) that no Dirichlet condition
  * holds, from the conditions' geometry alone (src/bc/rigid.c): a motion is held when one of its prescribed

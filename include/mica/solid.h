@@ -125,7 +125,10 @@ struct MicaSolid;
 enum {
   MICA_BC_SYMMETRIC_DEFINITE = 1u << 0, /* the tangent stays symmetric positive definite (CHOLMOD can be used) */
   MICA_BC_MULTIPLIERS = 1u << 1,        /* multiplier nodes on the constrained sets */
-  MICA_BC_MODEL_TRACTION = 1u << 2      /* uses the model's traction s·n (Nitsche): first-order models only */
+  MICA_BC_MODEL_TRACTION = 1u << 2,     /* uses the model's traction s·n (Nitsche): first-order models only */
+  MICA_BC_COLLOCATION = 1u << 3,        /* replaces the equations of the set's particles (collocation points at the
+                                           set's vertices, which must be particles); one process only, since a
+                                           replaced row is not the sum of the ranks' contributions */
 };
 
 typedef struct MicaBoundaryMethodOps {
@@ -181,6 +184,9 @@ typedef struct MicaSolid {
   MicaDirichlet *dirichlet;
   MicaTraction *traction;
   long *multiplier_offset;        /* [ndirichlet]: first multiplier node of condition c (lagrange) */
+  MicaShapeCache **collocation;   /* [ndirichlet] (collocation): shape functions at the set's vertices */
+  long **collocation_particle;    /* [ndirichlet][vertices]: the particle at each vertex, whose rows are replaced */
+  double **collocation_scale;     /* [ndirichlet][vertices]: E h^(dim−2) at that particle, the rows' scale */
   long nmultiplier_nodes;
   MicaSparse *K;                  /* the tangent, pattern built once */
   double time_vci;                /* seconds spent on the VCI correction (0 without it, or shared) */

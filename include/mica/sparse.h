@@ -46,6 +46,11 @@ void mica_sparse_mirror_upper(MicaSparse *A);
 void mica_sparse_matvec(const MicaSparse *A, const double *x, double *y);
 /* max |A − Aᵀ| / max |A|: 0 for a symmetric matrix. */
 double mica_sparse_asymmetry(const MicaSparse *A);
+/* Row i set to zero. The pattern is symmetric, so row i's columns are column i's rows: O(column length ×
+ * log(column length)), no allocation. Used to replace an equation (bc.method = collocation). */
+void mica_sparse_zero_row(MicaSparse *A, long i);
+/* A_ij = value; MICA_ERR_ARGUMENT if (i, j) is not in the pattern. */
+int mica_sparse_set(MicaSparse *A, long i, long j, double value);
 
 /* ---- Direct solvers (ops table) ------------------------------------------------------------------------ */
 

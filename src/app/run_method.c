@@ -11,7 +11,7 @@
 
 static const MicaType integration_gauss = {"gauss", "Gauss points of the background cells", 0, NULL, NULL};
 static const MicaType integration_nodal = {
-    "nodal", "direct nodal integration at the particles (unstable: spurious zero-energy modes)",
+    "nodal", "direct nodal integration at the particles (inconsistent: fails the patch test; low-energy modes)",
     RUN_INTEGRATION_NODAL, NULL, NULL};
 static const MicaType integration_scni = {
     "scni", "stabilized conforming nodal integration: smoothed gradients on the nodal cells",

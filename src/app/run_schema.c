@@ -73,7 +73,7 @@ const MicaDeckKey mica_run_schema[] = {
      "(first-order models; unsymmetric tangent)"},
     {.path = "quadrature.mode", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &run_integration_registry,
      .help = "gauss: Gauss points of the background cells; nodal: direct nodal integration at the particles, "
-     "weighted by their nodal cells' volumes (unstable: spurious zero-energy modes; shown, not cured); scni: stabilized "
+     "weighted by their nodal cells' volumes (fails the patch test, a low-energy mode on the free block; shown, not cured); scni: stabilized "
      "conforming nodal integration, smoothed gradients on the nodal cells (passes the linear patch test; "
      "first-order models). nodal and scni need a built-in shape with a regular, graded or jittered layout; error "
      "norms stay on the background Gauss points"},
@@ -250,6 +250,12 @@ const MicaDeckKey mica_run_schema[] = {
     {"sweep.ranks_per_point", MICA_KEY_INT, "1", 1, 1000000, NULL, 0, 0,
      "under mpirun -np P: ranks that solve each point together; the P ranks form P / ranks_per_point groups and "
      "point i goes to group i mod groups (it must divide P; P: every point distributed over every rank)"},
+    {"sweep.threshold_steps", MICA_KEY_INT, "8", 0, 60, NULL, 0, 0,
+     "... bisection steps narrowing each model's threshold between the sampled x values (each step solves the "
+     "model and the classical one at the midpoint, for every combination of the other paths; 0: the sampled "
+     "bracket only)"},
+    {"sweep.threshold_rtol", MICA_KEY_FLOAT, "0.01", 1e-12, 1, NULL, 0, 0,
+     "... bisection stops once the bracket is at most this fraction of its upper end wide"},
     /* speed against accuracy (src/study/study*.c) */
     {"study.choices", MICA_KEY_LIST, NULL, NOLIMIT, NULL, 1, 0,
      "the varied settings, every combination solved: ( { path = \"mls.order\"; values = [1, 2]; }, ... ); any "

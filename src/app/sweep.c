@@ -44,9 +44,8 @@ static int run_logged(const MicaDeck *deck, const char *dir, MicaJson *summary, 
   return ierr;
 }
 
-/* Loads and solves point p; the error code is the point's (a failure of the run, not of the sweep). */
-static int point_solve(const SweepSpec *spec, const char *dir, const SweepOverrides *o, MicaJson *json,
-                       RunReuse *reuse) {
+int sweep_point_solve(const SweepSpec *spec, const char *dir, const SweepOverrides *o, MicaJson *json,
+                      RunReuse *reuse) {
   MicaDeck *deck = NULL;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(sweep_load(spec, 2, point_defaults, o->n, o->list, &deck));
@@ -128,7 +127,7 @@ static int run_point(const SweepSpec *spec, long p, const char *outdir, RunReuse
   MICA_CALL_CLEANUP(sweep_summary_header(json, spec->deck, "sweep_point", p, &o));
   MICA_CALL_CLEANUP(add_group(json, pt->group));
   int failed = mica_parallel_inject("point");
-  if (!failed) failed = point_solve(spec, dir, &o, json, reuse);
+  if (!failed) failed = sweep_point_solve(spec, dir, &o, json, reuse);
   pt->time = mica_wtime() - start;
   if (failed) MICA_CALL_CLEANUP(record_failure(pt, failed)); /* first: reading the summary clears errors */
   pt->reached = failed && mica_study_solve_reached(json);
@@ -173,8 +172,7 @@ static void print_progress(const SweepSpec *spec, long p, const SweepPoint *pt, 
 
 /* ---- comparing models ------------------------------------------------------------------------------- */
 
-/* The point whose values equal p's on every axis but the model's, which is the classical one; -1 if none. */
-static long partner(const SweepSpec *spec, const SweepPoint *pts, long p, int classical) {
+long sweep_partner(const SweepSpec *spec, const SweepPoint *pts, long p, int classical) {
   const int m = spec->model_axis;
   for (long q = 0; q < spec->npoints; q++) {
     int same = pts[q].choice[m] == classical;
@@ -188,43 +186,52 @@ static long partner(const SweepSpec *spec, const SweepPoint *pts, long p, int cl
   return -1;
 }
 
-/* At x value index vx, for model w: 1 if every pair with data agrees, 0 if one does not, -1 without data. */
-static int agrees_at(const SweepSpec *spec, const SweepPoint *pts, int vx, int w, int classical) {
-  int seen = 0;
-  const int k = spec->probe;
-  for (long p = 0; p < spec->npoints; p++) {
-    if (pts[p].choice[spec->x] != vx || pts[p].choice[spec->model_axis] != w || pts[p].status) continue;
-    const long q = partner(spec, pts, p, classical);
-    if (q < 0 || pts[q].status) continue;
-    const double a = pts[p].probe[k], b = pts[q].probe[k];
-    const double difference = b != 0 ? fabs(a / b - 1) : (a == 0 ? 0 : INFINITY);
-    if (!(difference <= spec->tolerance)) return 0;
-    seen = 1;
+/* The statement and the summary of model w against the classical one: "agrees_with_classical_above" (the
+ * smallest x known to agree: the bisection bracket's upper end) and "model_thresholds" (estimate, bracket,
+ * steps), written by compare_models in two passes. */
+static void print_threshold(const SweepSpec *spec, const char *model, const SweepThreshold *t) {
+  const char *probe = spec->probes[spec->probe], *xl = spec->axes[spec->x].label;
+  if (t->state < 0) {
+    printf("%s: no pair of successful points to compare with %s\n", model, spec->classical);
+    return;
   }
-  return seen ? 1 : -1;
+  if (t->state == 0) {
+    printf("%s does not agree with %s (|%s / %s_%s - 1| <= %g) at the largest %s\n", model, spec->classical, probe,
+           probe, spec->classical, spec->tolerance, xl);
+    return;
+  }
+  printf("%s agrees with %s (|%s / %s_%s - 1| <= %g) for %s >= %g", model, spec->classical, probe, probe,
+         spec->classical, spec->tolerance, xl, t->hi);
+  if (isnan(t->lo)) printf(" (at every sampled %s)\n", xl);
+  else
+    printf("; the threshold lies in [%.6g, %.6g], estimate %.6g (%d bisection step%s, %d runs%s)\n", t->lo, t->hi,
+           t->x, t->steps, t->steps == 1 ? "" : "s", t->solves, t->failed ? "; stopped by a failed run" : "");
 }
 
-/* The smallest x above which model w agrees with the classical one at every larger x: 1 and *x_above,
- * 0 if it does not agree at the largest x with data, -1 if no pair has data. */
-static int agree_above(const SweepSpec *spec, const SweepPoint *pts, int w, int classical, double *x_above) {
-  const SweepAxis *xa = &spec->axes[spec->x];
-  double last = INFINITY; /* x values are visited from the largest down */
-  int found = -1;
-  for (;;) {
-    int vx = -1;
-    for (int v = 0; v < xa->nvalues; v++)
-      if (xa->values[v] < last && (vx < 0 || xa->values[v] > xa->values[vx])) vx = v;
-    if (vx < 0) return found;
-    last = xa->values[vx];
-    const int state = agrees_at(spec, pts, vx, w, classical);
-    if (state == 0) return found < 0 ? 0 : 1;
-    if (state == 1) found = 1, *x_above = last;
+static int write_threshold(const char *model, const SweepThreshold *t, MicaJson *summary) {
+  MICA_CALL(mica_json_open_object(summary, model));
+  if (t->state != 1) {
+    MICA_CALL(mica_json_string(summary, "threshold", t->state == 0 ? "never" : "no data"));
+    return mica_json_close(summary);
   }
+  MICA_CALL(mica_json_number(summary, "threshold", t->x));
+  MICA_CALL(mica_json_open_array(summary, "bracket"));
+  if (isnan(t->lo)) MICA_CALL(mica_json_string(summary, NULL, "below the sampled range"));
+  else MICA_CALL(mica_json_number(summary, NULL, t->lo));
+  MICA_CALL(mica_json_number(summary, NULL, t->hi));
+  MICA_CALL(mica_json_close(summary));
+  MICA_CALL(mica_json_int(summary, "bisection_steps", t->steps));
+  MICA_CALL(mica_json_int(summary, "bisection_runs", t->solves));
+  if (t->failed) MICA_CALL(mica_json_string(summary, "bisection", "stopped: a run failed (see thresholds/)"));
+  return mica_json_close(summary);
 }
 
-static int compare_models(const SweepSpec *spec, const SweepPoint *pts, MicaJson *summary) {
+/* Each model against the classical one (sweep_threshold.c); threshold[w]: model w's estimate for the chart
+ * (NAN: none). */
+static int compare_models(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, MicaJson *summary,
+                          double *threshold) {
   const int m = spec->model_axis;
-  if (m < 0 || !spec->axes[m].words) return MICA_SUCCESS;
+  if (m < 0) return MICA_SUCCESS;
   const SweepAxis *axis = &spec->axes[m];
   int classical = -1;
   for (int v = 0; v < axis->nvalues; v++)
@@ -234,27 +241,29 @@ static int compare_models(const SweepSpec *spec, const SweepPoint *pts, MicaJson
                                                        : "no numeric swept path for x");
     return MICA_SUCCESS;
   }
-  const char *probe = spec->probes[spec->probe], *xl = spec->axes[spec->x].label;
-  MICA_CALL(mica_json_open_object(summary, "agrees_with_classical_above"));
+  SweepThreshold *t;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL(MICA_CALLOC(t, axis->nvalues));
   for (int w = 0; w < axis->nvalues; w++) {
     if (w == classical) continue;
-    double x = 0;
-    const int state = agree_above(spec, pts, w, classical, &x);
-    if (state == 1) {
-      MICA_CALL(mica_json_number(summary, axis->words[w], x));
-      printf("%s agrees with %s (|%s / %s_%s - 1| <= %g) for %s >= %g\n", axis->words[w], spec->classical, probe,
-             probe, spec->classical, spec->tolerance, xl, x);
-    } else {
-      MICA_CALL(mica_json_string(summary, axis->words[w], state == 0 ? "never" : "no data"));
-      if (state == 0)
-        printf("%s does not agree with %s (|%s / %s_%s - 1| <= %g) at the largest %s\n", axis->words[w],
-               spec->classical, probe, probe, spec->classical, spec->tolerance, xl);
-      else
-        printf("%s: no pair of successful points to compare with %s\n", axis->words[w], spec->classical);
-    }
+    MICA_CALL_CLEANUP(sweep_threshold(spec, pts, outdir, w, classical, &t[w]));
+    print_threshold(spec, axis->words[w], &t[w]);
+    if (t[w].state == 1) threshold[w] = t[w].x;
   }
-  MICA_CALL(mica_json_close(summary));
-  return MICA_SUCCESS;
+  MICA_CALL_CLEANUP(mica_json_open_object(summary, "agrees_with_classical_above"));
+  for (int w = 0; w < axis->nvalues; w++) {
+    if (w == classical) continue;
+    if (t[w].state == 1) MICA_CALL_CLEANUP(mica_json_number(summary, axis->words[w], t[w].hi));
+    else MICA_CALL_CLEANUP(mica_json_string(summary, axis->words[w], t[w].state == 0 ? "never" : "no data"));
+  }
+  MICA_CALL_CLEANUP(mica_json_close(summary));
+  MICA_CALL_CLEANUP(mica_json_open_object(summary, "model_thresholds"));
+  for (int w = 0; w < axis->nvalues; w++)
+    if (w != classical) MICA_CALL_CLEANUP(write_threshold(axis->words[w], &t[w], summary));
+  MICA_CALL_CLEANUP(mica_json_close(summary));
+cleanup:
+  free(t);
+  return ierr;
 }
 
 /* ---- the command ------------------------------------------------------------------------------------ */
@@ -386,9 +395,10 @@ static int add_reuse(const SweepSpec *spec, const SweepPoint *pts, MicaJson *sum
 }
 
 /* The chart is drawn last and is not the result: when gnuplot fails, the sweep's numbers still stand. */
-static int draw_chart(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, MicaJson *summary) {
+static int draw_chart(const SweepSpec *spec, const SweepPoint *pts, const double *threshold, const char *outdir,
+                      MicaJson *summary) {
   if (!spec->chart || spec->x < 0) return mica_json_string(summary, "chart", spec->chart ? "none: no numeric x" : "off");
-  if (sweep_write_chart(spec, pts, outdir) == MICA_SUCCESS) return mica_json_string(summary, "chart", "sweep.png");
+  if (sweep_write_chart(spec, pts, threshold, outdir) == MICA_SUCCESS) return mica_json_string(summary, "chart", "sweep.png");
   fprintf(stderr, "mica sweep: no chart: %s\n", mica_error_message());
   mica_error_clear();
   return mica_json_string(summary, "chart", "failed: see gnuplot.log");
@@ -426,6 +436,7 @@ static int sweep_run(const MicaDeck *deck, const char *outdir, MicaJson *summary
   SweepSpec spec;
   SweepPoint *pts = NULL;
   char *points = NULL;
+  double *threshold = NULL; /* per word of the model axis */
   long nfailed = 0;
   int ierr = MICA_SUCCESS;
   MICA_CALL_CLEANUP(sweep_spec_read(deck, &spec));
@@ -442,13 +453,18 @@ static int sweep_run(const MicaDeck *deck, const char *outdir, MicaJson *summary
   MICA_CALL_CLEANUP(add_summary(&spec, nfailed, summary));
   MICA_CALL_CLEANUP(add_groups(&spec, pts, summary));
   MICA_CALL_CLEANUP(add_reuse(&spec, pts, summary));
-  MICA_CALL_CLEANUP(compare_models(&spec, pts, summary));
-  MICA_CALL_CLEANUP(draw_chart(&spec, pts, outdir, summary));
+  if (spec.model_axis >= 0) {
+    MICA_CALL_CLEANUP(MICA_MALLOC(threshold, spec.axes[spec.model_axis].nvalues));
+    for (int w = 0; w < spec.axes[spec.model_axis].nvalues; w++) threshold[w] = NAN;
+  }
+  MICA_CALL_CLEANUP(compare_models(&spec, pts, outdir, summary, threshold));
+  MICA_CALL_CLEANUP(draw_chart(&spec, pts, threshold, outdir, summary));
   printf("sweep: %ld of %ld points ok, %ld failed%s\n", spec.npoints - nfailed, spec.npoints, nfailed,
          nfailed ? " (see sweep.csv and points/<n>/summary.json)" : "");
 cleanup:
   if (ierr && points) mica_remove_tree(points);
   free(points);
+  free(threshold);
   points_free(&spec, &pts);
   sweep_spec_free(&spec);
   return ierr;

@@ -10,6 +10,8 @@
 
 #include "mica/command.h"
 #include "mica/deck.h"
+#include "mica/json.h"
+#include "run.h"
 
 enum { SWEEP_WHERE_MAX = 256 };
 /* "path=\"word\"": a setting path and a word of a words list, each within its deck cap (deck.h) */
@@ -60,6 +62,8 @@ typedef struct SweepSpec {
   int model_axis;    /* the material.model axis (words), or -1 */
   const char *classical; /* the model the others are compared with ("linear") */
   double tolerance;
+  int threshold_steps;     /* bisection steps after the grid (sweep_threshold.c); 0: the sampled bracket only */
+  double threshold_rtol;   /* ... until (hi − lo) / hi ≤ this */
   int logx, logy, chart;
   int nanalytic, nexperiments;
   SweepData *experiments; /* [nexperiments], read before anything is solved */
@@ -134,6 +138,31 @@ void sweep_csv_choices(FILE *fp, const SweepAxis *axes, int naxes, long p, const
 int sweep_read_experiments(SweepSpec *spec);
 int sweep_write_csv(const SweepSpec *spec, const SweepPoint *points, const char *outdir);
 /* Draws sweep.png and sweep.svg with gnuplot (data and script kept in outdir for re-plotting). */
-int sweep_write_chart(const SweepSpec *spec, const SweepPoint *points, const char *outdir);
+/* threshold: per word of the model axis, the threshold drawn as a vertical line (NAN: none), or NULL. */
+int sweep_write_chart(const SweepSpec *spec, const SweepPoint *points, const double *threshold, const char *outdir);
+
+/* Where a model agrees with the classical one (sweep_threshold.c): the bracket [lo, hi] of the size x at which
+ * |probe / probe_classical − 1| ≤ tolerance starts to hold — lo the largest x known to disagree, hi the smallest
+ * known to agree (at every larger sampled x) — narrowed by bisection between grid points. */
+typedef struct SweepThreshold {
+  int state;     /* 1: agrees from hi on; 0: never (not at the largest x); −1: no data */
+  double lo, hi; /* lo = −∞ (NAN) when it agrees already at the smallest sampled x */
+  double x;      /* the estimate: the bracket's midpoint (geometric on a log axis), or hi when lo is unknown */
+  int steps;     /* bisection steps taken */
+  int solves;    /* runs they needed (the model and the classical one at each step, per other combination) */
+  int failed;    /* 1: a bisection run failed; the bracket is the one reached before it */
+} SweepThreshold;
+
+/* The point whose values equal p's on every axis but the model's, which is `classical`; −1 if none. */
+long sweep_partner(const SweepSpec *spec, const SweepPoint *pts, long p, int classical);
+/* Loads and solves the point with overrides o into dir (its run.log and summary in json); the error code is
+ * the point's (a failure of the run, not of the sweep). */
+int sweep_point_solve(const SweepSpec *spec, const char *dir, const SweepOverrides *o, MicaJson *json,
+                      RunReuse *reuse);
+/* The threshold of model w against `classical` from the sampled points: bracket, then (spec->threshold_steps)
+ * bisection, each step solving model w and the classical model at the midpoint for every combination of the
+ * other axes, into outdir/thresholds/<model>/<step>_<n>/. */
+int sweep_threshold(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, int w, int classical,
+                    SweepThreshold *t);
 
 #endif

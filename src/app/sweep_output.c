@@ -264,7 +264,27 @@ typedef struct {
   int nplots;
   size_t longest;     /* the longest title, for the key's columns */
   double xlo, xhi, ylo, yhi; /* what the chart shows: points, analytic curves, experiments */
+  const double *threshold;    /* per word of the model axis: its threshold (NAN: none), or NULL */
 } Chart;
+
+/* The models' thresholds as vertical lines over the chart's y extent (sweep_thresholds.dat, a block each). */
+static int write_thresholds_file(const SweepSpec *spec, const char *outdir, const Chart *ch) {
+  if (!ch->threshold) return MICA_SUCCESS;
+  int any = 0;
+  for (int w = 0; w < spec->axes[spec->model_axis].nvalues; w++) any |= isfinite(ch->threshold[w]);
+  if (!any) return MICA_SUCCESS;
+  MicaOutFile out = {0};
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(mica_out_open_in(outdir, "sweep_thresholds.dat", &out));
+  fprintf(out.fp, "# each model's threshold (summary.json model_thresholds): one vertical line a block\n");
+  for (int w = 0; w < spec->axes[spec->model_axis].nvalues; w++)
+    if (isfinite(ch->threshold[w]))
+      fprintf(out.fp, "%.17g %.17g\n%.17g %.17g\n\n\n", ch->threshold[w], ch->ylo, ch->threshold[w], ch->yhi);
+  MICA_CALL_CLEANUP(mica_out_commit(&out));
+cleanup:
+  mica_out_abort(&out);
+  return ierr;
+}
 
 static int write_points_file(const SweepSpec *spec, const SweepPoint *pts, const char *outdir, Chart *ch) {
   MicaOutFile out = {0};
@@ -438,10 +458,23 @@ static void plot_analytic(const SweepSpec *spec, const SweepPoint *pts, Chart *c
     }
 }
 
+static void plot_thresholds(const SweepSpec *spec, Chart *ch) {
+  if (!ch->threshold) return;
+  const SweepAxis *models = &spec->axes[spec->model_axis];
+  for (int w = 0, block = 0; w < models->nvalues; w++) {
+    if (!isfinite(ch->threshold[w])) continue;
+    char title[TITLE_MAX];
+    snprintf(title, sizeof title, "%s agrees with %s from %s = %.4g (within %g)", models->words[w], spec->classical,
+             spec->axes[spec->x].label, ch->threshold[w], spec->tolerance);
+    plot_item(spec, ch, "sweep_thresholds.dat", block++, "with lines lw 1.5 lc rgb 'gray30' dt 3", title);
+  }
+}
+
 static void plot_items(const SweepSpec *spec, const SweepPoint *pts, Chart *ch) {
   ch->nplots = 0;
   plot_points(spec, pts, ch);
   plot_analytic(spec, pts, ch);
+  plot_thresholds(spec, ch);
   static const int open_marker[] = {6, 4, 8, 10, 12, 14}; /* circle, square, triangles, diamond, pentagon */
   for (int e = 0; e < spec->nexperiments; e++) {
     char style[64]; /* a distinct open marker per data set, so the sets stay apart without colour */
@@ -515,6 +548,7 @@ static int write_script(const SweepSpec *spec, const SweepPoint *pts, const char
   size_t items_size = 0;
   int ierr = MICA_SUCCESS;
   find_extent(spec, pts, ch);
+  MICA_CALL(write_thresholds_file(spec, outdir, ch));
   ch->script = open_memstream(&items, &items_size);
   MICA_CHECK(ch->script, MICA_ERR_MEMORY, "cannot open a memory stream for the chart: %s", strerror(errno));
   plot_items(spec, pts, ch);
@@ -543,10 +577,11 @@ cleanup:
   return ierr;
 }
 
-int sweep_write_chart(const SweepSpec *spec, const SweepPoint *points, const char *outdir) {
+int sweep_write_chart(const SweepSpec *spec, const SweepPoint *points, const double *threshold, const char *outdir) {
   Chart ch;
   int ierr = MICA_SUCCESS;
   memset(&ch, 0, sizeof ch);
+  ch.threshold = threshold;
   MICA_CALL_CLEANUP(curves_find(spec, points, &ch.curves));
   MICA_CALL_CLEANUP(write_points_file(spec, points, outdir, &ch));
   MICA_CALL_CLEANUP(write_analytic_file(spec, points, outdir, &ch));

@@ -377,6 +377,22 @@ static int read_x(SweepSpec *spec) {
   return MICA_SUCCESS;
 }
 
+/* sweep.threshold_* act only where models are compared along a numeric x: elsewhere they are an error. */
+static int check_threshold_settings(const SweepSpec *spec) {
+  static const char *const keys[] = {"sweep.threshold_steps", "sweep.threshold_rtol"};
+  const int compared = spec->model_axis >= 0 && spec->x >= 0;
+  for (int i = 0; i < 2; i++) {
+    if (compared || !mica_deck_given(spec->deck, keys[i])) continue;
+    char where[SWEEP_WHERE_MAX];
+    where_of(spec->deck, keys[i], where);
+    MICA_ERROR(MICA_ERR_INPUT,
+               "%s: %s narrows the size at which a model agrees with sweep.classical, and this sweep compares no "
+               "models along a numeric x (sweep material.model's words and a numeric path): remove it",
+               where, keys[i]);
+  }
+  return MICA_SUCCESS;
+}
+
 static int read_options(SweepSpec *spec) {
   const MicaDeck *deck = spec->deck;
   MICA_CALL(mica_deck_bool(deck, "sweep.logx", &spec->logx));
@@ -385,9 +401,14 @@ static int read_options(SweepSpec *spec) {
   MICA_CALL(mica_deck_float(deck, "sweep.tolerance", &spec->tolerance));
   MICA_CALL(mica_study_ranks_per_point(deck, "sweep.ranks_per_point", &spec->ranks_per_point));
   MICA_CALL(mica_deck_string(deck, "sweep.classical", &spec->classical));
+  long steps;
+  MICA_CALL(mica_deck_int(deck, "sweep.threshold_steps", &steps));
+  MICA_CALL(mica_deck_float(deck, "sweep.threshold_rtol", &spec->threshold_rtol));
+  spec->threshold_steps = (int)steps;
   spec->model_axis = -1;
   for (int a = 0; a < spec->naxes; a++)
-    if (!strcmp(spec->axes[a].path, "material.model")) spec->model_axis = a;
+    if (!strcmp(spec->axes[a].path, "material.model") && spec->axes[a].words) spec->model_axis = a;
+  MICA_CALL(check_threshold_settings(spec));
   spec->nanalytic = mica_deck_list_length(deck, "sweep.analytic");
   spec->nexperiments = mica_deck_list_length(deck, "sweep.experiments");
   char where[SWEEP_WHERE_MAX];

@@ -86,6 +86,61 @@ static int number_multipliers(MicaSolid *s) {
   return MICA_SUCCESS;
 }
 
+/* The particle at vertex v of a set, among the supports of the vertex: within 1e-8 of its spacing, or −1. */
+static long particle_at(const MicaSolid *s, const MicaShapeCache *c, long v, const double *spacing) {
+  const double *x = c->x + v * s->dim;
+  for (long e = c->ptr[v]; e < c->ptr[v + 1]; e++) {
+    const long J = c->index[e];
+    double distance = 0, h = 0;
+    for (int d = 0; d < s->dim; d++) {
+      distance = fmax(distance, fabs(x[d] - s->disc->x[J * s->dim + d]));
+      h = fmax(h, spacing[J * s->dim + d]);
+    }
+    if (distance <= 1e-8 * h) return J;
+  }
+  return -1;
+}
+
+/* Collocation (bc.method = collocation): shape functions at each constrained set's vertices, and the particle
+ * standing at each vertex, whose equations the method replaces (src/bc/collocation.c). */
+static int collocation_points(MicaSolid *s, int c) {
+  const MicaBoundarySet *set = &s->disc->sets[s->dirichlet[c].set];
+  const double *spacing = s->approx.ops->spacing(s->approx.ctx);
+  char label[96];
+  snprintf(label, sizeof label, "the vertices of boundary set '%s'", set->name);
+  MICA_CALL(s->approx.ops->points(s->approx.ctx, set->nvertices, set->vertex_x, NULL, 1, label, &s->collocation[c]));
+  MICA_CALL(MICA_MALLOC(s->collocation_particle[c], set->nvertices > 0 ? set->nvertices : 1));
+  MICA_CALL(MICA_MALLOC(s->collocation_scale[c], set->nvertices > 0 ? set->nvertices : 1));
+  for (long v = 0; v < set->nvertices; v++) {
+    const long J = particle_at(s, s->collocation[c], v, spacing);
+    if (J < 0) {
+      const double *x = set->vertex_x + v * s->dim;
+      char point[96];
+      snprintf(point, sizeof point, s->dim == 3 ? "(%g, %g, %g)" : "(%g, %g)", x[0], x[1], s->dim == 3 ? x[2] : 0.0);
+      MICA_ERROR(MICA_ERR_INPUT,
+                 "%s: bc.method = \"collocation\" imposes the values at the particles on the set, but vertex %s of "
+                 "boundary set '%s' is not a particle (jittered and irregular layouts move the particles off the "
+                 "cells' vertices): use a regular or graded layout with the default quadrature.cells, a Gmsh mesh, "
+                 "or another bc.method", s->dirichlet[c].where, point, set->name);
+    }
+    double h = 0;
+    for (int d = 0; d < s->dim; d++) h = fmax(h, spacing[J * s->dim + d]);
+    s->collocation_particle[c][v] = J;
+    s->collocation_scale[c][v] = s->opt.field.material.E * pow(h, s->dim - 2);
+  }
+  return MICA_SUCCESS;
+}
+
+static int build_collocation(MicaSolid *s) {
+  if (!mica_bc_method_has(s->opt.bc_method, MICA_BC_COLLOCATION)) return MICA_SUCCESS;
+  const int n = s->ndirichlet > 0 ? s->ndirichlet : 1;
+  MICA_CALL(MICA_CALLOC(s->collocation, n));
+  MICA_CALL(MICA_CALLOC(s->collocation_particle, n));
+  MICA_CALL(MICA_CALLOC(s->collocation_scale, n));
+  for (int c = 0; c < s->ndirichlet; c++) MICA_CALL(collocation_points(s, c));
+  return MICA_SUCCESS;
+}
+
 /* Cliques: every cached point's supporting particles (plus, for multipliers, its element's multiplier
  * nodes) are coupled all to all. Counted first, then filled. */
 static long clique_size(const MicaSolid *s, const MicaShapeCache *c, long p, int cond) {
@@ -113,6 +168,9 @@ static int build_pattern(MicaSolid *s) {
     const MicaShapeCache *b = s->boundary[s->dirichlet[c].set];
     ncliques += b->npoints;
     for (long p = 0; p < b->npoints; p++) total += clique_size(s, b, p, with_multipliers ? c : -1);
+    if (!s->collocation) continue;
+    ncliques += s->collocation[c]->npoints;
+    total += s->collocation[c]->ptr[s->collocation[c]->npoints];
   }
   long *ptr = NULL, *nodes = NULL;
   int ierr = MICA_SUCCESS;
@@ -131,6 +189,10 @@ static int build_pattern(MicaSolid *s) {
       clique_fill(s, b, p, cond, nodes + ptr[q]);
       ptr[q + 1] = ptr[q] + clique_size(s, b, p, cond);
     }
+    for (long v = 0; s->collocation && v < s->collocation[c]->npoints; v++, q++) {
+      clique_fill(s, s->collocation[c], v, -1, nodes + ptr[q]);
+      ptr[q + 1] = ptr[q] + clique_size(s, s->collocation[c], v, -1);
+    }
   }
   for (long v = 0; v < nsingle; v++, q++) {
     nodes[ptr[q]] = s->nparticles + v;
@@ -147,6 +209,8 @@ static long largest_clique(const MicaSolid *s) {
   long largest = s->volume->max_support;
   for (int set = 0; set < s->disc->nsets; set++)
     if (s->boundary[set] && s->boundary[set]->max_support > largest) largest = s->boundary[set]->max_support;
+  for (int c = 0; s->collocation && c < s->ndirichlet; c++)
+    if (s->collocation[c]->max_support > largest) largest = s->collocation[c]->max_support;
   return largest + 4; /* + the multiplier nodes of one boundary element */
 }
 
@@ -187,6 +251,9 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
   MICA_CHECK(!opt->vci || !opt->parallel, MICA_ERR_INPUT,
              "quadrature.vci is not available in parallel runs yet (its correction sums over every particle's "
              "support); run on one process");
+  MICA_CHECK(!opt->parallel || !mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION), MICA_ERR_INPUT,
+             "bc.method = \"%s\" replaces equations of the assembled system, which a parallel run sums over the "
+             "ranks; run on one process, or use another bc.method", opt->bc_method->type.name);
   MICA_CHECK(opt->field.ops->order == 1 || !mica_bc_method_has(opt->bc_method, MICA_BC_MODEL_TRACTION), MICA_ERR_INPUT,
              "bc.method = \"%s\" needs a classical model or a first-order field model; model '%s' uses second "
              "derivatives (its tractions include double tractions): use \"lagrange\" or \"penalty\"",
@@ -283,6 +350,7 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
   MICA_CALL_CLEANUP(volume_cache(s, donor));
   MICA_CALL_CLEANUP(build_boundary_caches(s, donor));
   MICA_CALL_CLEANUP(number_multipliers(s));
+  MICA_CALL_CLEANUP(build_collocation(s));
   s->ndof = (s->nparticles + s->nmultiplier_nodes) * s->ncomp;
   const double start = mica_wtime();
   MICA_CALL_CLEANUP(build_pattern(s));
@@ -324,6 +392,14 @@ int mica_solid_destroy(MicaSolid **solid) {
   MICA_FREE(s->boundary_h);
   mica_solid_conditions_free(s->opt.body, s->ndirichlet, &s->dirichlet, s->ntraction, &s->traction);
   MICA_FREE(s->multiplier_offset);
+  for (int c = 0; s->collocation && c < s->ndirichlet; c++) {
+    mica_shape_cache_destroy(&s->collocation[c]);
+    MICA_FREE(s->collocation_particle[c]);
+    MICA_FREE(s->collocation_scale[c]);
+  }
+  MICA_FREE(s->collocation);
+  MICA_FREE(s->collocation_particle);
+  MICA_FREE(s->collocation_scale);
   mica_sparse_destroy(&s->K);
   MICA_FREE(s->work);
   MICA_FREE(s->work_nodes);

@@ -4,7 +4,7 @@
 #include "bc_private.h"
 
 static const MicaType *const builtin_methods[] = {&mica_bc_penalty.type, &mica_bc_nitsche.type,
-                                                  &mica_bc_lagrange.type, NULL};
+                                                  &mica_bc_lagrange.type, &mica_bc_collocation.type, NULL};
 
 /* docs/verification.md says why nitsche is the default */
 MicaRegistry mica_bc_method_registry = {"boundary method", "nitsche", builtin_methods, NULL, 0, NULL};

@@ -345,3 +345,18 @@ double mica_sparse_asymmetry(const MicaSparse *A) {
     }
   return largest > 0.0 ? largest_difference / largest : 0.0;
 }
+
+void mica_sparse_zero_row(MicaSparse *A, long i) {
+  for (long p = A->colptr[i]; p < A->colptr[i + 1]; p++) {
+    const long q = find_entry(A, i, A->rowind[p]);
+    if (q >= 0) A->val[q] = 0.0;
+  }
+}
+
+int mica_sparse_set(MicaSparse *A, long i, long j, double value) {
+  MICA_CHECK(i >= 0 && i < A->n && j >= 0 && j < A->n, MICA_ERR_ARGUMENT, "mica_sparse_set: (%ld, %ld) outside the matrix", i, j);
+  const long q = find_entry(A, i, j);
+  MICA_CHECK(q >= 0, MICA_ERR_ARGUMENT, "mica_sparse_set: (%ld, %ld) is not in the pattern", i, j);
+  A->val[q] = value;
+  return MICA_SUCCESS;
+}

@@ -92,10 +92,38 @@ ok "svk agrees with linear for L >= 4 (tolerance 1 %)"
 deck stiff 'sweep = { tolerance = 1e-3; parameters = ( { path = "material.model"; words = "linear, svk"; },
                                       { path = "parameters.E"; values = [1e3, 1e4, 1e5]; } ); };'
 "$MICA" sweep "$work/stiff.cfg" -o "$work/stiff" > "$work/stiff.log" 2>&1 || fail "stiffness sweep failed: $(tail -n 3 "$work/stiff.log")"
-[ "$(json_value svk "$work/stiff/summary.json")" = 100000 ] || fail "svk should agree above E = 1e5: $(grep -A2 agrees "$work/stiff/summary.json")"
+# the sampled points agree from E = 1e5 on (1e4 does not); bisection narrows the threshold between them
+# (sweep_threshold.c): the bracket [lo, hi] is checked by independent runs — at lo the two models differ by more
+# than the tolerance, at hi by no more — and the estimate lies inside it
+read -r lo hi < <(awk '/"bracket"/ { f = 1; next } f && /\]/ { exit } f { gsub(/[ ,]/, ""); printf "%s ", $0 }' \
+  "$work/stiff/summary.json")
+above=$(json_value svk "$work/stiff/summary.json")
+estimate=$(awk '/"model_thresholds"/ { f = 1 } f && /"threshold"/ { gsub(/[ ,]/, ""); split($0, a, ":"); print a[2]; exit }' \
+  "$work/stiff/summary.json")
+awk -v lo="$lo" -v hi="$hi" -v a="$above" -v e="$estimate" \
+  'BEGIN { exit !(lo >= 1e4 && hi <= 1e5 && lo < hi && a == hi && e >= lo && e <= hi && (hi - lo) / hi < 0.03) }' \
+  || fail "stiff: bracket [$lo, $hi], agrees above $above, estimate $estimate: not a bracket inside [1e4, 1e5]"
+[ "$(json_value bisection_steps "$work/stiff/summary.json")" = 8 ] || fail "stiff: 8 bisection steps expected"
+for end in lo hi; do
+  for model in linear svk; do
+    "$MICA" run "$work/stiff.cfg" -o "$work/stiff_${end}_$model" --set material.model=\"$model\" \
+      --set parameters.E="${!end}" > /dev/null 2>&1 || fail "stiff: the run at E = ${!end} ($model) failed"
+  done
+  d=$(awk -v a="$(json_value tip_uy "$work/stiff_${end}_svk/summary.json")" \
+          -v b="$(json_value tip_uy "$work/stiff_${end}_linear/summary.json")" 'BEGIN { d = a / b - 1; print d < 0 ? -d : d }')
+  if [ "$end" = lo ]; then less_than 1e-3 "$d" || fail "stiff: at the bracket's lower end E = $lo svk agrees ($d)"
+  else less_than "$d" 1.0000001e-3 || fail "stiff: at the bracket's upper end E = $hi svk differs by $d"; fi
+  ok "stiff: at E = ${!end} (bracket $end) |svk / linear - 1| = $d"
+done
+grep -q "svk agrees with linear (|tip_uy / tip_uy_linear - 1| <= 0.001) for E >= $(printf %g "$above"); the threshold lies in" \
+  "$work/stiff.log" || fail "stiff: the statement does not give the bracket: $(grep agrees "$work/stiff.log")"
+awk -v e="$estimate" 'NF == 2 && $1 == e { n++ } END { exit n != 2 }' "$work/stiff/sweep_thresholds.dat" \
+  || fail "stiff: the chart's threshold line is not at the estimate $estimate"
+grep -q "sweep_thresholds.dat" "$work/stiff/sweep_chart.gp" || fail "stiff: the chart does not draw the threshold"
+ok "svk's threshold between the sampled E = 1e4 and 1e5: in [$lo, $hi], estimate $estimate, drawn on the chart"
 "$MICA" sweep "$work/stiff.cfg" -o "$work/stiff_never" --set sweep.tolerance=1e-6 > /dev/null 2>&1 || fail "stiffness sweep failed"
 [ "$(json_value svk "$work/stiff_never/summary.json")" = never ] || fail "svk should never agree within 1e-6"
-ok "svk agrees with linear above E = 1e5 within 1e-3, never within 1e-6"
+ok "svk never agrees with linear within 1e-6"
 
 # ---- reuse: a point that changes only the model, its constants or the loads builds no discretization, MLS
 # or shape function; it shares the previous point's, and gives exactly what a run of its own gives ------------
@@ -161,6 +189,8 @@ bad probe 'sweep = { probe = "tip_ux"; parameters = ( { path = "parameters.L"; v
   'probe = "tip_ux" is not a probe of this deck'
 bad range 'sweep = { parameters = ( { path = "mls.order"; values = [1, 7]; } ); };' "mls.order = 7 is out of range"
 bad word 'sweep = { parameters = ( { path = "material.model"; words = "linear, svkk"; } ); };' 'did you mean "svk"?'
+bad threshold 'sweep = { threshold_steps = 4; parameters = ( { path = "parameters.L"; values = [1.0, 2.0]; } ); };' \
+  'sweep.threshold_steps narrows the size at which a model agrees with sweep.classical'
 bad array 'sweep = { parameters = ( { path = "geometry.lower"; values = [1.0]; } ); };' "only single values can be swept"
 [ -e "$work/unknown" ] && fail "a bad sweep deck left an output directory"
 ok "bad sweep decks"

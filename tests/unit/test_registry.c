@@ -88,6 +88,8 @@ static void test_families(void **state) {
   assert_true(mica_bc_method_has(&mica_bc_lagrange, MICA_BC_MULTIPLIERS));
   assert_false(mica_bc_method_has(&mica_bc_lagrange, MICA_BC_SYMMETRIC_DEFINITE));
   assert_false(mica_bc_method_has(&mica_bc_penalty, MICA_BC_MODEL_TRACTION));
+  assert_true(mica_bc_method_has(&mica_bc_collocation, MICA_BC_COLLOCATION));
+  assert_false(mica_bc_method_has(&mica_bc_collocation, MICA_BC_SYMMETRIC_DEFINITE | MICA_BC_MULTIPLIERS));
   assert_ptr_equal(mica_bc_method_find("penalty"), &mica_bc_penalty);
   assert_null(mica_bc_method_find("nitsch"));
   assert_true(mica_linear_solver_has(&mica_linear_cg, MICA_LINEAR_SPD_ONLY | MICA_LINEAR_ITERATIVE));
