@@ -598,23 +598,6 @@ static int add_memory_per_dof(const RunProblem *rp, const RunTotals *c, const Mi
   return MICA_SUCCESS;
 }
 
-/* output.vtu and output.mesh. A deck that asks for mesh files (output.mesh = true) with output.vtu = false would
- * get none and is refused; output.mesh = false agrees with it (sweep and study points turn output.vtu off by
- * themselves, and a deck that turns the mesh off must still run there). */
-static int read_vtu(const MicaDeck *deck, const RunProblem *rp, RunOutput *out) {
-  MICA_CALL(mica_deck_bool(deck, "output.vtu", &out->vtu));
-  MICA_CALL(mica_deck_bool(deck, "output.mesh", &out->mesh));
-  char where[256];
-  mica_deck_where(deck, "output.mesh", where, sizeof where);
-  const int given = !strstr(where, " (default)"); /* in the deck or a --set, not the schema's default */
-  MICA_CHECK(out->vtu || !out->mesh || !given, MICA_ERR_INPUT,
-             "%s: output.mesh = true writes the fields on the cells with the VTU files, but output.vtu = false writes "
-             "none; remove output.mesh or set output.vtu = true", where);
-  MICA_CHECK(!out->mesh || rp->disc->mesh, MICA_ERR_ARGUMENT, "output.mesh: the discretization has no cells");
-  out->mesh = out->mesh && out->vtu;
-  return MICA_SUCCESS;
-}
-
 /* A body its conditions do not hold has a singular tangent: said before anything is assembled, with the motions
  * and the components to hold; on the whole discretization (an MPI rank's share holds part of each set). Not part
  * of building the problem: `mica stability` builds free bodies on purpose, to count their rigid modes. */
@@ -662,7 +645,7 @@ static int write_reached(const RunProblem *rp, RunOutput *out, const RunTotals *
   mica_error_clear(); /* every rank failed alike: the collectives below run as after a success */
   const double output_start = mica_wtime();
   MICA_CALL(add_solve_stats(rp, totals, stats, time_newton, summary));
-  MICA_CALL(run_output_finish(out));
+  MICA_CALL(run_outputs_finish(out, 1, NULL, summary));
   MICA_CALL(mica_json_number(summary, "time_output", out->time_output + mica_wtime() - output_start));
   MICA_CALL(run_peak_memory(summary));
   MICA_CALL(mica_json_string(summary, "status", "failed"));
@@ -685,8 +668,7 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   memset(&out, 0, sizeof out);
   MICA_CALL_CLEANUP(run_problem_build_reusing(deck, &rp, reuse));
   MICA_CALL_CLEANUP(check_rigid_modes(deck, &rp));
-  MICA_CALL_CLEANUP(run_quadrature_fields_check(deck, &rp));
-  MICA_CALL_CLEANUP(run_check_probes(&rp));
+  MICA_CALL_CLEANUP(run_outputs_read(&rp, outdir, &out));
   RunTotals totals;
   MICA_CALL_CLEANUP(count_totals(&rp, &totals));
   print_counts(&rp, &totals);
@@ -694,8 +676,6 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(run_parallel_counts(&rp, summary));
   MICA_CALL_CLEANUP(run_estimate_report(&rp.estimate, summary));
   MICA_CALL_CLEANUP(read_newton(deck, rp.solid, &nopt));
-  out.rp = &rp, out.outdir = outdir;
-  MICA_CALL_CLEANUP(read_vtu(deck, &rp, &out));
   MICA_CALL_CLEANUP(MICA_CALLOC(u, rp.solid->ndof));
   const double start = mica_wtime();
   ierr = mica_newton_solve(rp.solid, &nopt, u, run_output_step, &out, &stats);
@@ -703,11 +683,9 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(ierr);
   MICA_CALL_CLEANUP(add_solve_stats(&rp, &totals, &stats, mica_wtime() - start, summary));
   const double output_start = mica_wtime();
-  MICA_CALL_CLEANUP(run_output_finish(&out));
   MICA_CALL_CLEANUP(run_error_norms(&rp, u, summary));
-  MICA_CALL_CLEANUP(run_probes(&rp, u, summary));
-  MICA_CALL_CLEANUP(run_quadrature_fields(&rp, outdir, u, summary));
-  /* fields per step (inside time_newton), the PVD, error norms and probes */
+  MICA_CALL_CLEANUP(run_outputs_finish(&out, 0, u, summary));
+  /* fields per step (inside time_newton), error norms, the PVD and probes */
   MICA_CALL_CLEANUP(mica_json_number(summary, "time_output", out.time_output + mica_wtime() - output_start));
   MICA_CALL_CLEANUP(run_peak_memory(summary));
   printf("solved in %d load step%s, %d Newton iterations (%s)\n", stats.steps_done, stats.steps_done > 1 ? "s" : "",
@@ -724,12 +702,13 @@ static int run_solve(const MicaDeck *deck, const char *outdir, MicaJson *summary
 }
 
 static int run_check(const MicaDeck *deck, const char *outdir, MicaJson *summary) {
-  (void)outdir;
   RunProblem rp;
+  RunOutput out; /* read and checked only: nothing is written */
   int ierr = MICA_SUCCESS;
+  memset(&out, 0, sizeof out);
   MICA_CALL_CLEANUP(run_problem_build(deck, &rp));
   MICA_CALL_CLEANUP(check_rigid_modes(deck, &rp));
-  MICA_CALL_CLEANUP(run_check_probes(&rp));
+  MICA_CALL_CLEANUP(run_outputs_read(&rp, outdir, &out));
   RunTotals totals;
   MICA_CALL_CLEANUP(count_totals(&rp, &totals));
   print_counts(&rp, &totals);
@@ -741,6 +720,7 @@ static int run_check(const MicaDeck *deck, const char *outdir, MicaJson *summary
   MICA_CALL_CLEANUP(mica_json_string(summary, "cost_class", size_class));
   printf("deck is valid; cost class: %s\n", size_class);
 cleanup:
+  run_output_free(&out);
   run_problem_free(&rp);
   return ierr;
 }

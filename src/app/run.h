@@ -4,6 +4,7 @@
 
 #include "mica/command.h"
 #include "mica/fe.h"
+#include "mica/output.h"
 #include "mica/parallel.h"
 #include "mica/solid.h"
 
@@ -150,38 +151,40 @@ int run_read_krylov(const MicaDeck *deck, MicaNewtonOptions *opt);
 int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson *summary);
 int run_peak_memory(MicaJson *summary);
 
-/* Output: per-step VTU files (particles, and the mesh) and the PVD collection, error norms, probes, summary
- * members. */
-typedef struct RunOutput {
+/* Output (run_output.c): the registry of output types (mica/output.h; output_*.c, one type each) and the run
+ * that drives them. run_outputs_read reads every registered type's settings and checks the enabled ones against
+ * the built problem (after the build, in `mica run` and `mica check`); run_output_step is Newton's callback after
+ * each converged load step; run_outputs_finish calls the enabled types' finish (failed: a solve that stopped,
+ * only the MICA_OUTPUT_REACHED types, u NULL). */
+struct MicaOutputRun {
   RunProblem *rp;
   const char *outdir;
-  int vtu;
-  int mesh;           /* output.mesh: also the fields on the cells, mesh_NNNN.vtu */
-  int nsteps, capacity; /* steps written; grown as needed (cut-backs add steps, so no count is known ahead) */
+  int noutputs;
+  MicaOutput *outputs;  /* every registered type, in registry order; enabled or not */
+  int nsteps, capacity; /* steps written to the PVD's parts; grown as needed (cut-backs add steps) */
   int *steps;           /* the load step of each, naming step_NNNN.vtu and mesh_NNNN.vtu */
   double *times;        /* its load factor */
-  double time_output; /* seconds writing fields per step, error norms and probes (profiles) */
-} RunOutput;
+  double time_output;   /* seconds writing fields per step, error norms and probes (profiles) */
+};
+typedef struct MicaOutputRun RunOutput;
 
+/* The built-in output types, one file each (output_vtu.c, output_mesh.c, output_monitor.c, output_pvd.c,
+ * output_probes.c, output_quadrature_fields.c). */
+extern const MicaOutputOps run_output_vtu, run_output_mesh, run_output_monitor, run_output_pvd, run_output_probes,
+    run_output_quadrature_fields;
+int run_outputs_read(RunProblem *rp, const char *outdir, RunOutput *out);
 int run_output_step(void *ctx, int step, double t, const double *u);
-int run_output_finish(RunOutput *out);
+int run_outputs_finish(RunOutput *out, int failed, const double *u, MicaJson *summary);
 void run_output_free(RunOutput *out);
+/* Shared by the outputs (run_output.c): the von Mises equivalent of a 3×3 Cauchy stress, and the force stress,
+ * couple stress and (classical models) strain, 3×3 each, at the model's kinematics q. */
+double run_von_mises(const double *s);
+int run_stresses(const RunProblem *rp, const double *q, double *sigma, double *couple, double *strain);
 int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary);
 /* The relative errors run_error_norms reports (L2 of the values, H1 seminorm, energy), without writing them. */
 int run_error_values(RunProblem *rp, const double *u, double *rel_l2, double *rel_h1, double *rel_energy);
-int run_probes(RunProblem *rp, const double *u, MicaJson *summary);
-/* Before the solve: every point probe lies in the body (within MICA_BODY_TOLERANCE of its size, so points on
- * the boundary do) unless it says extrapolate = true; otherwise MICA_ERR_INPUT with the probe's deck line and
- * the body's bounds. */
-int run_check_probes(const RunProblem *rp);
 /* The points the error norms use, their shape functions and weights: quadrature.error_order's own points
  * (whole = 1: every rank holds all of them), else the solve's volume points (under nodal integration the
  * background Gauss points; under MPI this rank's). */
 int run_error_points(RunProblem *rp, const MicaShapeCache **c, const double **x, const double **w, int *whole);
-/* output.quadrature_fields (quadrature_output.c): the check after the build (MPI needs quadrature.error_order),
- * and quadrature_fields.csv — values, gradients and energy density at run_error_points — with its row count
- * and Σ w W in the summary. */
-int run_quadrature_fields_check(const MicaDeck *deck, const RunProblem *rp);
-int run_quadrature_fields(RunProblem *rp, const char *outdir, const double *u, MicaJson *summary);
-
 #endif

@@ -161,7 +161,12 @@ static int compose(MicaSchema *schema, const MicaDeckKey *base, const char *pref
   for (const MicaDeckKey *key = base; key->path; key++) {
     const char *path = key->path;
     if (prefix[0]) MICA_CALL(format(schema, &path, "%s%s%s", prefix, key->path[0] ? "." : "", key->path));
-    if (key->type == MICA_KEY_FRAGMENT) {
+    if (key->type == MICA_KEY_FRAGMENT && key->registry) { /* every type's keys, in registry order */
+      for (int i = 0; i < mica_registry_count(key->registry); i++) {
+        const MicaType *type = mica_registry_type(key->registry, i);
+        if (type->keys) MICA_CALL(compose(schema, type->keys, path));
+      }
+    } else if (key->type == MICA_KEY_FRAGMENT) {
       MICA_CHECK(key->fragment, MICA_ERR_ARGUMENT, "schema: fragment %s has no keys", path);
       MICA_CALL(compose(schema, key->fragment, path));
     } else if (key->type == MICA_KEY_CHOICE && key->registry) {
