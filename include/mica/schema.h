@@ -12,8 +12,8 @@
  *   - a FRAGMENT key: the keys of `fragment` are inserted in its place, each path under the key's path
  *     (the mls.* keys, which the run and mls commands share, are declared once this way); with a `registry`
  *     instead, the keys of every one of its types, in registry order: a family whose types the deck enables
- *     side by side rather than choosing one (the outputs, output.*: mica/output.h). Those keys have no owner:
- *     each type reads its own and no chooser makes one of them without effect.
+ *     side by side rather than choosing one (the outputs, output.*: mica/output.h). Each such key names its
+ *     type (`owner`) and the registry (`family`) but has no chooser: each type reads its own settings.
  * So a choice list, a default and a type's settings are written once, by the type, and the help, the
  * checks and docs/input.md follow. This header uses libc only: the registries of the MLS library use it.
  */
@@ -57,6 +57,9 @@ typedef struct MicaDeckKey {
   /* Set by the composition on a type's keys: the type's name and the path of the key that chooses it. A
    * deck that gives the key while the chooser names another type is refused: it would have no effect. */
   const char *owner, *chooser;
+  /* Set by the composition on the keys of a registry fragment: the registry; owner names the type, chooser is
+   * NULL. */
+  const struct MicaRegistry *family;
 } MicaDeckKey;
 
 /* A file of schema tables starts with this: its keys list the nine common fields positionally and leave the

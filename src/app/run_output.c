@@ -253,7 +253,7 @@ static const MicaType *const builtin_outputs[] = {
     &run_output_probes.type, &run_output_quadrature_fields.type, NULL};
 
 /* No default: the deck enables outputs one by one, none of them is chosen instead of another. */
-MicaRegistry mica_output_registry = {"output", NULL, builtin_outputs, NULL, 0, NULL};
+MicaRegistry mica_output_registry = {"output type", NULL, builtin_outputs, NULL, 0, NULL};
 
 /* Whether this process calls the output's step and finish: rank 0 alone for RANK0 types. */
 static int runs_here(const MicaOutput *o) {
