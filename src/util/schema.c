@@ -168,7 +168,9 @@ static int add_family(MicaSchema *schema, const MicaRegistry *registry, const ch
     const long first = schema->nkeys;
     MICA_CALL(compose(schema, type->keys, prefix));
     for (long k = first; k < schema->nkeys; k++) {
-      MICA_CHECK(!schema->keys[k].owner, MICA_ERR_ARGUMENT, "schema: %s is declared twice", schema->keys[k].path);
+      MICA_CHECK(find_composed(schema, schema->keys[k].path) == &schema->keys[k], MICA_ERR_ARGUMENT,
+                 "schema: %s is declared twice (by the %s type '%s' too)", schema->keys[k].path, registry->family,
+                 type->name);
       schema->keys[k].owner = type->name;
       schema->keys[k].family = registry;
     }
