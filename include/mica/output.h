@@ -23,7 +23,10 @@ enum {
   MICA_OUTPUT_CELLS = 1u << 3,    /* needs the cells of the output mesh (the discretization's disc->mesh) */
   MICA_OUTPUT_RANK0 = 1u << 4,    /* under MPI rank 0 alone calls it (the solution is whole on every rank);
                                      without the flag every rank does, as a collective (sums over the ranks) */
-  MICA_OUTPUT_PVD_PART = 1u << 5  /* its file of each step is a part of solution.pvd (`part`, `pattern`) */
+  MICA_OUTPUT_PVD_PART = 1u << 5, /* its file of each step is a part of solution.pvd (`part`, `pattern`) */
+  MICA_OUTPUT_PIECES = 1u << 6    /* under MPI every rank writes its piece of each step (its particles, its
+                                     cells) and rank 0 the .pvtu that lists them (`pieces_pattern`), which
+                                     solution.pvd names instead; a serial run writes `pattern` */
 };
 
 /* The run being written: opaque to a type, read through the functions below (src/app/run_output.c). */
@@ -36,6 +39,7 @@ typedef struct MicaOutputOps {
   size_t size;         /* bytes of the type's context (its settings and state), zeroed; 0: none */
   const char *part;    /* MICA_OUTPUT_PVD_PART: the part's name in solution.pvd ("particles") */
   const char *pattern; /* and its file of load step k, a printf format of k ("step_%04d.vtu") */
+  const char *pieces_pattern; /* MICA_OUTPUT_PIECES under MPI: the .pvtu of step k ("step_%04d.pvtu") */
   /* After the problem is built, before the solve (and in `mica check`): the settings against the problem,
    * MICA_ERR_INPUT with the deck line. NULL: nothing to check. */
   int (*check)(MicaOutputRun *run, void *ctx);
@@ -70,7 +74,7 @@ typedef struct MicaOutputFields {
   const double *x;         /* [npoints * dim] */
   int nfields;
   MicaVtkField fields[9];
-  double *storage[8];      /* owned */
+  double *storage[9];      /* owned: the fields' values, and a copy of the points' coordinates if x is one */
 } MicaOutputFields;
 /* At the particles, or at the points of the output mesh (MICA_OUTPUT_CELLS types only). */
 int mica_output_particle_fields(MicaOutputRun *run, const double *u, MicaOutputFields *fields);

@@ -66,6 +66,9 @@ int mica_parallel_inject(const char *phase);
 int mica_parallel_sum(int ierr, double *v, long n);
 /* Collective, after agreeing on ierr: v[n] from rank `root` to all. */
 int mica_parallel_broadcast(int ierr, double *v, long n, int root);
+/* Collective, after agreeing on ierr: the string *text of rank `root` to all (the others' *text, NULL or
+ * allocated, is freed and replaced by a copy). */
+int mica_parallel_broadcast_text(int ierr, char **text, int root);
 /* Ends every rank now (MPI_Abort) after printing the current error on this rank; serial: exit. */
 void mica_parallel_abort(const char *program, int status);
 

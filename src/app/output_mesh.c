@@ -1,6 +1,8 @@
 /* output.mesh: with output.vtu, the same fields on the cells after every converged load step, mesh_NNNN.vtu,
  * part "mesh" of solution.pvd. Each vertex value is what a probe there reports: the shape functions at the mesh's
- * points come through the approximation's points op, as a probe's do (run_output.c). Rank 0 writes. */
+ * points come through the approximation's points op, as a probe's do (run_output.c). Under MPI each rank writes
+ * the piece of its block of cells (run_mesh_piece_range: cells [c P / n ... ) of n, by index), mesh_NNNN_R.vtu,
+ * and rank 0 mesh_NNNN.pvtu; a serial run writes mesh_NNNN.vtu as before. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -34,8 +36,9 @@ static int mesh_from_settings(const MicaType *type, const MicaSettings *settings
   return MICA_SUCCESS;
 }
 
-static int mesh_step(MicaOutputRun *run, void *ctx, int step, double t, const double *u) {
-  (void)ctx, (void)t;
+static const char *const piece_pattern = "mesh_%04d_%d.vtu";
+
+static int mesh_step_serial(MicaOutputRun *run, int step, const double *u) {
   const MicaCellMesh *mesh = run->rp->disc->mesh;
   MicaOutputFields f;
   char name[32], *path = NULL;
@@ -51,11 +54,41 @@ cleanup:
   return ierr;
 }
 
+/* MPI: this rank's cells (none when there are fewer cells than ranks: then no piece), and rank 0's .pvtu. */
+static int mesh_step_piece(MicaOutputRun *run, int step, const double *u) {
+  const long ncells = run->rp->disc->mesh->ncells;
+  MicaOutputFields f;
+  RunMeshPiece piece;
+  char name[64], *path = NULL;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL(run_output_mesh_piece(run, u, &f, &piece));
+  if (piece.ncells > 0) {
+    snprintf(name, sizeof name, piece_pattern, step, mica_parallel_rank());
+    MICA_CALL_CLEANUP(mica_path_join(run->piece_dir, name, &path));
+    MICA_CALL_CLEANUP(mica_vtu_write_cells(path, f.dim, f.npoints, f.x, &piece.cells, f.nfields, f.fields));
+  }
+  if (mica_parallel_rank() == 0) {
+    snprintf(name, sizeof name, run_output_mesh.pieces_pattern, step);
+    MICA_CALL_CLEANUP(run_output_pvtu(run, name, piece_pattern, step, ncells, &f));
+  }
+cleanup:
+  free(path);
+  run_mesh_piece_free(&piece);
+  mica_output_fields_free(&f);
+  return ierr;
+}
+
+static int mesh_step(MicaOutputRun *run, void *ctx, int step, double t, const double *u) {
+  (void)ctx, (void)t;
+  return run->rp->dist ? mesh_step_piece(run, step, u) : mesh_step_serial(run, step, u);
+}
+
 const MicaOutputOps run_output_mesh = {
-    .type = {"mesh", "the fields on the cells of the output mesh per load step (mesh_NNNN.vtu)",
-             MICA_OUTPUT_PER_STEP | MICA_OUTPUT_RANK0 | MICA_OUTPUT_CELLS | MICA_OUTPUT_PVD_PART, mesh_keys,
+    .type = {"mesh", "the fields on the cells of the output mesh per load step (mesh_NNNN.vtu; MPI: a piece per rank)",
+             MICA_OUTPUT_PER_STEP | MICA_OUTPUT_CELLS | MICA_OUTPUT_PVD_PART | MICA_OUTPUT_PIECES, mesh_keys,
              mesh_from_settings},
     .part = "mesh",
     .pattern = "mesh_%04d.vtu",
+    .pieces_pattern = "mesh_%04d.pvtu",
     .step = mesh_step,
 };

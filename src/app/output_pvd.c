@@ -1,6 +1,7 @@
 /* solution.pvd: the collection of the load steps written, each step's files of the enabled outputs that are PVD
  * parts (MICA_OUTPUT_PVD_PART: the particles as part 0 and, with output.mesh, the mesh as part 1, in registry
- * order); ParaView shows a step's parts as blocks of one data set. No setting of its own: written whenever a
+ * order; under MPI a part written in pieces is listed by its .pvtu); ParaView shows a step's parts as blocks of
+ * one data set. No setting of its own: written whenever a
  * part wrote a step, also by a solve that failed (its converged steps). Rank 0 writes. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,7 +39,10 @@ static int pvd_finish(MicaOutputRun *run, void *ctx, const double *u, MicaJson *
   MICA_CALL_CLEANUP(MICA_MALLOC(files, nfiles));
   for (size_t i = 0; i < nfiles; i++) {
     files[i] = text + i * NAME_SIZE;
-    snprintf(text + i * NAME_SIZE, NAME_SIZE, parts[i % (size_t)nparts]->pattern, run->steps[i / (size_t)nparts]);
+    const MicaOutputOps *part = parts[i % (size_t)nparts];
+    const int pieces = run->rp->dist && mica_type_has(&part->type, MICA_OUTPUT_PIECES);
+    snprintf(text + i * NAME_SIZE, NAME_SIZE, pieces ? part->pieces_pattern : part->pattern,
+             run->steps[i / (size_t)nparts]);
   }
   MICA_CALL_CLEANUP(mica_path_join(mica_output_dir(run), "solution.pvd", &path));
   MICA_CALL_CLEANUP(mica_pvd_write_parts(path, run->nsteps, run->times, nparts, names, files));

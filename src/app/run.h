@@ -161,6 +161,7 @@ struct MicaOutputRun {
   const char *outdir;
   int noutputs;
   MicaOutput *outputs;  /* every registered type, in registry order; enabled or not */
+  char *piece_dir;      /* MPI (rp->dist): rank 0's outdir, where every rank writes its pieces; NULL serial */
   int nsteps, capacity; /* steps written to the PVD's parts; grown as needed (cut-backs add steps) */
   int *steps;           /* the load step of each, naming step_NNNN.vtu and mesh_NNNN.vtu */
   double *times;        /* its load factor */
@@ -176,6 +177,26 @@ int run_outputs_read(RunProblem *rp, const char *outdir, RunOutput *out);
 int run_output_step(void *ctx, int step, double t, const double *u);
 int run_outputs_finish(RunOutput *out, int failed, const double *u, MicaJson *summary);
 void run_output_free(RunOutput *out);
+/* MPI (rp->dist): this rank's piece of the VTU outputs, the fields at its own particles (partition->part), and
+ * at the points of its cells of the output mesh: cells [first, end) of run_mesh_piece_range, contiguous blocks
+ * of ncells / P (the last takes the rest), and the points they use, renumbered in ascending order (a point that
+ * cells of two pieces share is in both). */
+typedef struct RunMeshPiece {
+  long ncells, npoints;
+  long *offsets, *conn; /* renumbered to the piece's points */
+  unsigned char *type;
+  long *points;         /* [npoints] the mesh's index of each */
+  MicaVtkCells cells;
+} RunMeshPiece;
+int run_output_particle_piece(RunOutput *out, const double *u, MicaOutputFields *fields);
+int run_output_mesh_piece(RunOutput *out, const double *u, MicaOutputFields *fields, RunMeshPiece *piece);
+void run_mesh_piece_range(long ncells, int piece, int npieces, long *first, long *end);
+void run_mesh_piece_free(RunMeshPiece *piece);
+/* Under MPI the .pvtu of a step: rank 0 lists the pieces pattern % (step, piece) of the pieces that exist (all
+ * npieces, or those with cells: cells = the mesh's count, 0 for particles). */
+int run_output_pvtu(RunOutput *out, const char *name, const char *piece_pattern, int step, long ncells,
+                    const MicaOutputFields *fields);
+
 /* Shared by the outputs (run_output.c): the von Mises equivalent of a 3×3 Cauchy stress, and the force stress,
  * couple stress and (classical models) strain, 3×3 each, at the model's kinematics q. */
 double run_von_mises(const double *s);

@@ -11,6 +11,7 @@
 
 #include "mica/cosserat.h"
 #include "mica/files.h"
+#include "mica/publish.h"
 #include "mica/timer.h"
 #include "run.h"
 
@@ -115,42 +116,47 @@ static void to_file_frame(const RunProblem *rp, const double *v, int n, double *
         out[a * 3 + b] = rp->axisymmetric ? v[section[a] * 3 + section[b]] : v[a * 3 + b];
 }
 
-/* The fields at point i of cache c (at x), into slot i of f: what a probe at x reports, in the file frame. */
-static int fields_at(RunProblem *rp, const MicaShapeCache *c, long i, const double *x, const double *u,
+/* The fields at point i of cache c (at x), into slot j of f: what a probe at x reports, in the file frame. */
+static int fields_at(RunProblem *rp, const MicaShapeCache *c, long i, long j, const double *x, const double *u,
                      PointFields *f) {
   const MicaSolid *s = rp->solid;
   const int mdim = s->model_dim, ncomp = s->ncomp;
   double q[128], qe[128], couple[9], v[3], sigma[9], strain[9];
   mica_solid_kinematics(s, c, i, u, q);
   for (int a = 0; a < 3; a++) v[a] = a < mdim ? q[a] : 0;
-  to_file_frame(rp, v, 3, f->disp + i * 3);
+  to_file_frame(rp, v, 3, f->disp + j * 3);
   if (f->rotation) { /* 2-D: φ_z is the only micro-rotation */
     for (int a = 0; a < 3; a++) v[a] = 0;
     for (int k = mdim; k < ncomp; k++) v[ncomp - mdim == 1 ? 2 : k - mdim] = q[k];
-    to_file_frame(rp, v, 3, f->rotation + i * 3);
+    to_file_frame(rp, v, 3, f->rotation + j * 3);
   }
   MICA_CALL(run_stresses(rp, q, sigma, couple, strain));
-  to_file_frame(rp, sigma, 9, f->stress + i * 9);
-  to_file_frame(rp, strain, 9, f->strain + i * 9);
-  if (f->couple) to_file_frame(rp, couple, 9, f->couple + i * 9);
+  to_file_frame(rp, sigma, 9, f->stress + j * 9);
+  to_file_frame(rp, strain, 9, f->strain + j * 9);
+  if (f->couple) to_file_frame(rp, couple, 9, f->couple + j * 9);
   if (f->micro) {
     double chi[9];
     MICA_CALL(s->opt.field.ops->micro_deformation(&s->opt.field, mdim, q, chi));
-    to_file_frame(rp, chi, 9, f->micro + i * 9);
+    to_file_frame(rp, chi, 9, f->micro + j * 9);
   }
-  f->mises[i] = run_von_mises(sigma);
+  f->mises[j] = run_von_mises(sigma);
   if (rp->has_exact) {
     MICA_CALL(exact_at(rp, x, qe));
     for (int a = 0; a < 3; a++) v[a] = a < mdim ? q[a] - qe[a] : 0;
-    to_file_frame(rp, v, 3, f->error + i * 3);
+    to_file_frame(rp, v, 3, f->error + j * 3);
   }
   return MICA_SUCCESS;
 }
 
-static int fields_compute(RunProblem *rp, const MicaShapeCache *c, const double *x, const double *u, PointFields *f) {
+/* At the n points sel[] of cache c (sel NULL: all of them, n = c->npoints), into slots 0 .. n−1. */
+static int fields_compute(RunProblem *rp, const MicaShapeCache *c, const double *x, const double *u, long n,
+                          const long *sel, PointFields *f) {
   const int dim = rp->disc->dim;
-  MICA_CALL(fields_alloc(rp, c->npoints, f));
-  for (long i = 0; i < c->npoints; i++) MICA_CALL(fields_at(rp, c, i, x + i * dim, u, f));
+  MICA_CALL(fields_alloc(rp, n, f));
+  for (long j = 0; j < n; j++) {
+    const long i = sel ? sel[j] : j;
+    MICA_CALL(fields_at(rp, c, i, j, x + i * dim, u, f));
+  }
   return MICA_SUCCESS;
 }
 
@@ -205,18 +211,22 @@ int mica_output_writer(const MicaOutputRun *run) {
   return mica_parallel_rank() == 0;
 }
 
-static int fields_publish(RunProblem *rp, const MicaShapeCache *c, int dim, const double *x, const double *u,
-                          MicaOutputFields *out) {
+/* The fields at the n points sel[] of cache c (sel NULL: all, and out->x is x itself; else a copy of theirs). */
+static int fields_publish(RunProblem *rp, const MicaShapeCache *c, int dim, const double *x, const double *u, long n,
+                          const long *sel, MicaOutputFields *out) {
   PointFields f = {0};
+  double *xs = NULL;
   memset(out, 0, sizeof *out);
-  int ierr = fields_compute(rp, c, x, u, &f);
+  int ierr = fields_compute(rp, c, x, u, n, sel, &f);
+  if (!ierr && sel) ierr = MICA_MALLOC(xs, n * dim);
   if (ierr) {
     fields_free(&f);
     return ierr;
   }
-  double *owned[8] = {f.disp, f.rotation, f.strain, f.stress, f.couple, f.micro, f.mises, f.error};
+  for (long j = 0; sel && j < n; j++) memcpy(xs + j * dim, x + sel[j] * dim, sizeof(double) * (size_t)dim);
+  double *owned[9] = {f.disp, f.rotation, f.strain, f.stress, f.couple, f.micro, f.mises, f.error, xs};
   memcpy(out->storage, owned, sizeof owned); /* freed by mica_output_fields_free */
-  out->dim = dim, out->npoints = c->npoints, out->x = x;
+  out->dim = dim, out->npoints = n, out->x = sel ? xs : x;
   out->nfields = field_list(rp, &f, out->fields);
   return MICA_SUCCESS;
 }
@@ -224,14 +234,83 @@ static int fields_publish(RunProblem *rp, const MicaShapeCache *c, int dim, cons
 int mica_output_particle_fields(MicaOutputRun *run, const double *u, MicaOutputFields *fields) {
   RunProblem *rp = run->rp;
   MICA_CALL(particle_cache(rp));
-  return fields_publish(rp, rp->at_particles, rp->disc->dim, rp->disc->x, u, fields);
+  return fields_publish(rp, rp->at_particles, rp->disc->dim, rp->disc->x, u, rp->at_particles->npoints, NULL, fields);
 }
 
 int mica_output_mesh_fields(MicaOutputRun *run, const double *u, MicaOutputFields *fields) {
   RunProblem *rp = run->rp;
   MICA_CHECK(rp->disc->mesh, MICA_ERR_ARGUMENT, "mica_output_mesh_fields: the discretization has no cells");
   MICA_CALL(mesh_cache(rp));
-  return fields_publish(rp, rp->at_mesh, rp->disc->mesh->dim, rp->disc->mesh->x, u, fields);
+  return fields_publish(rp, rp->at_mesh, rp->disc->mesh->dim, rp->disc->mesh->x, u, rp->at_mesh->npoints, NULL, fields);
+}
+
+/* ---- pieces under MPI: each rank's particles and cells ------------------------------------------------------ */
+
+int run_output_particle_piece(RunOutput *out, const double *u, MicaOutputFields *fields) {
+  RunProblem *rp = out->rp;
+  const MicaPartition *partition = rp->dist->partition;
+  const int rank = mica_parallel_rank();
+  long *owned = NULL, n = 0;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL(particle_cache(rp));
+  MICA_CALL(MICA_MALLOC(owned, partition->n));
+  for (long i = 0; i < partition->n; i++)
+    if (partition->part[i] == rank) owned[n++] = i;
+  ierr = fields_publish(rp, rp->at_particles, rp->disc->dim, rp->disc->x, u, n, owned, fields);
+  free(owned);
+  return ierr;
+}
+
+void run_mesh_piece_range(long ncells, int piece, int npieces, long *first, long *end) {
+  *first = ncells * piece / npieces, *end = ncells * (piece + 1) / npieces;
+  if (piece == npieces - 1) *end = ncells;
+}
+
+void run_mesh_piece_free(RunMeshPiece *piece) {
+  free(piece->offsets), free(piece->conn), free(piece->type), free(piece->points);
+  memset(piece, 0, sizeof *piece);
+}
+
+/* This rank's cells of the output mesh and the points they use (ascending), renumbered from 0. */
+static int mesh_piece_create(const MicaCellMesh *mesh, int rank, int size, RunMeshPiece *piece) {
+  long first, end, *map = NULL;
+  int ierr = MICA_SUCCESS;
+  memset(piece, 0, sizeof *piece);
+  run_mesh_piece_range(mesh->ncells, rank, size, &first, &end);
+  const long nconn = mesh->offsets[end] - mesh->offsets[first];
+  piece->ncells = end - first;
+  MICA_CALL_CLEANUP(MICA_MALLOC(map, mesh->npoints));
+  MICA_CALL_CLEANUP(MICA_MALLOC(piece->offsets, piece->ncells + 1));
+  MICA_CALL_CLEANUP(MICA_MALLOC(piece->conn, nconn));
+  MICA_CALL_CLEANUP(MICA_MALLOC(piece->type, piece->ncells));
+  for (long p = 0; p < mesh->npoints; p++) map[p] = -1;
+  for (long k = mesh->offsets[first]; k < mesh->offsets[end]; k++) map[mesh->conn[k]] = 0;
+  for (long p = 0; p < mesh->npoints; p++)
+    if (map[p] == 0) map[p] = piece->npoints++; /* each point once, in ascending order */
+  MICA_CALL_CLEANUP(MICA_MALLOC(piece->points, piece->npoints));
+  for (long p = 0; p < mesh->npoints; p++)
+    if (map[p] >= 0) piece->points[map[p]] = p;
+  for (long c = first; c < end; c++) {
+    piece->offsets[c - first] = mesh->offsets[c] - mesh->offsets[first];
+    piece->type[c - first] = mesh->type[c];
+  }
+  piece->offsets[piece->ncells] = nconn;
+  for (long k = 0; k < nconn; k++) piece->conn[k] = map[mesh->conn[mesh->offsets[first] + k]];
+  piece->cells = (MicaVtkCells){piece->ncells, piece->offsets, piece->conn, piece->type};
+cleanup:
+  free(map);
+  if (ierr) run_mesh_piece_free(piece);
+  return ierr;
+}
+
+int run_output_mesh_piece(RunOutput *out, const double *u, MicaOutputFields *fields, RunMeshPiece *piece) {
+  RunProblem *rp = out->rp;
+  const MicaCellMesh *mesh = rp->disc->mesh;
+  MICA_CALL(mesh_cache(rp));
+  MICA_CALL(mesh_piece_create(mesh, mica_parallel_rank(), rp->dist->partition->nparts, piece));
+  int ierr = fields_publish(rp, rp->at_mesh, mesh->dim, mesh->x, u, piece->npoints, piece->points, fields);
+  if (ierr) run_mesh_piece_free(piece);
+  return ierr;
 }
 
 const MicaVtkField *mica_output_field(const MicaOutputFields *fields, const char *name) {
@@ -241,8 +320,41 @@ const MicaVtkField *mica_output_field(const MicaOutputFields *fields, const char
 }
 
 void mica_output_fields_free(MicaOutputFields *fields) {
-  for (int i = 0; i < 8; i++) free(fields->storage[i]);
+  for (int i = 0; i < 9; i++) free(fields->storage[i]);
   memset(fields, 0, sizeof *fields);
+}
+
+int run_output_pvtu(RunOutput *out, const char *name, const char *piece_pattern, int step, long ncells,
+                    const MicaOutputFields *fields) {
+  enum { NAME_SIZE = 64 };
+  const int npieces = out->rp->dist->partition->nparts;
+  char *text = NULL, *path = NULL;
+  const char **pieces = NULL;
+  int n = 0, ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(MICA_MALLOC(text, (size_t)npieces * NAME_SIZE));
+  MICA_CALL_CLEANUP(MICA_MALLOC(pieces, npieces));
+  for (int k = 0; k < npieces; k++) {
+    long first = 0, end = 1;
+    if (ncells) run_mesh_piece_range(ncells, k, npieces, &first, &end);
+    if (end == first) continue; /* a rank without cells writes no piece */
+    pieces[n] = text + (size_t)n * NAME_SIZE;
+    snprintf(text + (size_t)n * NAME_SIZE, NAME_SIZE, piece_pattern, step, k);
+    n++;
+  }
+  MICA_CALL_CLEANUP(mica_path_join(out->piece_dir, name, &path));
+  MICA_CALL_CLEANUP(mica_pvtu_write(path, fields->nfields, fields->fields, n, pieces));
+cleanup:
+  free(path);
+  free(pieces);
+  free(text);
+  return ierr;
+}
+
+static int copy_text(const char *text, char **copy) {
+  const size_t n = strlen(text) + 1;
+  MICA_CALL(MICA_MALLOC(*copy, n));
+  memcpy(*copy, text, n);
+  return MICA_SUCCESS;
 }
 
 /* ---- the registry and the loop ---------------------------------------------------------------------------- */
@@ -286,6 +398,11 @@ int run_outputs_read(RunProblem *rp, const char *outdir, RunOutput *out) {
     o->enabled = 1;
     if (o->ops->type.from_settings) MICA_CALL(o->ops->type.from_settings(&o->ops->type, &settings, "output", o));
   }
+  if (rp->dist) { /* the pieces go into rank 0's directory, the one published (the others' is scratch) */
+    int ierr = mica_parallel_rank() == 0 ? copy_text(outdir, &out->piece_dir) : MICA_SUCCESS;
+    MICA_CALL(mica_parallel_broadcast_text(ierr, &out->piece_dir, 0));
+    if (mica_parallel_rank() != 0) mica_staging_share(out->piece_dir);
+  }
   for (int i = 0; i < n; i++) {
     MicaOutput *o = &out->outputs[i];
     if (!o->enabled) continue;
@@ -317,6 +434,8 @@ int run_output_step(void *ctx, int step, double t, const double *u) {
   }
   if (!ierr && parts) ierr = output_grow(out);
   if (!ierr && parts) out->steps[out->nsteps] = step, out->times[out->nsteps++] = t;
+  /* MPI: every rank wrote its pieces; a failure on one is every rank's now, not at some later collective */
+  if (out->rp->dist) ierr = mica_parallel_agree(ierr);
   out->time_output += mica_wtime() - start;
   return ierr;
 }
@@ -338,6 +457,7 @@ void run_output_free(RunOutput *out) {
     free(o->ctx);
   }
   MICA_FREE(out->outputs);
+  MICA_FREE(out->piece_dir);
   MICA_FREE(out->steps);
   MICA_FREE(out->times);
   out->noutputs = out->nsteps = out->capacity = 0;

@@ -118,6 +118,25 @@ int mica_parallel_broadcast(int ierr, double *v, long n, int root) {
   return MICA_SUCCESS;
 }
 
+int mica_parallel_broadcast_text(int ierr, char **text, int root) {
+  MICA_CALL(mica_parallel_agree(ierr));
+  if (!mica_parallel_active()) return MICA_SUCCESS;
+  long length = rank_ == root ? (long)strlen(*text) : 0;
+  MPI_Bcast(&length, 1, MPI_LONG, root, comm_);
+  int failed = 0;
+  if (rank_ != root) {
+    free(*text);
+    failed = MICA_MALLOC(*text, length + 1);
+  }
+  MICA_CALL(mica_parallel_agree(failed));
+  for (long first = 0; first < length; first += CHUNK) {
+    const int count = (int)(length - first < CHUNK ? length - first : CHUNK);
+    MPI_Bcast(*text + first, count, MPI_CHAR, root, comm_);
+  }
+  (*text)[length] = '\0';
+  return MICA_SUCCESS;
+}
+
 static double residual_wall, residual_cpu;
 static long residual_calls;
 
