@@ -19,10 +19,6 @@ typedef struct MicaStaging MicaStaging;
 int mica_staging_create_results(const char *outdir, MicaStaging **staging);
 /* Ranks other than 0: a scratch directory $TMPDIR/mica-rankRANK-HOST-PID, cleaned the same way. */
 int mica_staging_create_scratch(int rank, MicaStaging **staging);
-/* Ranks other than 0 that write into rank 0's staging directory dir (their pieces of a parallel run's fields): a
- * signal removes it too, so that no piece written while rank 0 cleaned up is left behind. Disarmed with the
- * rank's own scratch directory. */
-void mica_staging_share(const char *dir);
 /* Where the command writes. */
 const char *mica_staging_dir(const MicaStaging *staging);
 /* Writes the list of files and swaps the staging directory in as outdir (results only). */

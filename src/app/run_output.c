@@ -11,7 +11,6 @@
 
 #include "mica/cosserat.h"
 #include "mica/files.h"
-#include "mica/publish.h"
 #include "mica/timer.h"
 #include "run.h"
 
@@ -401,7 +400,6 @@ int run_outputs_read(RunProblem *rp, const char *outdir, RunOutput *out) {
   if (rp->dist) { /* the pieces go into rank 0's directory, the one published (the others' is scratch) */
     int ierr = mica_parallel_rank() == 0 ? copy_text(outdir, &out->piece_dir) : MICA_SUCCESS;
     MICA_CALL(mica_parallel_broadcast_text(ierr, &out->piece_dir, 0));
-    if (mica_parallel_rank() != 0) mica_staging_share(out->piece_dir);
   }
   for (int i = 0; i < n; i++) {
     MicaOutput *o = &out->outputs[i];

@@ -17,8 +17,8 @@
 static const int cleanup_signals[] = {SIGINT, SIGTERM, SIGHUP};
 enum { NSIGNALS = sizeof cleanup_signals / sizeof cleanup_signals[0], MAX_DEPTH = 16 };
 
-static char armed_path[PATH_MAX], shared_path[PATH_MAX];
-static volatile sig_atomic_t armed, shared_armed;
+static char armed_path[PATH_MAX];
+static volatile sig_atomic_t armed;
 static int installed;
 /* While publication runs, a signal is held here (a thread other than the blocked main one may take it). */
 static volatile sig_atomic_t holding, held;
@@ -58,7 +58,6 @@ static void remove_at(int parent, const char *name, int depth) {
 
 static void clean_and_die(int sig) {
   if (armed) remove_at(AT_FDCWD, armed_path, 0);
-  if (shared_armed) remove_at(AT_FDCWD, shared_path, 0);
   /* SA_RESETHAND restored the default action: the raised signal ends the process once the handler
    * returns and the signal is unblocked */
   raise(sig);
@@ -97,15 +96,7 @@ void mica_cleanup_arm(const char *path) {
   armed = 1;
 }
 
-void mica_cleanup_arm_shared(const char *path) {
-  if (strlen(path) >= PATH_MAX) return;
-  install();
-  shared_armed = 0;
-  memcpy(shared_path, path, strlen(path) + 1);
-  shared_armed = 1;
-}
-
-void mica_cleanup_disarm(void) { armed = shared_armed = 0; }
+void mica_cleanup_disarm(void) { armed = 0; }
 
 void mica_cleanup_block_signals(int block) {
   sigset_t set;

@@ -5,10 +5,6 @@
 /* One directory per process (the staging or scratch directory). On SIGINT, SIGTERM or SIGHUP (those not ignored), path and everything in it is removed, then the
  * signal kills the process as it would have. An absolute path, shorter than PATH_MAX. */
 void mica_cleanup_arm(const char *path);
-/* And a second one, another process's, that this one writes into (the staging directory of rank 0, where every
- * rank writes its pieces of a parallel run's fields): whichever rank a signal ends last removes what the others
- * wrote there before they ended. mica_cleanup_disarm disarms both. */
-void mica_cleanup_arm_shared(const char *path);
 void mica_cleanup_disarm(void);
 /* Holds SIGINT, SIGTERM and SIGHUP back (block = 1) or lets a held one through (block = 0): the steps
  * of publication run as one. */

@@ -327,8 +327,6 @@ cleanup:
   return ierr;
 }
 
-void mica_staging_share(const char *dir) { mica_cleanup_arm_shared(dir); }
-
 const char *mica_staging_dir(const MicaStaging *staging) { return staging ? staging->dir : NULL; }
 
 /* The old results go to PARENT/.NAME.old-HOST-PID and the new ones in: two renames, for file systems
