@@ -58,8 +58,11 @@ TEST_BIN := $(TEST_SRC:tests/unit/%.c=$(OUT)/tests/%)
 # Test-only types (tests/extensions/*.c, one file each, registering themselves): linked into a second CLI,
 # $(OUT)/tests/mica-ext, and into the _ext variants of the unit tests that loop over a registry, which are told
 # how many types the extensions add (EXT_COUNTS).
+# Output types (tests/extensions/output_*.c) belong to the application layer's registry: mica-ext only.
 EXT_SRC := $(wildcard tests/extensions/*.c)
+EXT_APP_SRC := $(wildcard tests/extensions/output_*.c)
 EXT_OBJ := $(EXT_SRC:%.c=$(OBJ)/%.o)
+EXT_LIB_OBJ := $(filter-out $(EXT_APP_SRC:%.c=$(OBJ)/%.o),$(EXT_OBJ))
 EXT_COUNTS := -DEXTRA_WEIGHTS=1 -DEXTRA_MODELS=1
 EXT_TESTS := test_mls_weight test_models
 EXT_BIN := $(OUT)/tests/mica-ext $(EXT_TESTS:%=$(OUT)/tests/%_ext)
@@ -121,9 +124,9 @@ $(OUT)/tests/mica-ext: $(CLI_OBJ) $(APP_OBJ) $(EXT_OBJ) $(LIB)/libmica.a
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $(CLI_OBJ) $(APP_OBJ) $(EXT_OBJ) $(LIB)/libmica.a $(LDLIBS) -o $@
 
-$(OUT)/tests/%_ext: tests/unit/%.c $(EXT_OBJ) $(LIB)/libmica.a | deps
+$(OUT)/tests/%_ext: tests/unit/%.c $(EXT_LIB_OBJ) $(LIB)/libmica.a | deps
 	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $(EXT_COUNTS) -Itests/unit $< $(EXT_OBJ) $(LIB)/libmica.a $(LDFLAGS) -lcmocka $(LDLIBS) -o $@
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(EXT_COUNTS) -Itests/unit $< $(EXT_LIB_OBJ) $(LIB)/libmica.a $(LDFLAGS) -lcmocka $(LDLIBS) -o $@
 
 $(OUT)/tests/%: tests/unit/%.c $(LIB)/libmica.a | deps
 	@mkdir -p $(dir $@)

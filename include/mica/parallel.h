@@ -87,8 +87,6 @@ void mica_parallel_groups_end(MicaParallelGroups *groups);
 /* Collective, after agreeing on ierr: the nbytes bytes of every rank, concatenated in rank order, in *all
  * (allocated, *total bytes) on every rank. */
 int mica_parallel_allgather(int ierr, const void *mine, long nbytes, char **all, long *total);
-/* Collective, after agreeing on ierr: rank 0's text in *copy (allocated) on every rank. */
-int mica_parallel_broadcast_text(int ierr, const char *text, char **copy);
 
 /* The failure injected by MICA_INJECT_FAILURE for this rank at this phase, or MICA_SUCCESS. */
 int mica_parallel_inject(const char *phase);
@@ -98,6 +96,9 @@ int mica_parallel_inject(const char *phase);
 int mica_parallel_sum(int ierr, double *v, long n);
 /* Collective, after agreeing on ierr: v[n] from rank `root` to all. */
 int mica_parallel_broadcast(int ierr, double *v, long n, int root);
+/* Collective, after agreeing on ierr: the string *text of rank `root` to all (the others' *text, NULL or
+ * allocated, is freed and replaced by a copy). */
+int mica_parallel_broadcast_text(int ierr, char **text, int root);
 /* Ends every rank now (MPI_Abort) after printing the current error on this rank; serial: exit. */
 void mica_parallel_abort(const char *program, int status);
 

@@ -10,7 +10,10 @@
  *     any, wins. A key that several types declare with different defaults has none (its help lists them);
  *     each type reads its own with mica_type_float;
  *   - a FRAGMENT key: the keys of `fragment` are inserted in its place, each path under the key's path
- *     (the mls.* keys, which the run and mls commands share, are declared once this way).
+ *     (the mls.* keys, which the run and mls commands share, are declared once this way); with a `registry`
+ *     instead, the keys of every one of its types, in registry order: a family whose types the deck enables
+ *     side by side rather than choosing one (the outputs, output.*: mica/output.h). Each such key names its
+ *     type (`owner`) and the registry (`family`) but has no chooser: each type reads its own settings.
  * So a choice list, a default and a type's settings are written once, by the type, and the help, the
  * checks and docs/input.md follow. This header uses libc only: the registries of the MLS library use it.
  */
@@ -35,7 +38,8 @@ typedef enum {
   MICA_KEY_OVERLAY,  /* a list of groups, each holding any settings of the schema (study variants) and an
                         optional `name` */
   MICA_KEY_PARAMETERS, /* the `parameters` group: any names, each a number or an expression of earlier ones */
-  MICA_KEY_FRAGMENT  /* base schemas only: the keys of `fragment`, each under this key's path */
+  MICA_KEY_FRAGMENT  /* base schemas only: the keys of `fragment` (or of every type of `registry`), each under
+                        this key's path */
 } MicaKeyType;
 
 struct MicaRegistry;
@@ -48,11 +52,14 @@ typedef struct MicaDeckKey {
   const char *choices; /* MICA_KEY_CHOICE: the words; with a registry, words before its types' ("auto") */
   int len_min, len_max; /* values of INTS/FLOATS/LIST; for STRING len_max is the most bytes (0: MICA_DECK_TEXT_MAX) */
   const char *help;    /* one line for `mica help <command>` and docs/input.md */
-  const struct MicaRegistry *registry; /* MICA_KEY_CHOICE: choose one of its types */
+  const struct MicaRegistry *registry; /* MICA_KEY_CHOICE: choose one of its types; MICA_KEY_FRAGMENT: all */
   const struct MicaDeckKey *fragment;  /* MICA_KEY_FRAGMENT: the keys inserted here */
   /* Set by the composition on a type's keys: the type's name and the path of the key that chooses it. A
    * deck that gives the key while the chooser names another type is refused: it would have no effect. */
   const char *owner, *chooser;
+  /* Set by the composition on the keys of a registry fragment: the registry; owner names the type, chooser is
+   * NULL. */
+  const struct MicaRegistry *family;
 } MicaDeckKey;
 
 /* A file of schema tables starts with this: its keys list the nine common fields positionally and leave the

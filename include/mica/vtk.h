@@ -32,6 +32,11 @@ int mica_vtu_write(const char *path, int dim, long n, const double *x, int nfiel
 int mica_vtu_write_cells(const char *path, int dim, long n, const double *x, const MicaVtkCells *cells, int nfields,
                          const MicaVtkField *fields);
 
+/* A parallel VTU file (.pvtu): the pieces (VTU files, relative to its directory) that together make one data
+ * set, each written by one rank with the point data `fields` declares (names, components; data unused). */
+int mica_pvtu_write(const char *path, int nfields, const MicaVtkField *fields, int npieces,
+                    const char *const *pieces);
+
 /* A PVD collection: files[i] (relative to the PVD's directory) at times[i]. */
 int mica_pvd_write(const char *path, int nsteps, const double *times, const char *const *files);
 /* A PVD collection of nparts series: at times[s], files[s*nparts + p] is part p, named names[p] (names may be

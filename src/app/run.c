@@ -284,23 +284,6 @@ static int add_memory_per_dof(const RunProblem *rp, const RunTotals *c, const Mi
   return MICA_SUCCESS;
 }
 
-/* output.vtu and output.mesh. A deck that asks for mesh files (output.mesh = true) with output.vtu = false would
- * get none and is refused; output.mesh = false agrees with it (sweep and study points turn output.vtu off by
- * themselves, and a deck that turns the mesh off must still run there). */
-static int read_vtu(const MicaDeck *deck, const RunProblem *rp, RunOutput *out) {
-  MICA_CALL(mica_deck_bool(deck, "output.vtu", &out->vtu));
-  MICA_CALL(mica_deck_bool(deck, "output.mesh", &out->mesh));
-  char where[256];
-  mica_deck_where(deck, "output.mesh", where, sizeof where);
-  const int given = !strstr(where, " (default)"); /* in the deck or a --set, not the schema's default */
-  MICA_CHECK(out->vtu || !out->mesh || !given, MICA_ERR_INPUT,
-             "%s: output.mesh = true writes the fields on the cells with the VTU files, but output.vtu = false writes "
-             "none; remove output.mesh or set output.vtu = true", where);
-  MICA_CHECK(!out->mesh || rp->disc->mesh, MICA_ERR_ARGUMENT, "output.mesh: the discretization has no cells");
-  out->mesh = out->mesh && out->vtu;
-  return MICA_SUCCESS;
-}
-
 /* What every solve reports, converged or not: Newton's and the linear solvers' statistics and the memory
  * (collective under MPI). */
 static int add_solve_stats(const RunProblem *rp, const RunTotals *totals, const MicaNewtonStats *stats,
@@ -336,7 +319,7 @@ static int write_reached(const RunProblem *rp, RunOutput *out, const RunTotals *
   mica_error_clear(); /* every rank failed alike: the collectives below run as after a success */
   const double output_start = mica_wtime();
   MICA_CALL(add_solve_stats(rp, totals, stats, time_newton, summary));
-  MICA_CALL(run_output_finish(out));
+  MICA_CALL(run_outputs_finish(out, 1, NULL, summary));
   MICA_CALL(mica_json_number(summary, "time_output", out->time_output + mica_wtime() - output_start));
   MICA_CALL(run_peak_memory(summary));
   MICA_CALL(mica_json_string(summary, "status", "failed"));
@@ -358,10 +341,8 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   memset(&stats, 0, sizeof stats);
   memset(&out, 0, sizeof out);
   RunTotals totals;
-  MICA_CALL_CLEANUP(run_problem_prepare(deck, &rp, reuse, 1, &totals, summary));
+  MICA_CALL_CLEANUP(run_problem_prepare(deck, &rp, reuse, outdir, &out, &totals, summary));
   MICA_CALL_CLEANUP(read_newton(deck, rp.solid, &nopt));
-  out.rp = &rp, out.outdir = outdir;
-  MICA_CALL_CLEANUP(read_vtu(deck, &rp, &out));
   MICA_CALL_CLEANUP(MICA_CALLOC(u, rp.solid->ndof));
   const double start = mica_wtime();
   ierr = mica_newton_solve(rp.solid, &nopt, u, run_output_step, &out, &stats);
@@ -369,11 +350,9 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   MICA_CALL_CLEANUP(ierr);
   MICA_CALL_CLEANUP(add_solve_stats(&rp, &totals, &stats, mica_wtime() - start, summary));
   const double output_start = mica_wtime();
-  MICA_CALL_CLEANUP(run_output_finish(&out));
   MICA_CALL_CLEANUP(run_error_norms(&rp, u, summary));
-  MICA_CALL_CLEANUP(run_probes(&rp, u, summary));
-  MICA_CALL_CLEANUP(run_quadrature_fields(&rp, outdir, u, summary));
-  /* fields per step (inside time_newton), the PVD, error norms and probes */
+  MICA_CALL_CLEANUP(run_outputs_finish(&out, 0, u, summary));
+  /* fields per step (inside time_newton), error norms, the PVD and probes */
   MICA_CALL_CLEANUP(mica_json_number(summary, "time_output", out.time_output + mica_wtime() - output_start));
   MICA_CALL_CLEANUP(run_peak_memory(summary));
   printf("solved in %d load step%s, %d Newton iterations (%s)\n", stats.steps_done, stats.steps_done > 1 ? "s" : "",

@@ -4,6 +4,7 @@
 
 #include "mica/command.h"
 #include "mica/fe.h"
+#include "mica/output.h"
 #include "mica/parallel.h"
 #include "mica/bc.h"
 
@@ -156,10 +157,11 @@ int run_parallel_solver_stats(const RunProblem *rp, MicaJson *summary);
 int run_parallel_ranks(const RunProblem *rp, const MicaNewtonStats *stats, MicaJson *summary);
 
 /* What run and check share (run_counts.c): the problem built (with reuse, NULL: none), its rigid modes and
- * probes checked (solving: also output.quadrature_fields), its sizes counted into totals, printed and in the
+ * outputs read and checked (run_outputs_read: every output type's settings), its sizes counted into totals, printed and in the
  * summary with the cost estimate. rp is the caller's to free (run_problem_free), also on failure. */
-int run_problem_prepare(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse, int solving, RunTotals *totals,
-                        MicaJson *summary);
+struct MicaOutputRun;
+int run_problem_prepare(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse, const char *outdir, struct MicaOutputRun *out,
+                        RunTotals *totals, MicaJson *summary);
 
 /* The iterative linear solver (run_linear.c): solver.linear_rtol, .linear_max_iterations, .preconditioner
  * into opt->krylov; cg's iterations in the summary; the process's peak memory ("peak_memory", bytes). */
@@ -167,38 +169,61 @@ int run_read_krylov(const MicaDeck *deck, MicaNewtonOptions *opt);
 int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson *summary);
 int run_peak_memory(MicaJson *summary);
 
-/* Output: per-step VTU files (particles, and the mesh) and the PVD collection, error norms, probes, summary
- * members. */
-typedef struct RunOutput {
+/* Output (run_output.c): the registry of output types (mica/output.h; output_*.c, one type each) and the run
+ * that drives them. run_outputs_read reads every registered type's settings and checks the enabled ones against
+ * the built problem (after the build, in `mica run` and `mica check`); run_output_step is Newton's callback after
+ * each converged load step; run_outputs_finish calls the enabled types' finish (failed: a solve that stopped,
+ * only the MICA_OUTPUT_REACHED types, u NULL). */
+struct MicaOutputRun {
   RunProblem *rp;
   const char *outdir;
-  int vtu;
-  int mesh;           /* output.mesh: also the fields on the cells, mesh_NNNN.vtu */
-  int nsteps, capacity; /* steps written; grown as needed (cut-backs add steps, so no count is known ahead) */
+  int noutputs;
+  MicaOutput *outputs;  /* every registered type, in registry order; enabled or not */
+  char *piece_dir;      /* MPI (rp->dist): rank 0's outdir, where every rank writes its pieces; NULL serial */
+  int nsteps, capacity; /* steps written to the PVD's parts; grown as needed (cut-backs add steps) */
   int *steps;           /* the load step of each, naming step_NNNN.vtu and mesh_NNNN.vtu */
   double *times;        /* its load factor */
-  double time_output; /* seconds writing fields per step, error norms and probes (profiles) */
-} RunOutput;
+  double time_output;   /* seconds writing fields per step, error norms and probes (profiles) */
+};
+typedef struct MicaOutputRun RunOutput;
 
+/* The built-in output types, one file each (output_vtu.c, output_mesh.c, output_monitor.c, output_pvd.c,
+ * output_probes.c, output_quadrature_fields.c). */
+extern const MicaOutputOps run_output_vtu, run_output_mesh, run_output_monitor, run_output_pvd, run_output_probes,
+    run_output_quadrature_fields;
+int run_outputs_read(RunProblem *rp, const char *outdir, RunOutput *out);
 int run_output_step(void *ctx, int step, double t, const double *u);
-int run_output_finish(RunOutput *out);
+int run_outputs_finish(RunOutput *out, int failed, const double *u, MicaJson *summary);
 void run_output_free(RunOutput *out);
+/* MPI (rp->dist): this rank's piece of the VTU outputs, the fields at its own particles (partition->part), and
+ * at the points of its cells of the output mesh: cells [first, end) of run_mesh_piece_range, contiguous blocks
+ * of ncells / P (the last takes the rest), and the points they use, renumbered in ascending order (a point that
+ * cells of two pieces share is in both). */
+typedef struct RunMeshPiece {
+  long ncells, npoints;
+  long *offsets, *conn; /* renumbered to the piece's points */
+  unsigned char *type;
+  long *points;         /* [npoints] the mesh's index of each */
+  MicaVtkCells cells;
+} RunMeshPiece;
+int run_output_particle_piece(RunOutput *out, const double *u, MicaOutputFields *fields);
+int run_output_mesh_piece(RunOutput *out, const double *u, MicaOutputFields *fields, RunMeshPiece *piece);
+void run_mesh_piece_range(long ncells, int piece, int npieces, long *first, long *end);
+void run_mesh_piece_free(RunMeshPiece *piece);
+/* Under MPI the .pvtu of a step: rank 0 lists the pieces pattern % (step, piece) of the pieces that exist (all
+ * npieces, or those with cells: cells = the mesh's count, 0 for particles). */
+int run_output_pvtu(RunOutput *out, const char *name, const char *piece_pattern, int step, long ncells,
+                    const MicaOutputFields *fields);
+
+/* Shared by the outputs (run_output.c): the von Mises equivalent of a 3×3 Cauchy stress, and the force stress,
+ * couple stress and (classical models) strain, 3×3 each, at the model's kinematics q. */
+double run_von_mises(const double *s);
+int run_stresses(const RunProblem *rp, const double *q, double *sigma, double *couple, double *strain);
 int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary);
 /* The relative errors run_error_norms reports (L2 of the values, H1 seminorm, energy), without writing them. */
 int run_error_values(RunProblem *rp, const double *u, double *rel_l2, double *rel_h1, double *rel_energy);
-int run_probes(RunProblem *rp, const double *u, MicaJson *summary);
-/* Before the solve: every point probe lies in the body (within MICA_BODY_TOLERANCE of its size, so points on
- * the boundary do) unless it says extrapolate = true; otherwise MICA_ERR_INPUT with the probe's deck line and
- * the body's bounds. */
-int run_check_probes(const RunProblem *rp);
 /* The points the error norms use, their shape functions and weights: quadrature.error_order's own points
  * (whole = 1: every rank holds all of them), else the solve's volume points (under nodal integration the
  * background Gauss points; under MPI this rank's). */
 int run_error_points(RunProblem *rp, const MicaShapeCache **c, const double **x, const double **w, int *whole);
-/* output.quadrature_fields (quadrature_output.c): the check after the build (MPI needs quadrature.error_order),
- * and quadrature_fields.csv — values, gradients and energy density at run_error_points — with its row count
- * and Σ w W in the summary. */
-int run_quadrature_fields_check(const MicaDeck *deck, const RunProblem *rp);
-int run_quadrature_fields(RunProblem *rp, const char *outdir, const double *u, MicaJson *summary);
-
 #endif

@@ -100,12 +100,11 @@ static int check_rigid_modes(const MicaDeck *deck, const RunProblem *rp) {
   return mica_dirichlet_check_rigid(rp->disc, rp->axisymmetric, ncomp, names, s->ndirichlet, s->dirichlet, where);
 }
 
-int run_problem_prepare(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse, int solving, RunTotals *totals,
-                        MicaJson *summary) {
+int run_problem_prepare(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse, const char *outdir, RunOutput *out,
+                        RunTotals *totals, MicaJson *summary) {
   MICA_CALL(run_problem_build_reusing(deck, rp, reuse));
   MICA_CALL(check_rigid_modes(deck, rp));
-  if (solving) MICA_CALL(run_quadrature_fields_check(deck, rp));
-  MICA_CALL(run_check_probes(rp));
+  MICA_CALL(run_outputs_read(rp, outdir, out));
   MICA_CALL(count_totals(rp, totals));
   print_counts(rp, totals);
   MICA_CALL(add_counts(rp, totals, summary));

@@ -1,5 +1,6 @@
-/* Outputs of `mica run`: fields per load step at the particles and on the cells (VTU + PVD), relative error
- * norms against an exact solution, and probes. The particle parameters are not the displacements (MLS does not
+/* Outputs of `mica run`: the registry of output types (mica/output.h; each type is its own file, output_*.c) and
+ * the loop that drives the enabled ones, the fields at points they share, and the relative error norms against
+ * an exact solution (numbers of the run's record, summary.json, not an output type: they have no setting). The particle parameters are not the displacements (MLS does not
  * interpolate): every field is the approximation evaluated at the particles, through the approximation's
  * ops (finite elements: the nodal values, gradients averaged over the elements around the node), and at the
  * points of the output mesh (disc->mesh) through the ops call a probe makes, so a vertex value is a probe's. */
@@ -11,17 +12,16 @@
 #include "mica/cosserat.h"
 #include "mica/files.h"
 #include "mica/timer.h"
-#include "mica/vtk.h"
 #include "run.h"
 
 /* von Mises equivalent of a 3×3 Cauchy stress. */
-static double von_mises(const double *s) {
+double run_von_mises(const double *s) {
   const double dxx = s[0] - s[4], dyy = s[4] - s[8], dzz = s[8] - s[0];
   return sqrt(0.5 * (dxx * dxx + dyy * dyy + dzz * dzz) + 3 * (s[1] * s[1] + s[5] * s[5] + s[2] * s[2]));
 }
 
 /* Force stress, couple stress and (classical models) strain, 3×3 each, at kinematics q. */
-static int stresses(const RunProblem *rp, const double *q, double *sigma, double *couple, double *strain) {
+int run_stresses(const RunProblem *rp, const double *q, double *sigma, double *couple, double *strain) {
   const MicaSolid *s = rp->solid;
   const MicaFieldModel *m = &s->opt.field;
   memset(strain, 0, sizeof(double) * 9);
@@ -115,42 +115,47 @@ static void to_file_frame(const RunProblem *rp, const double *v, int n, double *
         out[a * 3 + b] = rp->axisymmetric ? v[section[a] * 3 + section[b]] : v[a * 3 + b];
 }
 
-/* The fields at point i of cache c (at x), into slot i of f: what a probe at x reports, in the file frame. */
-static int fields_at(RunProblem *rp, const MicaShapeCache *c, long i, const double *x, const double *u,
+/* The fields at point i of cache c (at x), into slot j of f: what a probe at x reports, in the file frame. */
+static int fields_at(RunProblem *rp, const MicaShapeCache *c, long i, long j, const double *x, const double *u,
                      PointFields *f) {
   const MicaSolid *s = rp->solid;
   const int mdim = s->model_dim, ncomp = s->ncomp;
   double q[128], qe[128], couple[9], v[3], sigma[9], strain[9];
   mica_solid_kinematics(s, c, i, u, q);
   for (int a = 0; a < 3; a++) v[a] = a < mdim ? q[a] : 0;
-  to_file_frame(rp, v, 3, f->disp + i * 3);
+  to_file_frame(rp, v, 3, f->disp + j * 3);
   if (f->rotation) { /* 2-D: φ_z is the only micro-rotation */
     for (int a = 0; a < 3; a++) v[a] = 0;
     for (int k = mdim; k < ncomp; k++) v[ncomp - mdim == 1 ? 2 : k - mdim] = q[k];
-    to_file_frame(rp, v, 3, f->rotation + i * 3);
+    to_file_frame(rp, v, 3, f->rotation + j * 3);
   }
-  MICA_CALL(stresses(rp, q, sigma, couple, strain));
-  to_file_frame(rp, sigma, 9, f->stress + i * 9);
-  to_file_frame(rp, strain, 9, f->strain + i * 9);
-  if (f->couple) to_file_frame(rp, couple, 9, f->couple + i * 9);
+  MICA_CALL(run_stresses(rp, q, sigma, couple, strain));
+  to_file_frame(rp, sigma, 9, f->stress + j * 9);
+  to_file_frame(rp, strain, 9, f->strain + j * 9);
+  if (f->couple) to_file_frame(rp, couple, 9, f->couple + j * 9);
   if (f->micro) {
     double chi[9];
     MICA_CALL(s->opt.field.ops->micro_deformation(&s->opt.field, mdim, q, chi));
-    to_file_frame(rp, chi, 9, f->micro + i * 9);
+    to_file_frame(rp, chi, 9, f->micro + j * 9);
   }
-  f->mises[i] = von_mises(sigma);
+  f->mises[j] = run_von_mises(sigma);
   if (rp->has_exact) {
     MICA_CALL(exact_at(rp, x, qe));
     for (int a = 0; a < 3; a++) v[a] = a < mdim ? q[a] - qe[a] : 0;
-    to_file_frame(rp, v, 3, f->error + i * 3);
+    to_file_frame(rp, v, 3, f->error + j * 3);
   }
   return MICA_SUCCESS;
 }
 
-static int fields_compute(RunProblem *rp, const MicaShapeCache *c, const double *x, const double *u, PointFields *f) {
+/* At the n points sel[] of cache c (sel NULL: all of them, n = c->npoints), into slots 0 .. n−1. */
+static int fields_compute(RunProblem *rp, const MicaShapeCache *c, const double *x, const double *u, long n,
+                          const long *sel, PointFields *f) {
   const int dim = rp->disc->dim;
-  MICA_CALL(fields_alloc(rp, c->npoints, f));
-  for (long i = 0; i < c->npoints; i++) MICA_CALL(fields_at(rp, c, i, x + i * dim, u, f));
+  MICA_CALL(fields_alloc(rp, n, f));
+  for (long j = 0; j < n; j++) {
+    const long i = sel ? sel[j] : j;
+    MICA_CALL(fields_at(rp, c, i, j, x + i * dim, u, f));
+  }
   return MICA_SUCCESS;
 }
 
@@ -196,46 +201,213 @@ static int field_list(const RunProblem *rp, const PointFields *f, MicaVtkField *
   return nf;
 }
 
-/* step_NNNN.vtu: the fields at the particles, each a vertex cell. */
-static int write_particles(RunOutput *out, int step, const double *u) {
-  RunProblem *rp = out->rp;
+/* ---- what the outputs read of the run (mica/output.h) --------------------------------------------------- */
+
+const char *mica_output_dir(const MicaOutputRun *run) { return run->outdir; }
+
+int mica_output_writer(const MicaOutputRun *run) {
+  (void)run;
+  return mica_parallel_rank() == 0;
+}
+
+/* The fields at the n points sel[] of cache c (sel NULL: all, and out->x is x itself; else a copy of theirs). */
+static int fields_publish(RunProblem *rp, const MicaShapeCache *c, int dim, const double *x, const double *u, long n,
+                          const long *sel, MicaOutputFields *out) {
   PointFields f = {0};
-  MicaVtkField fields[9];
-  char *path = NULL;
+  double *xs = NULL;
+  memset(out, 0, sizeof *out);
+  int ierr = fields_compute(rp, c, x, u, n, sel, &f);
+  if (!ierr && sel) ierr = MICA_MALLOC(xs, n * dim);
+  if (ierr) {
+    fields_free(&f);
+    return ierr;
+  }
+  for (long j = 0; sel && j < n; j++) memcpy(xs + j * dim, x + sel[j] * dim, sizeof(double) * (size_t)dim);
+  double *owned[9] = {f.disp, f.rotation, f.strain, f.stress, f.couple, f.micro, f.mises, f.error, xs};
+  memcpy(out->storage, owned, sizeof owned); /* freed by mica_output_fields_free */
+  out->dim = dim, out->npoints = n, out->x = sel ? xs : x;
+  out->nfields = field_list(rp, &f, out->fields);
+  return MICA_SUCCESS;
+}
+
+int mica_output_particle_fields(MicaOutputRun *run, const double *u, MicaOutputFields *fields) {
+  RunProblem *rp = run->rp;
+  MICA_CALL(particle_cache(rp));
+  return fields_publish(rp, rp->at_particles, rp->disc->dim, rp->disc->x, u, rp->at_particles->npoints, NULL, fields);
+}
+
+int mica_output_mesh_fields(MicaOutputRun *run, const double *u, MicaOutputFields *fields) {
+  RunProblem *rp = run->rp;
+  MICA_CHECK(rp->disc->mesh, MICA_ERR_ARGUMENT, "mica_output_mesh_fields: the discretization has no cells");
+  MICA_CALL(mesh_cache(rp));
+  return fields_publish(rp, rp->at_mesh, rp->disc->mesh->dim, rp->disc->mesh->x, u, rp->at_mesh->npoints, NULL, fields);
+}
+
+/* ---- pieces under MPI: each rank's particles and cells ------------------------------------------------------ */
+
+int run_output_particle_piece(RunOutput *out, const double *u, MicaOutputFields *fields) {
+  RunProblem *rp = out->rp;
+  const MicaPartition *partition = rp->dist->partition;
+  const int rank = mica_parallel_rank();
+  long *owned = NULL, n = 0;
   int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(particle_cache(rp));
-  MICA_CALL_CLEANUP(fields_compute(rp, rp->at_particles, rp->disc->x, u, &f));
-  char name[32];
-  snprintf(name, sizeof name, "step_%04d.vtu", step);
-  MICA_CALL_CLEANUP(mica_path_join(out->outdir, name, &path));
-  MICA_CALL_CLEANUP(mica_vtu_write(path, rp->disc->dim, rp->disc->nparticles, rp->disc->x, field_list(rp, &f, fields),
-                                   fields));
-cleanup:
-  free(path);
-  fields_free(&f);
+  MICA_CALL(particle_cache(rp));
+  MICA_CALL(MICA_MALLOC(owned, partition->n));
+  for (long i = 0; i < partition->n; i++)
+    if (partition->part[i] == rank) owned[n++] = i;
+  ierr = fields_publish(rp, rp->at_particles, rp->disc->dim, rp->disc->x, u, n, owned, fields);
+  free(owned);
   return ierr;
 }
 
-/* mesh_NNNN.vtu: the same fields at the points of the cells (disc->mesh). */
-static int write_mesh(RunOutput *out, int step, const double *u) {
+void run_mesh_piece_range(long ncells, int piece, int npieces, long *first, long *end) {
+  *first = ncells * piece / npieces, *end = ncells * (piece + 1) / npieces;
+  if (piece == npieces - 1) *end = ncells;
+}
+
+void run_mesh_piece_free(RunMeshPiece *piece) {
+  free(piece->offsets), free(piece->conn), free(piece->type), free(piece->points);
+  memset(piece, 0, sizeof *piece);
+}
+
+/* This rank's cells of the output mesh and the points they use (ascending), renumbered from 0. */
+static int mesh_piece_create(const MicaCellMesh *mesh, int rank, int size, RunMeshPiece *piece) {
+  long first, end, *map = NULL;
+  int ierr = MICA_SUCCESS;
+  memset(piece, 0, sizeof *piece);
+  run_mesh_piece_range(mesh->ncells, rank, size, &first, &end);
+  const long nconn = mesh->offsets[end] - mesh->offsets[first];
+  piece->ncells = end - first;
+  MICA_CALL_CLEANUP(MICA_MALLOC(map, mesh->npoints));
+  MICA_CALL_CLEANUP(MICA_MALLOC(piece->offsets, piece->ncells + 1));
+  MICA_CALL_CLEANUP(MICA_MALLOC(piece->conn, nconn));
+  MICA_CALL_CLEANUP(MICA_MALLOC(piece->type, piece->ncells));
+  for (long p = 0; p < mesh->npoints; p++) map[p] = -1;
+  for (long k = mesh->offsets[first]; k < mesh->offsets[end]; k++) map[mesh->conn[k]] = 0;
+  for (long p = 0; p < mesh->npoints; p++)
+    if (map[p] == 0) map[p] = piece->npoints++; /* each point once, in ascending order */
+  MICA_CALL_CLEANUP(MICA_MALLOC(piece->points, piece->npoints));
+  for (long p = 0; p < mesh->npoints; p++)
+    if (map[p] >= 0) piece->points[map[p]] = p;
+  for (long c = first; c < end; c++) {
+    piece->offsets[c - first] = mesh->offsets[c] - mesh->offsets[first];
+    piece->type[c - first] = mesh->type[c];
+  }
+  piece->offsets[piece->ncells] = nconn;
+  for (long k = 0; k < nconn; k++) piece->conn[k] = map[mesh->conn[mesh->offsets[first] + k]];
+  piece->cells = (MicaVtkCells){piece->ncells, piece->offsets, piece->conn, piece->type};
+cleanup:
+  free(map);
+  if (ierr) run_mesh_piece_free(piece);
+  return ierr;
+}
+
+int run_output_mesh_piece(RunOutput *out, const double *u, MicaOutputFields *fields, RunMeshPiece *piece) {
   RunProblem *rp = out->rp;
   const MicaCellMesh *mesh = rp->disc->mesh;
-  PointFields f = {0};
-  MicaVtkField fields[9];
-  char *path = NULL;
-  int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(mesh_cache(rp));
-  MICA_CALL_CLEANUP(fields_compute(rp, rp->at_mesh, mesh->x, u, &f));
-  char name[32];
-  snprintf(name, sizeof name, "mesh_%04d.vtu", step);
-  MICA_CALL_CLEANUP(mica_path_join(out->outdir, name, &path));
-  const MicaVtkCells cells = {mesh->ncells, mesh->offsets, mesh->conn, mesh->type};
-  MICA_CALL_CLEANUP(mica_vtu_write_cells(path, mesh->dim, mesh->npoints, mesh->x, &cells, field_list(rp, &f, fields),
-                                         fields));
+  MICA_CALL(mesh_cache(rp));
+  MICA_CALL(mesh_piece_create(mesh, mica_parallel_rank(), rp->dist->partition->nparts, piece));
+  int ierr = fields_publish(rp, rp->at_mesh, mesh->dim, mesh->x, u, piece->npoints, piece->points, fields);
+  if (ierr) run_mesh_piece_free(piece);
+  return ierr;
+}
+
+const MicaVtkField *mica_output_field(const MicaOutputFields *fields, const char *name) {
+  for (int i = 0; i < fields->nfields; i++)
+    if (!strcmp(fields->fields[i].name, name)) return &fields->fields[i];
+  return NULL;
+}
+
+void mica_output_fields_free(MicaOutputFields *fields) {
+  for (int i = 0; i < 9; i++) free(fields->storage[i]);
+  memset(fields, 0, sizeof *fields);
+}
+
+int run_output_pvtu(RunOutput *out, const char *name, const char *piece_pattern, int step, long ncells,
+                    const MicaOutputFields *fields) {
+  enum { NAME_SIZE = 64 };
+  const int npieces = out->rp->dist->partition->nparts;
+  char *text = NULL, *path = NULL;
+  const char **pieces = NULL;
+  int n = 0, ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(MICA_MALLOC(text, (size_t)npieces * NAME_SIZE));
+  MICA_CALL_CLEANUP(MICA_MALLOC(pieces, npieces));
+  for (int k = 0; k < npieces; k++) {
+    long first = 0, end = 1;
+    if (ncells) run_mesh_piece_range(ncells, k, npieces, &first, &end);
+    if (end == first) continue; /* a rank without cells writes no piece */
+    pieces[n] = text + (size_t)n * NAME_SIZE;
+    snprintf(text + (size_t)n * NAME_SIZE, NAME_SIZE, piece_pattern, step, k);
+    n++;
+  }
+  MICA_CALL_CLEANUP(mica_path_join(out->piece_dir, name, &path));
+  MICA_CALL_CLEANUP(mica_pvtu_write(path, fields->nfields, fields->fields, n, pieces));
 cleanup:
   free(path);
-  fields_free(&f);
+  free(pieces);
+  free(text);
   return ierr;
+}
+
+static int copy_text(const char *text, char **copy) {
+  const size_t n = strlen(text) + 1;
+  MICA_CALL(MICA_MALLOC(*copy, n));
+  memcpy(*copy, text, n);
+  return MICA_SUCCESS;
+}
+
+/* ---- the registry and the loop ---------------------------------------------------------------------------- */
+
+/* The order is the order of the settings in `mica help run` and of the summary members the outputs add. */
+static const MicaType *const builtin_outputs[] = {
+    &run_output_vtu.type,    &run_output_mesh.type,   &run_output_monitor.type, &run_output_pvd.type,
+    &run_output_probes.type, &run_output_quadrature_fields.type, NULL};
+
+/* No default: the deck enables outputs one by one, none of them is chosen instead of another. */
+MicaRegistry mica_output_registry = {"output type", NULL, builtin_outputs, NULL, 0, NULL};
+
+/* Whether this process calls the output's step and finish: rank 0 alone for RANK0 types. */
+static int runs_here(const MicaOutput *o) {
+  return o->enabled && (!mica_type_has(&o->ops->type, MICA_OUTPUT_RANK0) || mica_parallel_rank() == 0);
+}
+
+/* A type that needs the cells of the output mesh, enabled on a discretization without them. */
+static int check_cells(const RunOutput *out, const MicaOutput *o) {
+  MICA_CHECK(!mica_type_has(&o->ops->type, MICA_OUTPUT_CELLS) || out->rp->disc->mesh, MICA_ERR_ARGUMENT,
+             "output %s: the discretization has no cells", o->ops->type.name);
+  return MICA_SUCCESS;
+}
+
+int run_outputs_read(RunProblem *rp, const char *outdir, RunOutput *out) {
+  MicaSettings settings;
+  mica_deck_settings(rp->deck, &settings);
+  memset(out, 0, sizeof *out);
+  out->rp = rp, out->outdir = outdir;
+  const int n = mica_registry_count(&mica_output_registry);
+  MICA_CALL(MICA_CALLOC(out->outputs, n));
+  out->noutputs = n;
+  for (int i = 0; i < n; i++) {
+    MicaOutput *o = &out->outputs[i];
+    o->ops = mica_output_ops_of(mica_registry_type(&mica_output_registry, i));
+    if (o->ops->size) {
+      unsigned char *bytes; /* the type's own struct: calloc's alignment suits any */
+      MICA_CALL(MICA_CALLOC(bytes, o->ops->size));
+      o->ctx = bytes;
+    }
+    o->enabled = 1;
+    if (o->ops->type.from_settings) MICA_CALL(o->ops->type.from_settings(&o->ops->type, &settings, "output", o));
+  }
+  if (rp->dist) { /* the pieces go into rank 0's directory, the one published (the others' is scratch) */
+    int ierr = mica_parallel_rank() == 0 ? copy_text(outdir, &out->piece_dir) : MICA_SUCCESS;
+    MICA_CALL(mica_parallel_broadcast_text(ierr, &out->piece_dir, 0));
+  }
+  for (int i = 0; i < n; i++) {
+    MicaOutput *o = &out->outputs[i];
+    if (!o->enabled) continue;
+    MICA_CALL(check_cells(out, o));
+    if (o->ops->check) MICA_CALL(o->ops->check(out, o->ctx));
+  }
+  return MICA_SUCCESS;
 }
 
 /* Room for one more step in out->steps and out->times. */
@@ -250,47 +422,43 @@ static int output_grow(RunOutput *out) {
 
 int run_output_step(void *ctx, int step, double t, const double *u) {
   RunOutput *out = ctx;
-  if (!out->vtu || mica_parallel_rank() != 0) return MICA_SUCCESS; /* MPI: rank 0 writes */
   const double start = mica_wtime();
-  MICA_CALL(output_grow(out));
-  int ierr = write_particles(out, step, u);
-  if (!ierr && out->mesh) ierr = write_mesh(out, step, u);
-  if (!ierr) out->steps[out->nsteps] = step, out->times[out->nsteps++] = t;
+  int ierr = MICA_SUCCESS, parts = 0;
+  for (int i = 0; i < out->noutputs && !ierr; i++) {
+    MicaOutput *o = &out->outputs[i];
+    if (!runs_here(o) || !mica_type_has(&o->ops->type, MICA_OUTPUT_PER_STEP)) continue;
+    ierr = o->ops->step(out, o->ctx, step, t, u);
+    parts += mica_type_has(&o->ops->type, MICA_OUTPUT_PVD_PART);
+  }
+  if (!ierr && parts) ierr = output_grow(out);
+  if (!ierr && parts) out->steps[out->nsteps] = step, out->times[out->nsteps++] = t;
+  /* MPI: every rank wrote its pieces; a failure on one is every rank's now, not at some later collective */
+  if (out->rp->dist) ierr = mica_parallel_agree(ierr);
   out->time_output += mica_wtime() - start;
   return ierr;
 }
 
-/* solution.pvd: per step the particles as part 0 and, with output.mesh, the mesh as part 1; ParaView shows the
- * two as blocks of one data set. */
-int run_output_finish(RunOutput *out) {
-  if (!out->vtu || out->nsteps == 0) return MICA_SUCCESS;
-  static const char *const names[2] = {"particles", "mesh"};
-  static const char *const patterns[2] = {"step_%04d.vtu", "mesh_%04d.vtu"};
-  enum { NAME_SIZE = 32 };
-  const int nparts = out->mesh ? 2 : 1;
-  const size_t nfiles = (size_t)out->nsteps * (size_t)nparts;
-  char *text = NULL, *path = NULL;
-  const char **files = NULL;
-  int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(MICA_MALLOC(text, nfiles * NAME_SIZE));
-  MICA_CALL_CLEANUP(MICA_MALLOC(files, nfiles));
-  for (size_t i = 0; i < nfiles; i++) {
-    files[i] = text + i * NAME_SIZE;
-    snprintf(text + i * NAME_SIZE, NAME_SIZE, patterns[i % (size_t)nparts], out->steps[i / (size_t)nparts]);
+int run_outputs_finish(RunOutput *out, int failed, const double *u, MicaJson *summary) {
+  for (int i = 0; i < out->noutputs; i++) {
+    MicaOutput *o = &out->outputs[i];
+    const MicaType *type = &o->ops->type;
+    if (!runs_here(o) || !mica_type_has(type, failed ? MICA_OUTPUT_REACHED : MICA_OUTPUT_AT_END)) continue;
+    MICA_CALL(o->ops->finish(out, o->ctx, failed ? NULL : u, summary));
   }
-  MICA_CALL_CLEANUP(mica_path_join(out->outdir, "solution.pvd", &path));
-  MICA_CALL_CLEANUP(mica_pvd_write_parts(path, out->nsteps, out->times, nparts, names, files));
-cleanup:
-  free(path);
-  free(files);
-  free(text);
-  return ierr;
+  return MICA_SUCCESS;
 }
 
 void run_output_free(RunOutput *out) {
+  for (int i = 0; i < out->noutputs; i++) {
+    MicaOutput *o = &out->outputs[i];
+    if (o->ctx && o->ops->destroy) o->ops->destroy(o->ctx);
+    free(o->ctx);
+  }
+  MICA_FREE(out->outputs);
+  MICA_FREE(out->piece_dir);
   MICA_FREE(out->steps);
   MICA_FREE(out->times);
-  out->nsteps = out->capacity = 0;
+  out->noutputs = out->nsteps = out->capacity = 0;
 }
 
 /* ---- error norms ----------------------------------------------------------------------------------------- */
@@ -371,181 +539,3 @@ int run_error_norms(RunProblem *rp, const double *u, MicaJson *summary) {
   return MICA_SUCCESS;
 }
 
-/* ---- probes ------------------------------------------------------------------------------------------------ */
-
-/* The value of a named field at a point: an unknown by its name ("ux", "phiz"), a strain e.., a force
- * stress s.. or couple stress m.. component (first index the one contracted with the normal; axes x, y, z or,
- * axisymmetric, r, t = θ, z), or mises. */
-static double probe_field(const RunProblem *rp, const char *field, const double *q, const double *strain,
-                          const double *sigma, const double *couple) {
-  const char *axes = rp->axisymmetric ? "rtz" : "xyz";
-  for (int c = 0; c < rp->solid->ncomp; c++)
-    if (!strcmp(field, run_unknown_name(rp, c))) return q[c];
-  if (!strcmp(field, "mises")) return von_mises(sigma);
-  const double *tensor = field[0] == 'e' ? strain : field[0] == 'm' ? couple : sigma;
-  const int i = (int)(strchr(axes, field[1]) - axes), j = (int)(strchr(axes, field[2]) - axes);
-  return tensor[i * 3 + j];
-}
-
-/* Does this model (in this dimension, plain or axisymmetric) have the probe's field? */
-static int probe_field_exists(const RunProblem *rp, const char *field) {
-  const char *axes = rp->axisymmetric ? "rtz" : "xyz";
-  for (int c = 0; c < rp->solid->ncomp; c++)
-    if (!strcmp(field, run_unknown_name(rp, c))) return 1;
-  if (!strcmp(field, "mises")) return 1;
-  return (field[0] == 's' || field[0] == 'e' || field[0] == 'm') && strlen(field) == 3 && strchr(axes, field[1]) &&
-         strchr(axes, field[2]);
-}
-
-/* The strain energy of the whole body, Σ_p w_p W(q_p) over the volume quadrature (with 2πr if axisymmetric). */
-static int strain_energy(const RunProblem *rp, const double *u, double *energy) {
-  const MicaSolid *s = rp->solid;
-  double q[128], W;
-  int ierr = MICA_SUCCESS;
-  *energy = 0;
-  for (long p = 0; p < s->volume->npoints && !ierr; p++) {
-    mica_solid_kinematics(s, s->volume, p, u, q);
-    ierr = s->opt.field.ops->eval(&s->opt.field, s->model_dim, q, &W, NULL, NULL);
-    *energy += s->disc->qw[p] * W; /* s->disc: under MPI, this rank's points, summed below */
-  }
-  if (rp->dist) MICA_CALL(mica_parallel_sum(ierr, energy, 1));
-  return ierr;
-}
-
-/* Probe i's point (dim coordinates) and where the deck gives it ("deck.cfg:LINE"). */
-static int probe_point(const RunProblem *rp, int i, const char *name, double point[3], char *where, size_t size) {
-  char path[96];
-  int n = 0;
-  snprintf(path, sizeof path, "output.probes.[%d].point", i);
-  mica_deck_where(rp->deck, path, where, size);
-  if (!mica_deck_has(rp->deck, path)) {
-    snprintf(path, sizeof path, "output.probes.[%d]", i);
-    mica_deck_where(rp->deck, path, where, size);
-    MICA_ERROR(MICA_ERR_INPUT, "%s: probe '%s' needs a point (only field = \"energy\" has none)", where, name);
-  }
-  point[0] = point[1] = point[2] = 0;
-  MICA_CALL(mica_deck_floats(rp->deck, path, point, 3, &n));
-  MICA_CHECK(n == rp->disc->dim, MICA_ERR_INPUT, "%s: probe '%s' needs a point with %d coordinates", where, name,
-             rp->disc->dim);
-  return MICA_SUCCESS;
-}
-
-/* The raw value of a point probe: the field at the deck's point. */
-static int probe_at_point(RunProblem *rp, int i, const char *name, const char *field, const double *u, double *raw) {
-  const MicaSolid *s = rp->solid;
-  const int dim = rp->disc->dim;
-  char where[256];
-  double point[3];
-  MICA_CALL(probe_point(rp, i, name, point, where, sizeof where));
-  MICA_CHECK(probe_field_exists(rp, field), MICA_ERR_INPUT,
-             "%s: probe '%s' asks for %s, which this model in %d-D%s does not have", where, name, field, dim,
-             rp->axisymmetric ? " (axisymmetric: axes r, t, z)" : "");
-  MICA_CHECK(!(field[0] == 'e' && strlen(field) == 3 && !s->opt.field.classical), MICA_ERR_INPUT,
-             "%s: probe '%s': strains are reported for classical models only", where, name);
-  MICA_CHECK(!rp->axisymmetric || point[0] > 0, MICA_ERR_INPUT,
-             "%s: probe '%s': an axisymmetric probe needs r > 0 (the hoop terms divide by r)", where, name);
-  /* the shape functions at the point: a cache of one point, from the approximation (it finds the element) */
-  MicaShapeCache *c = NULL;
-  int ierr = rp->approx.ops->points(rp->approx.ctx, 1, point, NULL, s->opt.field.ops->order, "probe", &c);
-  if (ierr) {
-    mica_error_prefix("%s: probe '%s'", where, name);
-    return mica_error_trace(__FILE__, __LINE__, __func__, ierr == MICA_ERR_NUMERIC ? MICA_ERR_INPUT : ierr);
-  }
-  double q[128] = {0}, sigma[9], couple[9] = {0}, strain[9];
-  mica_solid_kinematics(s, c, 0, u, q);
-  mica_shape_cache_destroy(&c);
-  MICA_CALL(stresses(rp, q, sigma, couple, strain));
-  *raw = probe_field(rp, field, q, strain, sigma, couple);
-  return MICA_SUCCESS;
-}
-
-static int probe_one(RunProblem *rp, int i, const double *u, MicaJson *summary) {
-  const MicaDeck *deck = rp->deck;
-  char path[96];
-  const char *name, *field;
-  double scale, raw;
-  int inverse;
-  snprintf(path, sizeof path, "output.probes.[%d].name", i);
-  MICA_CALL(mica_deck_string(deck, path, &name));
-  snprintf(path, sizeof path, "output.probes.[%d].field", i);
-  MICA_CALL(mica_deck_string(deck, path, &field));
-  snprintf(path, sizeof path, "output.probes.[%d].scale", i);
-  MICA_CALL(mica_deck_float(deck, path, &scale));
-  snprintf(path, sizeof path, "output.probes.[%d].inverse", i);
-  MICA_CALL(mica_deck_bool(deck, path, &inverse));
-  if (!strcmp(field, "energy"))
-    MICA_CALL(strain_energy(rp, u, &raw));
-  else
-    MICA_CALL(probe_at_point(rp, i, name, field, u, &raw));
-  MICA_CHECK(!inverse || raw != 0, MICA_ERR_NUMERIC, "probe '%s': %s is 0 at the point; it has no inverse", name, field);
-  const double value = inverse ? scale / raw : scale * raw;
-  MICA_CALL(mica_json_number(summary, name, value));
-  printf("probe %s = %.10g\n", name, value);
-  return MICA_SUCCESS;
-}
-
-/* "x in [0, 48], y in [-6, 6]" */
-static void bounds_text(const MicaBody *body, char *buf, size_t size) {
-  double lo[3], hi[3];
-  size_t len = 0;
-  mica_body_bounds(body, lo, hi);
-  buf[0] = '\0';
-  for (int d = 0; d < mica_body_dim(body) && len < size; d++)
-    len += (size_t)snprintf(buf + len, size - len, "%s%c in [%g, %g]", d ? ", " : "", "xyz"[d], lo[d], hi[d]);
-}
-
-/* Probe i's point lies in the body (within MICA_BODY_TOLERANCE of its size), or the probe allows
- * extrapolation; extrapolate on a probe without a point, or with finite elements, is refused. */
-static int check_probe_point(const RunProblem *rp, MicaBody *body, int i) {
-  const char *name, *field;
-  char path[96], where[256];
-  int extrapolate;
-  snprintf(path, sizeof path, "output.probes.[%d].name", i);
-  MICA_CALL(mica_deck_string(rp->deck, path, &name));
-  snprintf(path, sizeof path, "output.probes.[%d].field", i);
-  MICA_CALL(mica_deck_string(rp->deck, path, &field));
-  snprintf(path, sizeof path, "output.probes.[%d].extrapolate", i);
-  MICA_CALL(mica_deck_bool(rp->deck, path, &extrapolate));
-  mica_deck_where(rp->deck, path, where, sizeof where);
-  if (!strcmp(field, "energy")) {
-    MICA_CHECK(!extrapolate, MICA_ERR_INPUT,
-               "%s: probe '%s': extrapolate is for a probe at a point; field = \"energy\" has none (remove it)", where,
-               name);
-    return MICA_SUCCESS;
-  }
-  MICA_CHECK(!(extrapolate && rp->fe), MICA_ERR_INPUT,
-             "%s: probe '%s': extrapolate = true needs the MLS approximation; finite elements (problem.method = "
-             "\"fe\") have no values outside their elements", where, name);
-  double point[3];
-  MICA_CALL(probe_point(rp, i, name, point, where, sizeof where));
-  if (extrapolate || mica_body_contains(body, point)) return MICA_SUCCESS;
-  char at[96], shape[600], bounds[256];
-  if (rp->disc->dim == 3)
-    snprintf(at, sizeof at, "(%g, %g, %g)", point[0], point[1], point[2]);
-  else
-    snprintf(at, sizeof at, "(%g, %g)", point[0], point[1]);
-  mica_body_describe(body, shape, sizeof shape);
-  bounds_text(body, bounds, sizeof bounds);
-  MICA_ERROR(MICA_ERR_INPUT,
-             "%s: probe '%s' at %s lies outside the body, %s (bounds %s); move it inside or onto the boundary, or "
-             "set extrapolate = true in the probe to report the approximation's value there anyway",
-             where, name, at, shape, bounds);
-}
-
-int run_check_probes(const RunProblem *rp) {
-  const int count = mica_deck_list_length(rp->deck, "output.probes");
-  if (count == 0) return MICA_SUCCESS;
-  MicaBody *body = NULL;
-  int ierr = MICA_SUCCESS;
-  MICA_CALL(run_body_create(rp->deck, &body));
-  for (int i = 0; i < count && !ierr; i++) ierr = check_probe_point(rp, body, i);
-  mica_body_destroy(&body);
-  return ierr;
-}
-
-int run_probes(RunProblem *rp, const double *u, MicaJson *summary) {
-  const int count = mica_deck_list_length(rp->deck, "output.probes");
-  if (count == 0) return MICA_SUCCESS;
-  for (int i = 0; i < count; i++) MICA_CALL(probe_one(rp, i, u, summary));
-  return MICA_SUCCESS;
-}

@@ -175,30 +175,9 @@ const MicaDeckKey mica_run_schema[] = {
     {"exact.utheta", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric: exact u_θ"},
     {"exact.phir", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric cosserat: exact φ_r"},
     {"exact.phitheta", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric cosserat: exact φ_θ"},
-    {"output.vtu", MICA_KEY_BOOL, "true", NOLIMIT, NULL, 0, 0, "write particles' fields per load step (VTU + PVD)"},
-    {"output.mesh", MICA_KEY_BOOL, "true", NOLIMIT, NULL, 0, 0,
-     "with output.vtu: also the fields on the cells (mesh_NNNN.vtu, part 1 of solution.pvd)"},
-    {"output.monitor", MICA_KEY_BOOL, "true", NOLIMIT, NULL, 0, 0, "print one line per Newton iteration"},
-    {"output.probes", MICA_KEY_LIST, NULL, NOLIMIT, NULL, 0, 0,
-     "values reported in summary.json: ( { name = \"tip_uy\"; point = [\"L\", \"0\"]; field = \"uy\"; }, ... )"},
-    {"output.probes.[].name", MICA_KEY_STRING, NULL, NOLIMIT, NULL, 0, 0, "key in summary.json"},
-    {"output.probes.[].point", MICA_KEY_FLOATS, NULL, NOLIMIT, NULL, 2, 3,
-     "where: in the body or on its boundary (else an error, unless extrapolate); not for energy"},
-    {"output.probes.[].extrapolate", MICA_KEY_BOOL, "false", NOLIMIT, NULL, 0, 0,
-     "allow a point outside the body: report the MLS approximation's value there (not with finite elements)"},
-    {"output.probes.[].field", MICA_KEY_CHOICE, NULL, NOLIMIT,
-     "ux|uy|uz|phix|phiy|phiz|exx|eyy|ezz|exy|eyz|exz|sxx|syy|szz|sxy|syx|syz|szy|sxz|szx|mxx|myy|mzz|mxy|myx|myz|mzy|mxz|mzx|mises|"
-     "ur|utheta|phir|phitheta|srr|stt|srt|str|srz|szr|stz|szt|mrr|mtt|mrt|mtr|mrz|mzr|mtz|mzt|energy",
-     0, 0, "an unknown (displacement, micro-rotation), a strain, a force stress s.. or couple stress m.. component "
-     "(axisymmetric: axes r, t = θ, z), or energy: the strain energy ∫W dV of the whole body (no point)"},
-    {"output.probes.[].scale", MICA_KEY_FLOAT, "1.0", NOLIMIT, NULL, 0, 0, "multiplies the value (e.g. \"1/p\")"},
-    {"output.probes.[].inverse", MICA_KEY_BOOL, "false", NOLIMIT, NULL, 0, 0,
-     "report scale / value instead (a stiffness from a displacement)"},
-    {"output.quadrature_fields", MICA_KEY_BOOL, "false", NOLIMIT, NULL, 0, 0,
-     "write quadrature_fields.csv: one row per error-norm point (quadrature.error_order's own points when set, "
-     "else the solve's volume points): coordinates, weight w, every unknown and its gradient, energy density W "
-     "(over the solve's points Σ w W is the energy probe); summary: quadrature_fields_points, "
-     "quadrature_fields_energy. MPI: needs quadrature.error_order > 0, rank 0 writes"},
+    /* the output types' own settings, output.vtu, output.mesh, output.monitor, output.probes,
+     * output.quadrature_fields, ...: each declared by its type (src/app/output_*.c, mica/output.h) */
+    {.path = "output", .type = MICA_KEY_FRAGMENT, .min = 1.0, .max = 0.0, .registry = &mica_output_registry},
     /* the sweep (src/study/sweep*.c) */
 
     {"limits.memory_gb", MICA_KEY_FLOAT, NULL, 1e-3, 1e6, NULL, 0, 0,

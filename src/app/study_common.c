@@ -103,8 +103,9 @@ static int check_visible(const char *dir) {
 int mica_study_groups_begin(int ranks, const char *outdir, MicaStudyGroups *g) {
   memset(g, 0, sizeof *g);
   g->outdir = outdir;
-  int ierr = mica_parallel_broadcast_text(MICA_SUCCESS, outdir, &g->outdir_shared);
-  MICA_CALL(ierr);
+  int ierr = MICA_MALLOC(g->outdir_shared, strlen(outdir) + 1);
+  if (!ierr) strcpy(g->outdir_shared, outdir);
+  MICA_CALL(mica_parallel_broadcast_text(ierr, &g->outdir_shared, 0)); /* rank 0's directory on every rank */
   const int leader = mica_parallel_rank() % ranks == 0; /* rank 0 of its group-to-be */
   if (leader && mica_parallel_rank() != 0) ierr = check_visible(g->outdir_shared);
   MICA_CALL(mica_parallel_agree(ierr));

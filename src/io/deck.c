@@ -498,6 +498,18 @@ static void print_key_types(const MicaDeckKey *key, int width, FILE *stream) {
   }
 }
 
+/* Under the first key of a type of a registry fragment (output.vtu), the type's family, name and description,
+ * so that an output an extension registers is explained with its settings. */
+static void print_family_type(const MicaDeckKey *key, const MicaDeckKey *previous, int width, FILE *stream) {
+  if (!key->family || (previous && previous->owner == key->owner)) return;
+  const MicaType *type = mica_registry_find(key->family, key->owner);
+  if (!type || !type->description || !type->description[0]) return;
+  char line[1024];
+  snprintf(line, sizeof line, "%s %s: %s", key->family->family, type->name, type->description);
+  fprintf(stream, "%*s", 2 * HELP_INDENT, "");
+  mica_text_wrap(stream, line, 2 * HELP_INDENT, 3 * HELP_INDENT, width, NULL);
+}
+
 int mica_deck_print_schema(const MicaDeckKey *base, int width, FILE *stream) {
   MicaSchema *composed;
   MICA_CALL(mica_schema_compose(base, &composed));
@@ -516,6 +528,7 @@ int mica_deck_print_schema(const MicaDeckKey *base, int width, FILE *stream) {
     print_key_line(key->path, columns.type, columns.def, columns.range, widths, width, stream);
     print_key_help(key->help, width, stream);
     print_key_types(key, width, stream);
+    print_family_type(key, key == schema ? NULL : key - 1, width, stream);
   }
   return mica_schema_destroy(&composed);
 }

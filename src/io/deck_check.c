@@ -335,7 +335,7 @@ static int among(const char *word, const char *words) {
 /* A type's setting given while its chooser names another type would have no effect: refused. */
 int deck_check_owners(const MicaDeck *deck) {
   for (const MicaDeckKey *key = deck->schema; key->path; key++) {
-    if (!key->owner || strstr(key->path, "[]") || !mica_deck_given(deck, key->path)) continue;
+    if (!key->chooser || strstr(key->path, "[]") || !mica_deck_given(deck, key->path)) continue;
     const char *chosen;
     MICA_CALL(mica_deck_string(deck, key->chooser, &chosen));
     if (among(chosen, key->owner)) continue;

@@ -273,6 +273,49 @@ int mica_pvd_write_parts(const char *path, int nsteps, const double *times, int 
   return MICA_SUCCESS;
 }
 
+/* A PDataArray element: the array's type, name and components as the pieces declare them. */
+static void write_parray(FILE *fp, const char *name, int ncomp, const char *const *components) {
+  fputs("      <PDataArray type=\"Float64\"", fp);
+  if (name) {
+    fputs(" Name=\"", fp);
+    write_escaped(fp, name);
+    fputc('"', fp);
+  }
+  fprintf(fp, " NumberOfComponents=\"%d\"", ncomp);
+  for (int c = 0; components && c < ncomp; c++) {
+    fprintf(fp, " ComponentName%d=\"", c);
+    write_escaped(fp, components[c]);
+    fputc('"', fp);
+  }
+  fputs("/>\n", fp);
+}
+
+int mica_pvtu_write(const char *path, int nfields, const MicaVtkField *fields, int npieces,
+                    const char *const *pieces) {
+  MICA_CHECK(path && nfields >= 0 && (nfields == 0 || fields) && npieces >= 1 && pieces, MICA_ERR_ARGUMENT,
+             "mica_pvtu_write: bad arguments");
+  for (int f = 0; f < nfields; f++)
+    MICA_CHECK(fields[f].name && fields[f].ncomp > 0, MICA_ERR_ARGUMENT, "mica_pvtu_write: field %d has no name", f);
+  for (int p = 0; p < npieces; p++) MICA_CHECK(pieces[p], MICA_ERR_ARGUMENT, "mica_pvtu_write: piece %d is NULL", p);
+  MicaOutFile out;
+  MICA_CALL(mica_out_open(path, &out));
+  fprintf(out.fp, "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"0.1\" byte_order=\"%s\" "
+                  "header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n    <PPointData>\n",
+          host_byte_order());
+  for (int f = 0; f < nfields; f++) write_parray(out.fp, fields[f].name, fields[f].ncomp, fields[f].components);
+  fputs("    </PPointData>\n    <PPoints>\n", out.fp);
+  write_parray(out.fp, NULL, 3, NULL);
+  fputs("    </PPoints>\n", out.fp);
+  for (int p = 0; p < npieces; p++) {
+    fputs("    <Piece Source=\"", out.fp);
+    write_escaped(out.fp, pieces[p]);
+    fputs("\"/>\n", out.fp);
+  }
+  fputs("  </PUnstructuredGrid>\n</VTKFile>\n", out.fp);
+  MICA_CALL(mica_out_commit(&out));
+  return MICA_SUCCESS;
+}
+
 int mica_pvd_write(const char *path, int nsteps, const double *times, const char *const *files) {
   return mica_pvd_write_parts(path, nsteps, times, 1, NULL, files);
 }

@@ -177,22 +177,6 @@ cleanup:
   return ierr;
 }
 
-int mica_parallel_broadcast_text(int ierr, const char *text, char **copy) {
-  *copy = NULL;
-  MICA_CALL(mica_parallel_agree(ierr));
-  long length = rank_ == 0 ? (long)strlen(text) : 0;
-  if (mica_parallel_active()) MPI_Bcast(&length, 1, MPI_LONG, 0, comm_);
-  ierr = length < INT_MAX ? MICA_SUCCESS : mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_ARGUMENT,
-                                                          "mica_parallel_broadcast_text: %ld bytes", length);
-  if (!ierr) ierr = MICA_MALLOC(*copy, length + 1);
-  ierr = mica_parallel_agree(ierr);
-  if (ierr) MICA_FREE(*copy);
-  MICA_CALL(ierr);
-  if (rank_ == 0) memcpy(*copy, text, (size_t)length + 1);
-  if (mica_parallel_active()) MPI_Bcast(*copy, (int)length + 1, MPI_CHAR, 0, comm_);
-  return MICA_SUCCESS;
-}
-
 /* MPI counts are int: long vectors go in chunks. */
 enum { CHUNK = 1 << 28 };
 
@@ -217,6 +201,25 @@ int mica_parallel_broadcast(int ierr, double *v, long n, int root) {
     const int count = (int)(n - first < CHUNK ? n - first : CHUNK);
     MPI_Bcast(v + first, count, MPI_DOUBLE, root, comm_);
   }
+  return MICA_SUCCESS;
+}
+
+int mica_parallel_broadcast_text(int ierr, char **text, int root) {
+  MICA_CALL(mica_parallel_agree(ierr));
+  if (!mica_parallel_active()) return MICA_SUCCESS;
+  long length = rank_ == root ? (long)strlen(*text) : 0;
+  MPI_Bcast(&length, 1, MPI_LONG, root, comm_);
+  int failed = 0;
+  if (rank_ != root) {
+    free(*text);
+    failed = MICA_MALLOC(*text, length + 1);
+  }
+  MICA_CALL(mica_parallel_agree(failed));
+  for (long first = 0; first < length; first += CHUNK) {
+    const int count = (int)(length - first < CHUNK ? length - first : CHUNK);
+    MPI_Bcast(*text + first, count, MPI_CHAR, root, comm_);
+  }
+  (*text)[length] = '\0';
   return MICA_SUCCESS;
 }
 

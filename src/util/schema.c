@@ -157,11 +157,34 @@ static int add_chooser(MicaSchema *schema, const MicaDeckKey *base, const char *
   return MICA_SUCCESS;
 }
 
+static int compose(MicaSchema *schema, const MicaDeckKey *base, const char *prefix);
+
+/* A fragment of a registry: every type's keys under prefix, in registry order, each marked with the type that
+ * declares it (`owner`, for help) but with no chooser: the deck enables the types side by side. */
+static int add_family(MicaSchema *schema, const MicaRegistry *registry, const char *prefix) {
+  for (int i = 0; i < mica_registry_count(registry); i++) {
+    const MicaType *type = mica_registry_type(registry, i);
+    if (!type->keys) continue;
+    const long first = schema->nkeys;
+    MICA_CALL(compose(schema, type->keys, prefix));
+    for (long k = first; k < schema->nkeys; k++) {
+      MICA_CHECK(find_composed(schema, schema->keys[k].path) == &schema->keys[k], MICA_ERR_ARGUMENT,
+                 "schema: %s is declared twice (by the %s type '%s' too)", schema->keys[k].path, registry->family,
+                 type->name);
+      schema->keys[k].owner = type->name;
+      schema->keys[k].family = registry;
+    }
+  }
+  return MICA_SUCCESS;
+}
+
 static int compose(MicaSchema *schema, const MicaDeckKey *base, const char *prefix) {
   for (const MicaDeckKey *key = base; key->path; key++) {
     const char *path = key->path;
     if (prefix[0]) MICA_CALL(format(schema, &path, "%s%s%s", prefix, key->path[0] ? "." : "", key->path));
-    if (key->type == MICA_KEY_FRAGMENT) {
+    if (key->type == MICA_KEY_FRAGMENT && key->registry) {
+      MICA_CALL(add_family(schema, key->registry, path));
+    } else if (key->type == MICA_KEY_FRAGMENT) {
       MICA_CHECK(key->fragment, MICA_ERR_ARGUMENT, "schema: fragment %s has no keys", path);
       MICA_CALL(compose(schema, key->fragment, path));
     } else if (key->type == MICA_KEY_CHOICE && key->registry) {

@@ -2,7 +2,7 @@
 # relative with solver.parallel = gather, to the Krylov tolerance with schwarz — on the Timoshenko beam
 # (CHOLMOD / CG), Cook's membrane with Neo-Hooke (Newton over load steps) and the Cosserat glide layer
 # (Lagrange multipliers: UMFPACK / GMRES). summary.json carries the partition's edge cut and imbalance;
-# files are written once, by rank 0; a failure injected on rank 1 (MICA_INJECT_FAILURE) or a deck error
+# files are written once (the fields in pieces, one per rank: mpi_output.sh); a failure injected on rank 1 (MICA_INJECT_FAILURE) or a deck error
 # ends every rank with the right exit status, reported once. `timeout` only keeps a hang from blocking
 # the suite: no check here depends on time.
 source "$(dirname "$0")/common.bash"
@@ -98,9 +98,11 @@ prun 1 "$work/timo_1" input/timoshenko.cfg
 compare "$work/timo" "$work/timo_1" 1e-13 tip_uy
 [ -z "$(json_value edge_cut "$work/timo_1/summary.json")" ] || fail "-np 1 partitioned"
 
-# files written once, by rank 0: the fields, no staging directory left, no scratch directory of other ranks
+# files written once: the fields in a piece per rank with rank 0's .pvtu (tests/cli/mpi_output.sh checks their
+# numbers), the PVD and the summary by rank 0; no staging directory left, no scratch directory of other ranks
 prun 3 "$work/files" input/timoshenko.cfg --set output.vtu=true
-[ -f "$work/files/step_0001.vtu" ] && [ -f "$work/files/mesh_0001.vtu" ] && [ -f "$work/files/solution.pvd" ] \
+[ -f "$work/files/step_0001.pvtu" ] && [ -f "$work/files/mesh_0001.pvtu" ] && [ -f "$work/files/step_0001_2.vtu" ] \
+  && [ -f "$work/files/mesh_0001_2.vtu" ] && [ -f "$work/files/solution.pvd" ] \
   && [ -f "$work/files/summary.json" ] || fail "-np 3: result files missing"
 [ -z "$(ls -A "$work/files" | grep staging)" ] || fail "a staging directory was left behind"
 [ -z "$(ls -A "$work/tmp" | grep mica-rank)" ] || fail "scratch directories of ranks 1, 2 left in TMPDIR: $(ls "$work/tmp")"

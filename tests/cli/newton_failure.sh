@@ -23,13 +23,15 @@ json_get() {
   python3 -c 'import json, sys; print(json.load(open(sys.argv[2])).get(sys.argv[1], "(absent)"))' "$1" "$2"
 }
 
-# the checks on a failed run's directory: check_failed DIR EXPECTED_STEPS
+# the checks on a failed run's directory: check_failed DIR EXPECTED_STEPS [RANKS] (under mpirun the steps' files
+# are a piece per rank and a .pvtu, which the PVD lists: tests/cli/mpi_output.sh)
 check_failed() {
-  python3 - "$1" "$2" <<'PY' || fail "$1: the failed run's results (above)"
+  python3 - "$1" "$2" "${3:-1}" <<'PY' || fail "$1: the failed run's results (above)"
 import json, math, os, re, sys
 sys.path.insert(0, "tests/cli")
 import vtu_readback as v  # read_vtu checks the block layout and that every value is finite
-d, steps = sys.argv[1], int(sys.argv[2])
+d, steps, ranks = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+ext = "pvtu" if ranks > 1 else "vtu"
 def check(cond, what):
     if not cond:
         print("FAIL: " + what); sys.exit(1)
@@ -46,6 +48,12 @@ for key in ("tip_uy", "error_l2"):
     check(key not in s, "a failed run reports %s, which belongs to the full load" % key)
 files = sorted(f for f in os.listdir(d) if f.endswith(".vtu"))
 expect = sorted(["step_%04d.vtu" % k for k in range(1, steps + 1)] + ["mesh_%04d.vtu" % k for k in range(1, steps + 1)])
+if ranks > 1:
+    expect = sorted("%s_%04d_%d.vtu" % (part, k, r) for part in ("step", "mesh") for k in range(1, steps + 1)
+                    for r in range(ranks))
+    pvtu = sorted(f for f in os.listdir(d) if f.endswith(".pvtu"))
+    check(pvtu == sorted("%s_%04d.pvtu" % (part, k) for part in ("step", "mesh") for k in range(1, steps + 1)),
+          ".pvtu files %s, expected steps 1..%d" % (pvtu[-4:], steps))
 check(files == expect, "VTU files %s, expected steps 1..%d" % (files[-4:], steps))
 pvd = os.path.join(d, "solution.pvd")
 if steps == 0:
@@ -56,11 +64,11 @@ else:
     for i, (t, part, name, f) in enumerate(sets):
         k = i // 2 + 1
         check(abs(float(t) - k / den) <= 1e-12 * k / den, "%s at %s, expected %d/%d" % (f, t, k, den))
-    check(float(sets[-1][0]) == reached and sets[-1][3] == "mesh_%04d.vtu" % steps, "the PVD ends at %s" % (sets[-1],))
+    check(float(sets[-1][0]) == reached and sets[-1][3] == "mesh_%04d.%s" % (steps, ext), "the PVD ends at %s" % (sets[-1],))
 for f in files:
     v.read_vtu(os.path.join(d, f))  # exits with FAIL on a non-finite value
 for f in os.listdir(d):
-    if not f.endswith(".vtu"):
+    if not f.endswith("vtu"):
         text = open(os.path.join(d, f)).read().lower()
         check(not re.search(r"\b(nan|inf|infinity)\b", text), "%s holds NaN or Inf" % f)
 print("ok: %s: status failed, %d steps to load factor %.6g = %d/%d, failed at %d/%d, files and PVD agree, all finite"
@@ -131,7 +139,7 @@ if TMPDIR="$work/tmp" "${MPIRUN[@]}" -np 2 "$MICA" --version > /dev/null 2>&1; t
   done
   [ -z "$(ls -A "$work/tmp")" ] || fail "mpirun -np 2: rank scratch directories left: $(ls -A "$work/tmp")"
   ok "mpirun -np 2: exit 3, the message once, the serial run's status, steps, load factors and reason"
-  check_failed "$p" 18
+  check_failed "$p" 18 2
 else
   echo "### SKIPPED: mpirun cannot start 2 processes here; the parallel failed run is untested ###"
 fi

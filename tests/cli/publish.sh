@@ -29,13 +29,13 @@ child_of() {
 }
 
 # started_then SIGNAL DIR [mpirun...]: starts the long run, waits for its staging directory to hold a step
-# file (mid-run), sends SIGNAL to the process (mica, or mpirun), waits; sets rc and pid
+# file (mid-run; under mpirun the step's .pvtu, after rank 0's piece), sends SIGNAL to the process (mica, or mpirun), waits; sets rc and pid
 started_then() {
   local sig=$1 dir=$2; shift 2
   timeout 600 "$@" "$MICA" run $deck -o "$dir" "${long[@]}" > "$dir.$sig.log" 2>&1 &
   pid=$!
   for _ in $(seq 600); do
-    ls "$(dirname "$dir")/.$(basename "$dir").staging-"*/step_0002.vtu > /dev/null 2>&1 && break
+    ls "$(dirname "$dir")/.$(basename "$dir").staging-"*/step_0002.*vtu > /dev/null 2>&1 && break # mpirun: .pvtu
     sleep 0.1
   done
   [ -n "$(staging_of "$dir")" ] || fail "no staging directory appeared: $(cat "$dir.$sig.log")"
@@ -133,7 +133,7 @@ ok "mpirun -np 2, SIGTERM mid-run: no staging or scratch directory, earlier resu
 # SIGKILL both ranks: the next parallel run removes rank 0's staging and rank 1's scratch directory
 timeout 600 "${MPIRUN[@]}" "$MICA" run $deck -o "$p" "${long[@]}" > "$p.kill.log" 2>&1 &
 pid=$!
-for _ in $(seq 600); do ls "$work"/.p.staging-*/step_0002.vtu > /dev/null 2>&1 && break; sleep 0.1; done
+for _ in $(seq 600); do ls "$work"/.p.staging-*/step_0002.pvtu > /dev/null 2>&1 && break; sleep 0.1; done
 stale=$(staging_of "$p"); scratch=$(ls -d "$TMPDIR"/mica-rank1-* 2>/dev/null)
 [ -n "$stale" ] && [ -n "$scratch" ] || fail "no staging or scratch directory to kill: $(ls -A "$work" "$TMPDIR")"
 kill -KILL "${stale##*-}" "${scratch##*-}"
@@ -145,6 +145,8 @@ timeout 300 "${MPIRUN[@]}" "$MICA" run $deck -o "$p" "${quick[@]}" --set solver.
 grep -qF "mica: removed $stale, left by process ${stale##*-}" "$p.err" || fail "rank 0's stale staging not reported: $(cat "$p.err")"
 grep -qF "removed $scratch, left by process ${scratch##*-}" "$p.err" || fail "rank 1's stale scratch not reported: $(cat "$p.err")"
 [ ! -e "$stale" ] && [ ! -e "$scratch" ] || fail "stale directories left after the next run"
-[ -f "$p/step_0002.vtu" ] && [ ! -e "$p/step_0003.vtu" ] || fail "mpirun: old step files left: $(ls "$p")"
+# under mpirun the steps are .pvtu files and a piece per rank (mpi_output.sh)
+[ -f "$p/step_0002.pvtu" ] && [ -f "$p/step_0002_1.vtu" ] && [ ! -e "$p/step_0003.pvtu" ] && [ ! -e "$p/step_0003_1.vtu" ] \
+  || fail "mpirun: old step files left: $(ls "$p")"
 [ -z "$(ls -A "$TMPDIR" | grep mica-rank)" ] || fail "scratch directories left: $(ls "$TMPDIR")"
 ok "mpirun -np 2, SIGKILLed ranks: the next run removes and reports both; fewer steps leave no old ones"

@@ -1,12 +1,15 @@
 /* Registries of types in a composed schema (mica/registry.h, mica/schema.h): a chooser's own words before the
  * types' ("auto"), its own default, a key several types declare with different defaults (bc.alpha), and
- * mica_type_float's fallback to the type's own default; the converted families' flags. */
+ * mica_type_float's fallback to the type's own default; a registry fragment (the outputs' idiom: every type's
+ * keys in registry order, each naming its type, no chooser; a key two types declare refused); the converted
+ * families' flags. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <setjmp.h>
 #include <cmocka.h>
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "mica/bc.h"
@@ -51,6 +54,56 @@ static void test_compose_choices_and_defaults(void **state) {
   assert_string_equal(beta->def, "3");
   assert_string_equal(beta->help, "with g.kind = a or c: a's own");
   mica_schema_destroy(&schema);
+}
+
+/* A family whose types are enabled side by side: each type's keys under the fragment's path, in registry order. */
+static const MicaDeckKey on_keys[] = {
+    {.path = "on", .type = MICA_KEY_BOOL, .def = "true", .min = 1, .max = 0, .help = "switch"}, {0}};
+static const MicaDeckKey list_keys[] = {
+    {.path = "items", .type = MICA_KEY_LIST, .min = 1, .max = 0, .help = "the list"},
+    {.path = "items.[].name", .type = MICA_KEY_STRING, .min = 1, .max = 0, .help = "a name"}, {0}};
+static const MicaType side_on = {"on", "switched", 0, on_keys, NULL}, side_none = {"none", "no keys", 0, NULL, NULL},
+                      side_list = {"list", "listed", 0, list_keys, NULL}, side_twice = {"twice", "again", 0, on_keys, NULL};
+static const MicaType *const side_builtin[] = {&side_on, &side_none, &side_list, NULL};
+static MicaRegistry side = {"side", NULL, side_builtin, NULL, 0, NULL};
+static const MicaDeckKey side_base[] = {
+    {.path = "first", .type = MICA_KEY_INT, .def = "1", .min = 0, .max = 9, .help = "before"},
+    {.path = "out", .type = MICA_KEY_FRAGMENT, .min = 1, .max = 0, .registry = &side},
+    {.path = "last", .type = MICA_KEY_INT, .def = "2", .min = 0, .max = 9, .help = "after"},
+    {0}};
+
+static void test_registry_fragment(void **state) {
+  (void)state;
+  MicaSchema *schema = NULL;
+  assert_int_equal(mica_schema_compose(side_base, &schema), MICA_SUCCESS);
+  const MicaDeckKey *keys = mica_schema_keys(schema);
+  static const char *const order[] = {"first", "out.on", "out.items", "out.items.[].name", "last"};
+  static const char *const owner[] = {NULL, "on", "list", "list", NULL};
+  for (int i = 0; i < 5; i++) {
+    assert_non_null(keys[i].path);
+    assert_string_equal(keys[i].path, order[i]);
+    if (owner[i]) {
+      assert_string_equal(keys[i].owner, owner[i]);
+      assert_ptr_equal(keys[i].family, &side);
+    } else {
+      assert_null(keys[i].owner);
+    }
+    assert_null(keys[i].chooser);
+  }
+  assert_null(keys[5].path);
+  assert_string_equal(mica_schema_find(keys, "out.on")->help, "switch"); /* no "with ... =": nothing chooses */
+  mica_schema_destroy(&schema);
+  /* a type added at run time follows the built-in ones; one that declares a key again is refused */
+  static const MicaType side_more = {"more", "added", 0, c_keys, NULL};
+  assert_int_equal(mica_registry_add(&side, &side_more), MICA_SUCCESS);
+  assert_int_equal(mica_schema_compose(side_base, &schema), MICA_SUCCESS);
+  assert_string_equal(mica_schema_keys(schema)[4].path, "out.beta");
+  mica_schema_destroy(&schema);
+  assert_int_equal(mica_registry_add(&side, &side_twice), MICA_SUCCESS);
+  assert_int_equal(mica_schema_compose(side_base, &schema), MICA_ERR_ARGUMENT);
+  assert_null(schema);
+  free(side.added);
+  side.added = NULL, side.nadded = 0;
 }
 
 /* A reader with one setting, g.alpha = 7, or none. */
@@ -108,6 +161,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_compose_choices_and_defaults),
       cmocka_unit_test(test_type_float),
+      cmocka_unit_test(test_registry_fragment),
       cmocka_unit_test(test_families),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -11,6 +11,23 @@
 #include "mica/files.h"
 #include "run.h"
 
+MICA_SCHEMA_TABLES
+
+static const MicaDeckKey quadrature_fields_keys[] = {
+    {"quadrature_fields", MICA_KEY_BOOL, "false", 1.0, 0.0, NULL, 0, 0,
+     "write quadrature_fields.csv: one row per error-norm point (quadrature.error_order's own points when set, "
+     "else the solve's volume points): coordinates, weight w, every unknown and its gradient, energy density W "
+     "(over the solve's points Σ w W is the energy probe); summary: quadrature_fields_points, "
+     "quadrature_fields_energy. MPI: needs quadrature.error_order > 0, rank 0 writes"},
+    {NULL},
+};
+
+static int quadrature_fields_from_settings(const MicaType *type, const MicaSettings *settings, const char *group,
+                                           void *options) {
+  (void)type;
+  return mica_settings_bool(settings, group, "quadrature_fields", &((MicaOutput *)options)->enabled);
+}
+
 /* The model layout's column of geometric derivative J: the same, or for an axisymmetric section (r, z) the
  * 3-D gradient's columns r and z (run_output.c: to_model_layout). */
 static int gradient_column(const RunProblem *rp, int J) {
@@ -38,12 +55,13 @@ static void write_row(const RunProblem *rp, FILE *fp, const double *x, double w,
   fprintf(fp, ",%.17g\n", W);
 }
 
-int run_quadrature_fields_check(const MicaDeck *deck, const RunProblem *rp) {
-  int wanted;
+static int quadrature_fields_check(MicaOutputRun *run, void *ctx) {
+  (void)ctx;
+  const RunProblem *rp = run->rp;
+  const MicaDeck *deck = rp->deck;
   long error_order;
-  MICA_CALL(mica_deck_bool(deck, "output.quadrature_fields", &wanted));
   MICA_CALL(mica_deck_int(deck, "quadrature.error_order", &error_order));
-  if (!wanted || !rp->dist || error_order > 0) return MICA_SUCCESS;
+  if (!rp->dist || error_order > 0) return MICA_SUCCESS;
   char where[256];
   mica_deck_where(deck, "output.quadrature_fields", where, sizeof where);
   MICA_ERROR(MICA_ERR_INPUT,
@@ -53,17 +71,17 @@ int run_quadrature_fields_check(const MicaDeck *deck, const RunProblem *rp) {
 }
 
 /* Writes the rows (rank 0) and adds Σ w W and the row count to the summary (every rank computes them). */
-int run_quadrature_fields(RunProblem *rp, const char *outdir, const double *u, MicaJson *summary) {
-  int wanted;
-  MICA_CALL(mica_deck_bool(rp->deck, "output.quadrature_fields", &wanted));
-  if (!wanted) return MICA_SUCCESS;
+static int quadrature_fields_finish(MicaOutputRun *run, void *ctx, const double *u, MicaJson *summary) {
+  (void)ctx;
+  RunProblem *rp = run->rp;
+  const char *outdir = mica_output_dir(run);
   const MicaSolid *s = rp->solid;
   const MicaShapeCache *c = NULL;
   const double *qx = NULL, *qw = NULL;
   int whole = 0;
   MICA_CALL(run_error_points(rp, &c, &qx, &qw, &whole));
   MICA_CHECK(whole || !rp->dist, MICA_ERR_ARGUMENT, "run_quadrature_fields: points split among the ranks");
-  const int writer = mica_parallel_rank() == 0;
+  const int writer = mica_output_writer(run);
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
   if (writer) {
@@ -84,3 +102,10 @@ cleanup:
   mica_out_abort(&out);
   return ierr;
 }
+
+const MicaOutputOps run_output_quadrature_fields = {
+    .type = {"quadrature_fields", "the kinematic fields at the error-norm points (quadrature_fields.csv)",
+             MICA_OUTPUT_AT_END, quadrature_fields_keys, quadrature_fields_from_settings},
+    .check = quadrature_fields_check,
+    .finish = quadrature_fields_finish,
+};
