@@ -64,6 +64,7 @@ typedef struct RunProblem {
   int owns_geometry;            /* 1: disc and mls are this run's to free (else reuse keeps them) */
   int reused_geometry;          /* 1: disc and mls came from the previous run */
   RunEstimate estimate;         /* the cost guard's estimate (estimate.c), made before the discretization */
+  double *near_null;            /* solver.linear = "petsc": the rigid motions, [count][ndof] (run_linear.c) */
 } RunProblem;
 
 /* The dimension of the model's kinematics (3 for an axisymmetric section) and the deck's name of unknown c
@@ -146,7 +147,7 @@ int run_parallel_ranks(const RunProblem *rp, const MicaNewtonStats *stats, MicaJ
 
 /* The iterative linear solver (run_linear.c): solver.linear_rtol, .linear_max_iterations, .preconditioner
  * into opt->krylov; cg's iterations in the summary; the process's peak memory ("peak_memory", bytes). */
-int run_read_krylov(const MicaDeck *deck, MicaNewtonOptions *opt);
+int run_read_krylov(const MicaDeck *deck, RunProblem *rp, MicaNewtonOptions *opt);
 int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson *summary);
 int run_peak_memory(MicaJson *summary);
 
