@@ -76,6 +76,7 @@ typedef struct MicaKrylovOptions {
   /* petsc (linear_petsc.c): solver.petsc's preset and solver.petsc_options, applied over it */
   char petsc_preset[32];
   char petsc_options[1024];
+  char petsc_where[256];   /* where the deck set solver.petsc_options, for its errors */
   /* what the caller knows of the matrices, for the solvers that choose by it (petsc) */
   int spd;            /* symmetric positive definite: CG, Cholesky (else GMRES, LU) */
   int saddle;         /* Lagrange multipliers: a zero diagonal block (a saddle point) */

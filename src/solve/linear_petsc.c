@@ -285,9 +285,11 @@ static int create_matrix(PetscSolver *ps, const MicaSparse *L, const MicaKrylovO
   PCALL(MatSetOption(ps->A, MAT_ROW_ORIENTED, PETSC_FALSE));
   PCALL(MatSetOption(ps->A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   PCALL(MatSetOption(ps->A, MAT_SUBSET_OFF_PROC_ENTRIES, PETSC_TRUE));
+  /* symmetric, not MAT_SPD: a tangent positive definite at the start may turn indefinite under load, and MUMPS's
+   * Cholesky is then LDLᵀ with pivoting (its sym = 2), right either way; CG and CHOLMOD say so when it happens */
   if (k->spd) {
-    PCALL(MatSetOption(ps->A, MAT_SPD, PETSC_TRUE));
-    PCALL(MatSetOption(ps->A, MAT_SPD_ETERNAL, PETSC_TRUE));
+    PCALL(MatSetOption(ps->A, MAT_SYMMETRIC, PETSC_TRUE));
+    PCALL(MatSetOption(ps->A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
   }
   PCALL(MatCreateVecs(ps->A, &ps->x, &ps->b));
   PCALL(VecDuplicate(ps->b, &ps->r));
@@ -346,7 +348,7 @@ static int set_options(PetscSolver *ps, const MicaKrylovOptions *k) {
   if (code) {
     const char *text = NULL;
     PetscErrorMessage(code, &text, NULL);
-    MICA_ERROR(MICA_ERR_INPUT, "solver.petsc_options: PETSc cannot read \"%s\" (%s)", k->petsc_options,
+    MICA_ERROR(MICA_ERR_INPUT, "%s: PETSc cannot read \"%s\" (%s)", k->petsc_where, k->petsc_options,
                text ? text : "error");
   }
   return MICA_SUCCESS;
@@ -364,7 +366,7 @@ static int create_ksp(PetscSolver *ps, const MicaKrylovOptions *k) {
 }
 
 /* An option of the prefix PETSc has not used had no effect: a misspelling, or one the method does not read. */
-static int check_options_used(PetscSolver *ps) {
+static int check_options_used(PetscSolver *ps, const char *where) {
   PetscInt count = 0;
   char **names = NULL, **values = NULL, unused[512] = "";
   const size_t plen = strlen(ps->prefix);
@@ -377,9 +379,8 @@ static int check_options_used(PetscSolver *ps) {
   }
   PCALL(PetscOptionsLeftRestore(NULL, &count, &names, &values));
   MICA_CHECK(!unused[0], MICA_ERR_INPUT,
-             "solver.petsc_options: PETSc did not use %s: misspelled, or without effect under the chosen method "
-             "(solver.petsc and solver.petsc_options)",
-             unused);
+             "%s: PETSc did not use %s: misspelled, or without effect under the chosen method (solver.petsc and "
+             "solver.petsc_options)", where[0] ? where : "solver.petsc_options", unused);
   return MICA_SUCCESS;
 }
 
@@ -452,7 +453,7 @@ static int petsc_solve(MicaLinearSolver *solver, const double *b, double *x) {
   PetscInt its;
   PCALL(KSPGetConvergedReason(ps->ksp, &reason));
   PCALL(KSPGetIterationNumber(ps->ksp, &its));
-  if (!ps->solved) MICA_CALL(check_options_used(ps));
+  if (!ps->solved) MICA_CALL(check_options_used(ps, solver->krylov.petsc_where));
   ps->solved = 1;
   if (reason < 0) return report_divergence(ps, reason, its);
   PetscReal bnorm, rnorm; /* the true residual, once */
@@ -507,6 +508,7 @@ static int petsc_from_settings(const MicaType *type, const MicaSettings *setting
              "%s: solver.petsc = \"none\" takes the method from solver.petsc_options alone, which is empty", where);
   snprintf(k->petsc_preset, sizeof k->petsc_preset, "%s", preset);
   snprintf(k->petsc_options, sizeof k->petsc_options, "%s", text);
+  snprintf(k->petsc_where, sizeof k->petsc_where, "%s", where);
   const Preset *p = find_preset(preset);
   mica_settings_where(settings, group, "petsc", where, sizeof where);
   MICA_CHECK(p && ((k->spd && p->spd) || p->general), MICA_ERR_INPUT,
