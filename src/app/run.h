@@ -23,7 +23,9 @@ typedef struct RunEstimate {
   double particles, points, boundary_points, support, dofs, nnz, factor_entries;
   double cache_bytes, matrix_bytes, factor_bytes, bytes; /* bytes: the peak of a run, with a safety factor */
   double seconds;              /* rough: shape functions, one assembly and one factorization */
-  const char *solver;          /* "cholmod", "umfpack" or "cg" (what solver.linear = "auto" would take) */
+  const char *solver;          /* "cholmod", "umfpack" or "cg" (what solver.linear = "auto" would take), "petsc"
+                                  (a direct method: MUMPS's factor estimated like CHOLMOD's) or "petsc-iterative" */
+  int petsc_copy;              /* solver.linear = "petsc": PETSc's copy of the matrix */
 } RunEstimate;
 /* From a built-in shape's counts (disc NULL) or a discretization's (a Gmsh mesh). */
 int run_estimate(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,

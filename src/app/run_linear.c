@@ -49,6 +49,11 @@ int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson
     return MICA_SUCCESS;
   if (rp->dist && rp->dist->opt.solver == MICA_PARALLEL_SCHWARZ) return MICA_SUCCESS;
   const MicaLinearSolverStats *ls = &st->linear;
+  if (mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED)) {
+    const char *method;
+    MICA_CALL(mica_deck_string(rp->deck, "solver.petsc", &method));
+    MICA_CALL(mica_json_string(summary, "petsc_method", method));
+  }
   MICA_CALL(mica_json_int(summary, "krylov_solves", ls->solves));
   MICA_CALL(mica_json_int(summary, "krylov_iterations", ls->krylov_iterations));
   MICA_CALL(mica_json_int(summary, "krylov_iterations_max", ls->krylov_iterations_max));
