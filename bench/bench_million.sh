@@ -27,7 +27,7 @@ echo "million: ${N}^3 particles ($((3 * N * N * N)) dofs), needs about $need_gb 
 if awk -v a="$avail_gb" -v b="$need_gb" 'BEGIN { exit !(a < b) }'; then
   echo "million: not enough free memory for this size; set MILLION_N lower"; exit 1
 fi
-cmd=("$MICA" run input/cube3d_million.cfg -o "$out" --set parameters.n="$N" --set solver.preconditioner=\""$PC"\")
+cmd=("$MICA" run input/cube3d_million.cfg -o "$out/results" --set parameters.n="$N" --set solver.preconditioner=\""$PC"\")
 if [ -n "$PETSC" ]; then # the deck's cg settings replaced by petsc's (solver.preconditioner is cg's own)
   sed 's/linear = "cg"; preconditioner = "jacobi";/linear = "petsc";/' input/cube3d_million.cfg > "$out/deck.cfg"
   cmd=("$MICA" run "$out/deck.cfg" -o "$out/results" --set parameters.n="$N" --set solver.petsc=\""$PETSC"\"
@@ -43,7 +43,7 @@ echo "command: ${cmd[*]}"
 start=$(date +%s.%N)
 "${cmd[@]}" > "$out/log" 2>&1 || { echo "million: the run failed:"; tail -n 5 "$out/log"; exit 1; }
 wall=$(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN { printf "%.1f", e - s }')
-s="$out/summary.json"; [ -n "$PETSC" ] && s="$out/results/summary.json"
+s="$out/results/summary.json" # beside the log: mica replaces its output directory whole
 v() { sed -n "s/^ *\"$1\": *\"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$s" | head -n 1; }
 grep -E "particles,|cg \(|petsc \(|schwarz-cg|relative errors|peak memory" "$out/log"
 printf '%-24s %s\n' dofs "$(v dofs)" nnz "$(v nnz)" "matrix MB" "$(awk -v b="$(v matrix_bytes)" 'BEGIN { printf "%.0f", b / 1e6 }')" \

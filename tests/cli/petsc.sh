@@ -112,3 +112,24 @@ expect_failure 2 "solver.parallel has no effect with solver.linear = \"petsc\"" 
 prun 2 "$work/cube_none_2" input/cube3d.cfg "${cube[@]}" "${P[@]}" --set solver.petsc=none \
   --set 'solver.petsc_options="-ksp_type cg -pc_type bjacobi -sub_pc_type icc"'
 compare "$work/cube" "$work/cube_none_2" 1e-7 corner_ux
+
+# reuse across Newton iterations (Cook: 4 load steps, 20 factorizations): PETSc's own event counts (-log_view,
+# through PETSC_OPTIONS, PETSc's global debugging aid) — one symbolic factorization (MUMPS; CHOLMOD in each ASM
+# subdomain) and one GAMG graph (coarsening) and prolongator, numeric work at every Newton iteration
+# count_event LOG EVENT: the event's count (the column after its name)
+count_event() { awk -v e="$2" '$1 == e { print $2; exit }' "$1"; }
+for preset in mumps asm-cholmod gamg; do
+  log="$work/log_$preset.txt"
+  PETSC_OPTIONS="-log_view :$log" prun 2 "$work/reuse_$preset" input/cook_neohooke.cfg "${cook[@]}" "${P[@]}" \
+    --set solver.petsc=$preset
+  factorizations=$(json_value factorizations "$work/reuse_$preset/summary.json")
+  at_least "$factorizations" 10 "$preset: Newton factorizations"
+  case $preset in
+    gamg) [ "$(count_event "$log" PCGAMGProl)" = 1 ] && [ "$(count_event "$log" PCGAMGCreateG)" = 1 ] \
+            || fail "$preset: prolongator built $(count_event "$log" PCGAMGProl) times for $factorizations setups"
+          ok "$preset, 2 ranks: one graph and prolongator for $factorizations setups" ;;
+    *) [ "$(count_event "$log" MatCholFctrSym)" = 1 ] && [ "$(count_event "$log" MatCholFctrNum)" = "$factorizations" ] \
+         || fail "$preset: $(count_event "$log" MatCholFctrSym) symbolic, $(count_event "$log" MatCholFctrNum) numeric factorizations for $factorizations"
+       ok "$preset, 2 ranks: one symbolic factorization, $factorizations numeric ones" ;;
+  esac
+done
