@@ -8,7 +8,8 @@
  *
  * Values: each rank adds its own contributions (its MicaSparse: the quadrature points it owns, in full numbering)
  * with MatSetValues(ADD_VALUES); PETSc moves the entries of rows other ranks own. The matrix is preallocated
- * exactly, once per pattern, by passing the same insertions through a MATPREALLOCATOR first. Every column of a
+ * exactly, once per pattern: on several ranks by passing the same insertions through a MATPREALLOCATOR first, on
+ * one from the column lengths (the pattern is symmetric). Every column of a
  * node has the same rows (the pattern couples nodes), so the ndof columns of a node are one dense column-major
  * block of the CSC values: one MatSetValues per node and rank, no copy. Later factorizations zero the values and
  * add them again into the same pattern; PETSc then sees a changed matrix with the same nonzero structure, and its
@@ -267,7 +268,21 @@ static int add_contributions(PetscSolver *ps, Mat M, const MicaSparse *L) {
   return MICA_SUCCESS;
 }
 
-static int create_matrix(PetscSolver *ps, const MicaSparse *L, const MicaKrylovOptions *k) {
+/* One process: row i's entries are column i's (the pattern of cliques is symmetric), so the exact preallocation
+ * is the column lengths, in PETSc's numbering (the identity there). */
+static int preallocate_serial(PetscSolver *ps, const MicaSparse *L) {
+  PetscInt *row_nnz = NULL;
+  MICA_CALL(MICA_MALLOC(row_nnz, ps->n));
+  for (long j = 0; j < ps->n; j++) row_nnz[ps->row_of_dof[j]] = (PetscInt)(L->colptr[j + 1] - L->colptr[j]);
+  PetscErrorCode code = MatSeqAIJSetPreallocation(ps->A, 0, row_nnz);
+  free(row_nnz);
+  PCALL(code);
+  return MICA_SUCCESS;
+}
+
+/* Several: rows receive other ranks' contributions, which only the insertions know; a MATPREALLOCATOR is given
+ * the same insertions (values ignored) and counts them exactly, off-rank rows included. */
+static int preallocate_distributed(PetscSolver *ps, const MicaSparse *L) {
   const PetscInt N = (PetscInt)ps->n;
   Mat pre;
   PCALL(MatCreate(ps->comm, &pre));
@@ -283,12 +298,18 @@ static int create_matrix(PetscSolver *ps, const MicaSparse *L, const MicaKrylovO
   }
   PCALL(MatAssemblyBegin(pre, MAT_FINAL_ASSEMBLY));
   PCALL(MatAssemblyEnd(pre, MAT_FINAL_ASSEMBLY));
+  PCALL(MatPreallocatorPreallocate(pre, PETSC_TRUE, ps->A));
+  PCALL(MatDestroy(&pre));
+  return MICA_SUCCESS;
+}
+
+static int create_matrix(PetscSolver *ps, const MicaSparse *L, const MicaKrylovOptions *k) {
+  const PetscInt N = (PetscInt)ps->n;
   PCALL(MatCreate(ps->comm, &ps->A));
   PCALL(MatSetType(ps->A, MATAIJ));
   PCALL(MatSetSizes(ps->A, ps->nlocal, ps->nlocal, N, N));
   PCALL(MatSetBlockSize(ps->A, ps->ndof));
-  PCALL(MatPreallocatorPreallocate(pre, PETSC_TRUE, ps->A));
-  PCALL(MatDestroy(&pre));
+  MICA_CALL(ps->size == 1 ? preallocate_serial(ps, L) : preallocate_distributed(ps, L));
   PCALL(MatSetOption(ps->A, MAT_ROW_ORIENTED, PETSC_FALSE));
   PCALL(MatSetOption(ps->A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   PCALL(MatSetOption(ps->A, MAT_SUBSET_OFF_PROC_ENTRIES, PETSC_TRUE));
