@@ -17,6 +17,9 @@ export TMPDIR="$work/tmp"
 MPIRUN=(timeout 300 mpirun --oversubscribe)
 [ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
 mpi_leak_checks
+# a serial petsc run starts MPI too (PetscInitialize), so its leak check needs the slow unwinder for
+# tests/lsan.supp to recognize OpenMPI's allocations, as the ranks do (mpi_leak_checks)
+[ "${SAN:-}" = 1 ] && export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$PWD/tests/lsan.supp:print_suppressions=0}:fast_unwind_on_malloc=0"
 
 # compare SERIAL OTHER TOL KEY...: each key of OTHER's summary within TOL (relative) of SERIAL's
 compare() {
