@@ -12,7 +12,7 @@
 # `sudo bash tests/fresh_machine.sh` checks that make run and make test work on a fresh minimal Debian 12.
 
 DEB_PKGS := libsuitesparse-dev liblapacke-dev libopenblas-dev libopenmpi-dev openmpi-bin libmetis-dev \
-            libconfig-dev libcmocka-dev gnuplot-nox libmatheval-dev libgmsh-dev python3
+            libconfig-dev libcmocka-dev gnuplot-nox libmatheval-dev libgmsh-dev python3 petsc-dev pkg-config
 
 # The C compiler: mpicc and the tests' reference programs run gcc, which libopenmpi-dev does not pull in
 # (only gcc-12, without the gcc command).
@@ -22,8 +22,13 @@ CC := mpicc
 CSTD := -std=c11 -D_POSIX_C_SOURCE=200809L
 WARN := -Wall -Wextra
 OPT ?= -O2 -g
-CPPFLAGS := -Iinclude -I/usr/include/suitesparse
-LDLIBS := -lmetis -lconfig -lmatheval -lcholmod -lumfpack -lsuitesparseconfig -llapacke -llapack -lblas -lm
+# PETSc (src/solve/linear_petsc.c) from pkg-config; its headers as system headers, so -Wall -Wextra judge mica's
+# code only. Recursive (=): asked when a recipe runs, after `make deps` has installed petsc-dev in the same make
+# (make run on a fresh machine); pkg-config runs once per compile, a few milliseconds.
+PETSC_CFLAGS = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags PETSc))
+PETSC_LIBS = $(shell pkg-config --libs PETSc)
+CPPFLAGS = -Iinclude -I/usr/include/suitesparse $(PETSC_CFLAGS)
+LDLIBS = $(PETSC_LIBS) -lmetis -lconfig -lmatheval -lcholmod -lumfpack -lsuitesparseconfig -llapacke -llapack -lblas -lm
 
 ifeq ($(SAN),1)
   OUT := build-san

@@ -6,7 +6,9 @@
 #   bash bench/bench_million.sh run     (without "run", as `make bench` calls it, it only says how to run it)
 #   MILLION_N=70       particles per side (33: 1.1·10⁵ dofs, about a minute)
 #   MILLION_PC=jacobi  solver.preconditioner (jacobi | sgs)
-#   MILLION_NP=1       MPI ranks (> 1: mpirun, solver.parallel = schwarz)
+#   MILLION_NP=1       MPI ranks (> 1: mpirun, solver.parallel = schwarz; with petsc, PETSc's own distribution)
+#   MILLION_PETSC=     a solver.petsc preset (gamg, hypre, ...): solver.linear = "petsc" instead of cg, with
+#                      MILLION_PETSC_OPTIONS as solver.petsc_options (issue 19; docs/performance.md)
 set -u
 cd "$(dirname "$0")/.."
 if [ "${1:-}" != run ]; then
@@ -14,8 +16,9 @@ if [ "${1:-}" != run ]; then
   exit 0
 fi
 MICA=${MICA_BIN:-bin/mica}
-N=${MILLION_N:-70} PC=${MILLION_PC:-jacobi} NP=${MILLION_NP:-1}
-out=${OUT_DIR:-build/bench-out}/million_${N}_${PC}_np$NP
+N=${MILLION_N:-70} PC=${MILLION_PC:-jacobi} NP=${MILLION_NP:-1} PETSC=${MILLION_PETSC:-}
+PETSC_OPTIONS=${MILLION_PETSC_OPTIONS:-}
+out=${OUT_DIR:-build/bench-out}/million_${N}_${PETSC:-$PC}_np$NP
 mkdir -p "$out"
 need_gb=$(awk -v n="$N" 'BEGIN { printf "%.1f", n * n * n * 19e3 / 1e9 * 1.1 }') # measured 18.7 KB per particle at 33^3
 avail_gb=$(awk '/MemAvailable/ { printf "%.1f", $2 / 1e6 }' /proc/meminfo)
@@ -24,22 +27,28 @@ echo "million: ${N}^3 particles ($((3 * N * N * N)) dofs), needs about $need_gb 
 if awk -v a="$avail_gb" -v b="$need_gb" 'BEGIN { exit !(a < b) }'; then
   echo "million: not enough free memory for this size; set MILLION_N lower"; exit 1
 fi
-cmd=("$MICA" run input/cube3d_million.cfg -o "$out" --set parameters.n="$N" --set solver.preconditioner=\""$PC"\")
+cmd=("$MICA" run input/cube3d_million.cfg -o "$out/results" --set parameters.n="$N" --set solver.preconditioner=\""$PC"\")
+if [ -n "$PETSC" ]; then # the deck's cg settings replaced by petsc's (solver.preconditioner is cg's own)
+  sed 's/linear = "cg"; preconditioner = "jacobi";/linear = "petsc";/' input/cube3d_million.cfg > "$out/deck.cfg"
+  cmd=("$MICA" run "$out/deck.cfg" -o "$out/results" --set parameters.n="$N" --set solver.petsc=\""$PETSC"\"
+       --set solver.petsc_options=\""$PETSC_OPTIONS"\")
+fi
 if [ "$NP" -gt 1 ]; then
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm_rsh_agent=false
   mpi=(mpirun --oversubscribe -np "$NP"); [ "$(id -u)" = 0 ] && mpi+=(--allow-run-as-root)
-  cmd=("${mpi[@]}" "${cmd[@]}" --set solver.parallel=\"schwarz\" --set solver.overlap=1)
+  cmd=("${mpi[@]}" "${cmd[@]}")
+  [ -z "$PETSC" ] && cmd+=(--set solver.parallel=\"schwarz\" --set solver.overlap=1)
 fi
 echo "command: ${cmd[*]}"
 start=$(date +%s.%N)
 "${cmd[@]}" > "$out/log" 2>&1 || { echo "million: the run failed:"; tail -n 5 "$out/log"; exit 1; }
 wall=$(awk -v s="$start" -v e="$(date +%s.%N)" 'BEGIN { printf "%.1f", e - s }')
-s="$out/summary.json"
+s="$out/results/summary.json" # beside the log: mica replaces its output directory whole
 v() { sed -n "s/^ *\"$1\": *\"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$s" | head -n 1; }
-grep -E "particles,|cg \(|schwarz-cg|relative errors|peak memory" "$out/log"
+grep -E "particles,|cg \(|petsc \(|schwarz-cg|relative errors|peak memory" "$out/log"
 printf '%-24s %s\n' dofs "$(v dofs)" nnz "$(v nnz)" "matrix MB" "$(awk -v b="$(v matrix_bytes)" 'BEGIN { printf "%.0f", b / 1e6 }')" \
   "cache MB" "$(awk -v b="$(v cache_bytes)" 'BEGIN { printf "%.0f", b / 1e6 }')"
-for k in time_discretize time_mls_setup time_cache_and_pattern time_assemble time_factor time_solve time_newton; do
+for k in time_discretize time_mls_setup time_cache_and_pattern time_assemble time_analyze time_factor time_solve time_newton; do
   printf '%-24s %8.1f s\n' "$k" "$(v $k)"
 done
 for k in cpu_cache_and_pattern cpu_assemble cpu_krylov; do printf '%-24s %8.1f s\n' "$k" "$(v $k)"; done

@@ -18,6 +18,14 @@ extern const MicaBoundaryMethodOps mica_bc_penalty, mica_bc_nitsche, mica_bc_lag
  * move freely: N rigid modes are not held (...); add Dirichlet conditions on ...". */
 int mica_dirichlet_check_rigid(const MicaDiscretization *disc, int axisymmetric, int ncomp, const char *const *names,
                                int ndirichlet, const MicaDirichlet *dirichlet, const char *where);
+/* The rigid motions themselves, as vectors over n unknowns (nparticles particles at x[nparticles*dim], ncomp
+ * unknowns each, node-major; the unknowns beyond the particles', multipliers, are 0): the near-null space of an
+ * unconstrained tangent, for algebraic multigrid. Translations are 1 in their component; a rotation about axis k
+ * through the particles' centroid is u = e_k × (x − x0) / L with φ_k = 1 / L (its micro-rotation turns with it),
+ * L the particles' extent. Unknowns other than displacements and micro-rotations (micromorph, strain gradient)
+ * are 0 in every motion. *modes: [*count][n], MICA_MALLOC'ed, the caller's to free. */
+int mica_rigid_motions(const double *x, long nparticles, int dim, int axisymmetric, int ncomp,
+                       const char *const *names, long n, int *count, double **modes);
 const MicaBoundaryMethodOps *mica_bc_method_find(const char *name);
 /* The method chosen by bc.method and its own settings (bc.alpha: penalty and nitsche, each with its default,
  * read by the type's from_settings) into opt (bc_method, bc_alpha: 0 for a method without one). */

@@ -10,6 +10,8 @@
 #ifndef MICA_SPARSE_H
 #define MICA_SPARSE_H
 
+#include <mpi.h>
+
 #include "mica/error.h"
 #include "mica/registry.h"
 
@@ -76,6 +78,15 @@ typedef struct MicaKrylovOptions {
   int max_iterations; /* per solve (default 10000) */
   MicaPreconditioner preconditioner;
   int verbose;        /* one line per solve */
+  /* petsc (linear_petsc.c): solver.petsc's preset and solver.petsc_options, applied over it */
+  char petsc_preset[32];
+  char petsc_options[1024];
+  char petsc_where[256];   /* where the deck set solver.petsc_options, for its errors */
+  /* what the caller knows of the matrices, for the solvers that choose by it (petsc) */
+  int spd;            /* symmetric positive definite: CG, Cholesky (else GMRES, LU) */
+  int saddle;         /* Lagrange multipliers: a zero diagonal block (a saddle point) */
+  int near_null_count; /* near-null space (rigid motions) for algebraic multigrid: */
+  const double *near_null; /* [near_null_count][n] in mica's numbering, borrowed; NULL: none */
 } MicaKrylovOptions;
 
 typedef struct MicaLinearSolver MicaLinearSolver;
@@ -84,8 +95,19 @@ typedef struct MicaLinearSolver MicaLinearSolver;
  * solver.preconditioner) are read by its type.from_settings into a MicaKrylovOptions. */
 enum {
   MICA_LINEAR_SPD_ONLY = 1u << 0, /* symmetric positive definite matrices only (cholmod, cg) */
-  MICA_LINEAR_ITERATIVE = 1u << 1 /* iterates to a tolerance instead of factoring (cg) */
+  MICA_LINEAR_ITERATIVE = 1u << 1, /* iterates to a tolerance instead of factoring (cg) */
+  /* solves across the ranks itself from each rank's own contributions (petsc): under MPI it is given the ranks'
+   * layout (mica_linear_solver_set_layout) instead of being wrapped in a gather or Schwarz solver */
+  MICA_LINEAR_DISTRIBUTED = 1u << 2
 };
+
+/* Which rank owns the rows of each node, for a MICA_LINEAR_DISTRIBUTED solver (default: MPI_COMM_SELF, every
+ * node on rank 0). node_owner is borrowed and must outlive the solver. */
+typedef struct MicaLinearLayout {
+  MPI_Comm comm;
+  long nnodes;
+  const int *node_owner; /* [nnodes] ranks of comm; NULL: all on rank 0 */
+} MicaLinearLayout;
 
 typedef struct MicaLinearSolverOps {
   MicaType type; /* "cholmod" (supernodal Cholesky), "umfpack" (LU), "cg"; flags MICA_LINEAR_* */
@@ -103,11 +125,20 @@ struct MicaLinearSolver {
   void *data;
   MicaLinearSolverStats stats;
   MicaKrylovOptions krylov; /* read by the iterative solvers only */
+  MicaLinearLayout layout;  /* read by the distributed solvers only */
 };
 
 /* "cg": preconditioned conjugate gradients (linear_cg.c) for symmetric positive definite matrices, no
  * factorization: O(n) memory besides the matrix; MICA_ERR_NUMERIC when pᵀAp ≤ 0 or not converged. */
 extern const MicaLinearSolverOps mica_linear_cholmod, mica_linear_umfpack, mica_linear_cg;
+/* "petsc": PETSc's KSP on a distributed AIJ matrix (linear_petsc.c), serial or under MPI; solver.petsc and
+ * solver.petsc_options choose the method (MUMPS, GAMG, hypre, ASM or block Jacobi with CHOLMOD/UMFPACK). */
+extern const MicaLinearSolverOps mica_linear_petsc;
+/* PETSc for the whole program: PetscInitialize once (idempotent; after MPI_Init under mpirun, collective on
+ * MPI_COMM_WORLD), PETSc's signal handler off, its errors returned, not printed; finalize at the end (a no-op if
+ * it never started). A serial run starts it when it first creates a petsc solver. */
+int mica_petsc_initialize(void);
+void mica_petsc_finalize(void);
 /* cholmod, umfpack, cg (linear_solver.c). The deck's solver.linear also offers "auto", its default: CHOLMOD
  * for symmetric positive definite tangents, UMFPACK otherwise (the registry's default is the former). */
 extern MicaRegistry mica_linear_solver_registry;
@@ -122,6 +153,8 @@ int mica_linear_solver_solve(MicaLinearSolver *solver, const double *b, double *
 int mica_linear_solver_destroy(MicaLinearSolver **solver);
 /* The iterative solvers' settings (copied; direct solvers ignore them). */
 int mica_linear_solver_set_krylov(MicaLinearSolver *solver, const MicaKrylovOptions *opt);
+/* The ranks' layout for a distributed solver (copied; the owner array is borrowed). Before the first factor. */
+int mica_linear_solver_set_layout(MicaLinearSolver *solver, const MicaLinearLayout *layout);
 /* 1 for solvers that iterate to a tolerance instead of factoring (cg): the MICA_LINEAR_ITERATIVE flag. */
 int mica_linear_solver_iterative(const MicaLinearSolverOps *ops);
 

@@ -141,6 +141,12 @@ static int read_solver(const MicaDeck *deck, RunEstimate *est) {
   MICA_CALL(mica_registry_get(&mica_bc_method_registry, bc, &method));
   const int spd = mica_type_has(method, MICA_BC_SYMMETRIC_DEFINITE) && !vci;
   est->solver = strcmp(linear, "auto") ? linear : spd ? "cholmod" : "umfpack";
+  if (!strcmp(linear, "petsc")) { /* its own copy of the matrix; a factor only with a direct method */
+    const char *method;
+    MICA_CALL(mica_deck_string(deck, "solver.petsc", &method));
+    est->petsc_copy = 1;
+    est->solver = !strcmp(method, "mumps") || !strcmp(method, "none") ? "petsc" : "petsc-iterative";
+  }
   return MICA_SUCCESS;
 }
 
@@ -154,10 +160,11 @@ static void estimate_cost(int dim, int ncomp, int second, double coupled, RunEst
   est->matrix_bytes = est->nnz * 16 + est->dofs * 8;
   const double n = est->dofs, per_row = est->nnz / fmax(n, 1);
   est->factor_entries = 0;
-  if (strcmp(est->solver, "cg") != 0)
+  if (strcmp(est->solver, "cg") != 0 && strcmp(est->solver, "petsc-iterative") != 0)
     est->factor_entries = fmin(n * per_row * (dim == 3 ? FILL_3D * cbrt(n) : fmax(FILL_2D_SLOPE * log2(fmax(n, 2)) - FILL_2D_OFFSET, 1)), n * (n + 1) / 2);
   const double per_entry = !strcmp(est->solver, "umfpack") ? UMFPACK_BYTES : CHOLMOD_BYTES;
-  est->factor_bytes = est->factor_entries * per_entry;
+  /* PETSc's AIJ copy (8-byte values, 4-byte column indices) and, for multigrid, about half that again */
+  est->factor_bytes = est->factor_entries * per_entry + (est->petsc_copy ? est->nnz * 12 * 1.5 : 0);
   const double vectors = est->dofs * 8 * 16 + P * 8 * (dim + 8); /* Newton's vectors, particles, search */
   est->bytes = BASE_BYTES + (est->cache_bytes + est->matrix_bytes + est->factor_bytes + vectors) *
                                 ESTIMATE_SAFETY_PERCENT / 100;

@@ -202,6 +202,8 @@ void run_problem_free(RunProblem *rp) {
   if (reuse && !reuse->at_mesh && !rp->owns_geometry) reuse->at_mesh = rp->at_mesh, rp->at_mesh = NULL;
   mica_solid_destroy(&rp->solid);
   mica_distribution_destroy(&rp->dist);
+  free(rp->near_null);
+  rp->near_null = NULL;
   mica_shape_cache_destroy(&rp->at_particles);
   mica_shape_cache_destroy(&rp->at_mesh);
   if (rp->owns_geometry) {
@@ -220,7 +222,8 @@ void run_problem_free(RunProblem *rp) {
 
 /* ---- the commands --------------------------------------------------------------------------------------- */
 
-static int read_newton(const MicaDeck *deck, const MicaSolid *s, MicaNewtonOptions *opt) {
+static int read_newton(const MicaDeck *deck, RunProblem *rp, MicaNewtonOptions *opt) {
+  const MicaSolid *s = rp->solid;
   long steps, iterations, cuts;
   const char *linear;
   memset(opt, 0, sizeof *opt);
@@ -242,7 +245,7 @@ static int read_newton(const MicaDeck *deck, const MicaSolid *s, MicaNewtonOptio
              "use \"umfpack\" or \"auto\"", where,
              spd_only && mica_linear_solver_iterative(opt->linear) ? "cg" : "CHOLMOD",
              s->opt.bc_method->type.name, s->opt.vci ? " with quadrature.vci (unsymmetric: Petrov–Galerkin)" : "");
-  return run_read_krylov(deck, opt);
+  return run_read_krylov(deck, rp, opt);
 }
 
 static int add_newton_stats(const MicaNewtonStats *st, MicaJson *summary) {
@@ -342,7 +345,7 @@ int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summar
   memset(&out, 0, sizeof out);
   RunTotals totals;
   MICA_CALL_CLEANUP(run_problem_prepare(deck, &rp, reuse, outdir, &out, &totals, summary));
-  MICA_CALL_CLEANUP(read_newton(deck, rp.solid, &nopt));
+  MICA_CALL_CLEANUP(read_newton(deck, &rp, &nopt));
   MICA_CALL_CLEANUP(MICA_CALLOC(u, rp.solid->ndof));
   const double start = mica_wtime();
   ierr = mica_newton_solve(rp.solid, &nopt, u, run_output_step, &out, &stats);

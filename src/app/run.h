@@ -24,7 +24,9 @@ typedef struct RunEstimate {
   double particles, points, boundary_points, support, dofs, nnz, factor_entries;
   double cache_bytes, matrix_bytes, factor_bytes, bytes; /* bytes: the peak of a run, with a safety factor */
   double seconds;              /* rough: shape functions, one assembly and one factorization */
-  const char *solver;          /* "cholmod", "umfpack" or "cg" (what solver.linear = "auto" would take) */
+  const char *solver;          /* "cholmod", "umfpack" or "cg" (what solver.linear = "auto" would take), "petsc"
+                                  (a direct method: MUMPS's factor estimated like CHOLMOD's) or "petsc-iterative" */
+  int petsc_copy;              /* solver.linear = "petsc": PETSc's copy of the matrix */
 } RunEstimate;
 /* From a built-in shape's counts (disc NULL) or a discretization's (a Gmsh mesh). */
 int run_estimate(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
@@ -65,6 +67,7 @@ typedef struct RunProblem {
   int owns_geometry;            /* 1: disc and mls are this run's to free (else reuse keeps them) */
   int reused_geometry;          /* 1: disc and mls came from the previous run */
   RunEstimate estimate;         /* the cost guard's estimate (estimate.c), made before the discretization */
+  double *near_null;            /* solver.linear = "petsc": the rigid motions, [count][ndof] (run_linear.c) */
 } RunProblem;
 
 /* The dimension of the model's kinematics (3 for an axisymmetric section) and the deck's name of unknown c
@@ -165,7 +168,7 @@ int run_problem_prepare(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse, c
 
 /* The iterative linear solver (run_linear.c): solver.linear_rtol, .linear_max_iterations, .preconditioner
  * into opt->krylov; cg's iterations in the summary; the process's peak memory ("peak_memory", bytes). */
-int run_read_krylov(const MicaDeck *deck, MicaNewtonOptions *opt);
+int run_read_krylov(const MicaDeck *deck, RunProblem *rp, MicaNewtonOptions *opt);
 int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson *summary);
 int run_peak_memory(MicaJson *summary);
 

@@ -7,6 +7,24 @@
 
 #include "run.h"
 
+/* A solver that distributes the matrix itself (petsc) is neither gathered nor wrapped in Schwarz: the keys that
+ * choose those would have no effect. */
+static int check_distributed_solver(const MicaDeck *deck) {
+  const char *linear;
+  MICA_CALL(mica_deck_string(deck, "solver.linear", &linear));
+  const MicaLinearSolverOps *ops = mica_linear_solver_find(linear);
+  if (!ops || !mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED)) return MICA_SUCCESS;
+  const char *keys[] = {"solver.parallel", "solver.overlap"};
+  for (int k = 0; k < 2; k++) {
+    if (!mica_deck_given(deck, keys[k])) continue;
+    char where[256];
+    mica_deck_where(deck, keys[k], where, sizeof where);
+    MICA_ERROR(MICA_ERR_INPUT, "%s: %s has no effect with solver.linear = \"%s\", which distributes the matrix over "
+               "the ranks itself (solver.petsc chooses its method); remove it", where, keys[k], linear);
+  }
+  return MICA_SUCCESS;
+}
+
 int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
   MicaParallelOptions opt;
   const char *kind;
@@ -17,6 +35,7 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
   MICA_CALL(mica_deck_float(deck, "solver.linear_rtol", &opt.rtol));
   MICA_CALL(mica_deck_int(deck, "solver.linear_max_iterations", &iterations));
   MICA_CALL(mica_deck_bool(deck, "output.monitor", &opt.verbose));
+  MICA_CALL(check_distributed_solver(deck));
   opt.solver = strcmp(kind, "schwarz") ? MICA_PARALLEL_GATHER : MICA_PARALLEL_SCHWARZ;
   opt.overlap = (int)overlap;
   opt.max_iterations = (int)iterations;
@@ -42,7 +61,12 @@ int run_parallel_totals(const RunProblem *rp, RunTotals *c) {
 int run_parallel_counts(const RunProblem *rp, MicaJson *summary) {
   const MicaDistribution *d = rp->dist;
   if (!d) return MICA_SUCCESS;
-  MICA_CALL(mica_json_string(summary, "parallel_solver", d->opt.solver == MICA_PARALLEL_SCHWARZ ? "schwarz" : "gather"));
+  const char *linear;
+  MICA_CALL(mica_deck_string(rp->deck, "solver.linear", &linear));
+  const MicaLinearSolverOps *ops = mica_linear_solver_find(linear);
+  const int distributed = ops && mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED);
+  MICA_CALL(mica_json_string(summary, "parallel_solver",
+                             distributed ? linear : d->opt.solver == MICA_PARALLEL_SCHWARZ ? "schwarz" : "gather"));
   MICA_CALL(mica_json_int(summary, "edge_cut", d->partition->edge_cut));
   MICA_CALL(mica_json_number(summary, "imbalance", d->partition->imbalance));
   MICA_CALL(mica_json_int(summary, "points_per_rank_min", d->stats.min_owned_points));

@@ -213,3 +213,38 @@ int mica_dirichlet_check_rigid(const MicaDiscretization *disc, int axisymmetric,
   if (!nfree) return MICA_SUCCESS;
   return report_free(&M, Z, is_free, nfree, names, where);
 }
+
+/* A micro-rotation turns with the rigid rotation of the displacements: φ_k = 1 / L beside u = e_k × (x − x0) / L
+ * (mode_value's φ = 1 only says which components a rotation moves, which is all the check needs). */
+static double motion_value(const RigidModes *M, int j, int c, const double *x, const char *name) {
+  if (name[0] != 'u' && strncmp(name, "phi", 3)) return 0.0;
+  const double v = mode_value(M, j, c, x);
+  return M->comp[c].kind == 'p' && M->rotation[j] ? v / M->length : v;
+}
+
+int mica_rigid_motions(const double *x, long nparticles, int dim, int axisymmetric, int ncomp,
+                       const char *const *names, long n, int *count, double **modes) {
+  MICA_CHECK(x && names && count && modes && n >= nparticles * ncomp, MICA_ERR_ARGUMENT,
+             "mica_rigid_motions: bad argument");
+  RigidModes M;
+  memset(&M, 0, sizeof M);
+  M.ncomp = ncomp, M.dim = dim, M.axisymmetric = axisymmetric;
+  parse_components(&M, names);
+  list_modes(&M);
+  double lower[3] = {INFINITY, INFINITY, INFINITY}, upper[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (long p = 0; p < nparticles; p++)
+    for (int i = 0; i < dim; i++) {
+      M.x0[i] += x[p * dim + i] / (double)nparticles;
+      lower[i] = fmin(lower[i], x[p * dim + i]), upper[i] = fmax(upper[i], x[p * dim + i]);
+    }
+  M.length = 0;
+  for (int i = 0; i < dim; i++) M.length = fmax(M.length, upper[i] - lower[i]);
+  if (!(M.length > 0)) M.length = 1.0;
+  MICA_CALL(MICA_CALLOC(*modes, (long)M.nmodes * n));
+  for (int j = 0; j < M.nmodes; j++)
+    for (long p = 0; p < nparticles; p++)
+      for (int c = 0; c < ncomp; c++)
+        (*modes)[(long)j * n + p * ncomp + c] = motion_value(&M, j, c, x + p * dim, names[c]);
+  *count = M.nmodes;
+  return MICA_SUCCESS;
+}

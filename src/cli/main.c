@@ -284,11 +284,15 @@ int main(int argc, char **argv) {
   if (launched) {
     MPI_Init(&argc, &argv);
     mica_parallel_start();
+    /* PETSc once, on every rank, now: collective, and a rank group (sweeps) may not all create a solver; a
+     * serial run starts it only if it creates one (src/solve/linear_petsc.c) */
+    if (mica_petsc_initialize()) mica_parallel_abort("mica", 1);
   }
   int ierr = run_command(&inv);
   /* an error every rank agreed on is reported once, by rank 0; any other ends every rank at once */
   if (ierr && !mica_parallel_error_agreed()) mica_parallel_abort("mica", mica_exit_status(ierr));
   if (ierr && mica_parallel_rank() == 0) mica_error_report("mica");
+  mica_petsc_finalize();
   if (launched) MPI_Finalize();
   free(inv.overrides);
   return mica_exit_status(ierr);

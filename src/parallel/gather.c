@@ -90,6 +90,11 @@ const MicaLinearSolverOps mica_linear_gather = {
                                                 parallel_destroy};
 
 int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOps *inner, MicaLinearSolver **solver) {
+  if (mica_linear_solver_has(inner, MICA_LINEAR_DISTRIBUTED)) { /* petsc: each rank's rows, those of its particles */
+    const MicaLinearLayout layout = {mica_parallel_comm(), dist->partition->n, dist->partition->part};
+    MICA_CALL(mica_linear_solver_create(inner, solver));
+    return mica_linear_solver_set_layout(*solver, &layout);
+  }
   const MicaLinearSolverOps *ops = dist->opt.solver == MICA_PARALLEL_SCHWARZ ? &mica_linear_schwarz : &mica_linear_gather;
   MICA_CALL(mica_linear_solver_create(ops, solver));
   ParallelSolver *ps = (*solver)->data;

@@ -13,7 +13,7 @@
 #include "mica/timer.h"
 
 static const MicaType *const builtin_solvers[] = {&mica_linear_cholmod.type, &mica_linear_umfpack.type,
-                                                  &mica_linear_cg.type, NULL};
+                                                  &mica_linear_cg.type, &mica_linear_petsc.type, NULL};
 
 MicaRegistry mica_linear_solver_registry = {"linear solver", "cholmod", builtin_solvers, NULL, 0, NULL};
 
@@ -27,6 +27,7 @@ int mica_linear_solver_create(const MicaLinearSolverOps *ops, MicaLinearSolver *
   MicaLinearSolver *solver = NULL;
   MICA_CALL(MICA_CALLOC(solver, 1));
   solver->ops = ops;
+  solver->layout = (MicaLinearLayout){MPI_COMM_SELF, 0, NULL};
   int ierr = ops->create(solver);
   if (ierr) {
     free(solver);
@@ -69,6 +70,12 @@ int mica_linear_solver_destroy(MicaLinearSolver **solver) {
 int mica_linear_solver_set_krylov(MicaLinearSolver *solver, const MicaKrylovOptions *opt) {
   MICA_CHECK(solver && opt, MICA_ERR_ARGUMENT, "mica_linear_solver_set_krylov: NULL argument");
   solver->krylov = *opt;
+  return MICA_SUCCESS;
+}
+
+int mica_linear_solver_set_layout(MicaLinearSolver *solver, const MicaLinearLayout *layout) {
+  MICA_CHECK(solver && layout, MICA_ERR_ARGUMENT, "mica_linear_solver_set_layout: NULL argument");
+  solver->layout = *layout;
   return MICA_SUCCESS;
 }
 

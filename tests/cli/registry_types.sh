@@ -33,7 +33,7 @@ expect_failure 2 'solver.linear is "auto" here' -- "$MICA" run $deck -o "$work/x
 
 help=$("$MICA" help run)
 for line in 'bc.method +choice +"nitsche" +penalty\|nitsche\|lagrange\|collocation$' \
-            'solver.linear +choice +"auto" +auto\|cholmod\|umfpack\|cg$' \
+            'solver.linear +choice +"auto" +auto\|cholmod\|umfpack\|cg\|petsc$' \
             'problem.method +choice +"efg" +efg\|fe$' 'quadrature.mode +choice +"gauss" +gauss\|nodal\|scni$' \
             'solver.preconditioner +choice +"jacobi" +jacobi\|sgs$' 'bc.alpha +float +- '; do
   grep -Eq "^$line" <<<"$help" || fail "mica help run lacks /$line/"

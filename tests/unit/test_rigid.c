@@ -1,12 +1,18 @@
 /* mica_dirichlet_check_rigid on hand-made boundary sets, against the rigid motions counted by hand: a rotation
  * needs its displacements held at two distinct places (or its micro-rotation held), a translation one prescribed
- * component anywhere. */
+ * component anywhere.
+ * mica_rigid_motions (the near-null space for GAMG) against the motions written out here: translations, and
+ * rotations u = ω × (x − x0), φ = ω with ω = e_k / L — the Cosserat rigid motion of test_cosserat.c's sign
+ * convention (u = (−ωy, ωx), φ_z = ω has W = 0) — with x0 the particles' centroid and L their extent; the
+ * multiplier unknowns after the particles' are 0. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <setjmp.h>
 #include <cmocka.h>
 
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "mica/bc.h"
@@ -100,8 +106,50 @@ static void test_space(void **state) {
   assert_int_equal(check(&disc, 3, SPACE, 1, c), MICA_SUCCESS);
 }
 
+/* The rigid motions as vectors: 3 particles of the unit square, then 1 multiplier node (3 unknowns, all 0). */
+static void test_motions_cosserat(void **state) {
+  (void)state;
+  const double x[] = {0, 0, 1, 0, 1, 1}; /* centroid (2/3, 1/3), extent L = 1 */
+  const long n = 4 * 3;
+  int count = 0;
+  double *m = NULL;
+  assert_int_equal(mica_rigid_motions(x, 3, 2, 0, 3, COSSERAT, n, &count, &m), 0);
+  assert_int_equal(count, 3);
+  for (long p = 0; p < 3; p++) {
+    const double dx = x[2 * p] - 2.0 / 3.0, dy = x[2 * p + 1] - 1.0 / 3.0;
+    const double want[3][3] = {{1, 0, 0}, {0, 1, 0}, {-dy, dx, 1}}; /* t_x, t_y, rotation ω = 1 / L = 1 */
+    for (int j = 0; j < 3; j++)
+      for (int c = 0; c < 3; c++) assert_true(fabs(m[j * n + p * 3 + c] - want[j][c]) < 1e-15);
+  }
+  for (int j = 0; j < 3; j++)
+    for (int c = 0; c < 3; c++) assert_true(m[j * n + 9 + c] == 0.0);
+  free(m);
+}
+
+/* 3-D classical (6 motions) and Cosserat (u, φ): a rotation about z at particles spread over L = 2. */
+static void test_motions_space(void **state) {
+  (void)state;
+  const double x[] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 2}; /* centroid (0.5, 0.5, 0.5), L = 2 */
+  static const char *const COSSERAT3[] = {"ux", "uy", "uz", "phix", "phiy", "phiz", NULL};
+  int count = 0;
+  double *m = NULL;
+  assert_int_equal(mica_rigid_motions(x, 4, 3, 0, 3, SPACE, 12, &count, &m), 0);
+  assert_int_equal(count, 6);
+  free(m);
+  assert_int_equal(mica_rigid_motions(x, 4, 3, 0, 6, COSSERAT3, 24, &count, &m), 0);
+  assert_int_equal(count, 6);
+  const int about_z = 5; /* translations x, y, z, then rotations about x, y, z */
+  for (long p = 0; p < 4; p++) {
+    const double dx = x[3 * p] - 0.5, dy = x[3 * p + 1] - 0.5, w = 0.5; /* ω = e_z / L */
+    const double want[6] = {-w * dy, w * dx, 0, 0, 0, w};
+    for (int c = 0; c < 6; c++) assert_true(fabs(m[about_z * 24 + p * 6 + c] - want[c]) < 1e-15);
+  }
+  free(m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {cmocka_unit_test(test_plane), cmocka_unit_test(test_cosserat),
-                                     cmocka_unit_test(test_space)};
+                                     cmocka_unit_test(test_space), cmocka_unit_test(test_motions_cosserat),
+                                     cmocka_unit_test(test_motions_space)};
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
