@@ -24,7 +24,7 @@ declare -A HEADER_STAGE=(
   [solid]=assemble [kernel]=assemble
   [bc]=bc
   [fe]=fe
-  [command]=app
+  [command]=app [output]=app
   [command_registry]=cli
 )
 work="$OUT_DIR/layering"; rm -rf "$work" && mkdir -p "$work"
