@@ -129,8 +129,9 @@ static const MicaCommand *find_command(const char *who, const char *name) {
   return NULL;
 }
 
-/* mica help [<command>] */
-/* The exit status of printing a help text: composing a schema can only fail for want of memory. */
+/* mica help [--markdown [--group GROUP]] [<command>] */
+/* The exit status of printing a help text: composing a schema fails only for want of memory, a Markdown table
+ * also for a --group that holds no setting (bad input). */
 static int help_status(int ierr, const char *who) {
   if (!ierr) return 0;
   mica_error_report(who);

@@ -542,13 +542,14 @@ static int in_group(const char *path, const char *group) {
   return !strncmp(path, group, n) && (path[n] == '\0' || path[n] == '.');
 }
 
-/* Text in a table cell, as it reads: '|' would end the cell, '*' and '\\' would be markup, '<' before a
- * letter, '/' or '!' an HTML tag. */
+/* '<' before a letter, '/' or '!': what Markdown would take for an HTML tag. */
 static int opens_tag(const char *c) {
   const char next = (char)(c[1] | 0x20);
   return c[0] == '<' && (c[1] == '/' || c[1] == '!' || (next >= 'a' && next <= 'z'));
 }
 
+/* Text in a table cell, as it reads: '|' would end the cell, '*' and '\\' would be markup, a tag would vanish
+ * and a newline would end the row. */
 static void markdown_text(const char *text, FILE *stream) {
   for (const char *c = text; *c; c++) {
     if (*c == '|' || *c == '*' || *c == '\\') fputc('\\', stream);
