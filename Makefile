@@ -4,6 +4,7 @@
 #   make run        install missing Debian packages, build, run input/quickstart.cfg (a size-effect sweep)
 #   make test       install, build, run the unit and verification tests
 #   make test SAN=1 the same under AddressSanitizer + UndefinedBehaviorSanitizer
+#   make docs       rewrite docs/input.md's settings tables from the schemas (mica help --markdown)
 #   make bench      benchmarks (rates and ratios; never pass/fail on time)
 #   make bench-peers mica against legacy FEniCS on the same problems (~15 min; docs/performance.md)
 #   make fuzz       libFuzzer harnesses (tests/fuzz/) with ASan+UBSan, each run FUZZ_SECONDS (default 1800)
@@ -74,13 +75,13 @@ EXT_BIN := $(OUT)/tests/mica-ext $(EXT_TESTS:%=$(OUT)/tests/%_ext)
 BENCH_SRC := $(wildcard bench/bench_*.c)
 BENCH_BIN := $(BENCH_SRC:bench/%.c=$(OUT)/bench/%)
 
-.PHONY: all deps run test bench bench-peers clean help
+.PHONY: all deps run test docs bench bench-peers clean help
 .DEFAULT_GOAL := all
 
 all: $(BIN)/mica | deps
 
 help:
-	@sed -n '3,11p' Makefile
+	@sed -n '3,12p' Makefile
 
 # Installs whichever Debian package of the list $(1) is missing (as root; sudo otherwise), naming the target
 # $(2) in its messages. Cheap when nothing is.
@@ -148,6 +149,11 @@ run: all
 
 test: $(BIN)/mica $(TEST_BIN) $(EXT_BIN) | deps
 	@MICA_BIN=$(BIN)/mica MICA_EXT_BIN=$(OUT)/tests/mica-ext TEST_DIR=$(OUT)/tests OUT_DIR=$(OUT)/test-out SAN=$(SAN) bash tests/run.sh
+
+# The generated blocks of docs/input.md (between <!-- generated: mica help --markdown ... --> and <!-- end generated -->),
+# made by the binary from the schemas and registries; tests/cli/docs.sh fails when they differ from what it makes.
+docs: $(BIN)/mica
+	MICA_BIN=$(BIN)/mica bash docs/gen_input_tables.sh docs/input.md
 
 bench: $(BIN)/mica $(BENCH_BIN) | deps
 	@for b in $(BENCH_BIN); do echo "== $$b"; $$b || exit 1; done

@@ -78,5 +78,10 @@ int mica_deck_write_resolved(const MicaDeck *deck, const char *path);
  * range or choices (a long list wrapped after a '|', under the range column), then its help indented by
  * four spaces and wrapped. */
 int mica_deck_print_schema(const MicaDeckKey *schema, int width, FILE *stream);
+/* Prints the schema as a Markdown table (docs/input.md): a row per setting, in schema order, of path, type,
+ * default, range or choices and meaning (its help, then the descriptions the text help prints under it: a
+ * chooser's types, a registry fragment's type), the same columns and words as mica_deck_print_schema. Only
+ * the settings under group ("study": study and study.*; NULL or "": all); a group with none is bad input. */
+int mica_deck_print_schema_markdown(const MicaDeckKey *schema, const char *group, FILE *stream);
 
 #endif

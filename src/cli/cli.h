@@ -23,6 +23,8 @@ typedef struct {
   const char **overrides; /* room for one per argument: no --set is ever turned away */
   int noverrides, room;
   int help, version; /* asked for; the parser stops at either */
+  int markdown;       /* mica help --markdown <command>: the deck settings as docs/input.md's table */
+  const char *group;  /* ... --group GROUP: only the settings under GROUP (NULL: all) */
 } Invocation;
 
 /* One option: --name (and -letter), its value's name or none, and what applying it does. */
@@ -38,6 +40,7 @@ typedef struct {
 /* A table of options ends with {NULL}. */
 extern const CliOption cli_program_options[]; /* mica --help, --version */
 extern const CliOption cli_command_options[]; /* every command's: --output, --set, --help */
+extern const CliOption cli_help_options[];    /* mica help's: --markdown, --group */
 
 /* Reads argv[1..argc) against options, applying each option in order; argv[0] is only skipped. A word
  * (an argument that is no option, and everything after "--") goes to word(), which returns 0 to go on,
@@ -57,6 +60,9 @@ const char *cli_closest(const char *word, const char *const *candidates);
 void cli_print_program_help(FILE *out);
 /* `mica help <command>` and `mica <command> --help`: usage, description, options, deck settings. */
 int cli_print_command_help(const MicaCommand *command, FILE *out); /* an error code */
+/* `mica help --markdown [--group GROUP] <command>`: the command's deck settings (those under group, NULL:
+ * all) as a Markdown table, the tables of docs/input.md (docs/gen_input_tables.sh). An error code. */
+int cli_print_command_markdown(const MicaCommand *command, const char *group, FILE *out);
 /* "usage: mica run [-o DIR] [--set PATH=VALUE]... [--] DECK" */
 void cli_print_command_usage(const MicaCommand *command, FILE *out);
 

@@ -37,6 +37,8 @@ void cli_print_program_help(FILE *out) {
   cli_print_option_synopsis(cli_command_options, out);
   fputs(" [--] DECK\n"
         "       mica help [<command>]      the command's options and deck settings (= mica <command> --help)\n"
+        "       mica help --markdown [--group GROUP] <command>\n"
+        "                                  its deck settings as a Markdown table (docs/input.md's)\n"
         "       mica --help | --version\n\n"
         "commands:\n",
         out);
@@ -45,6 +47,8 @@ void cli_print_program_help(FILE *out) {
   cli_print_options(cli_command_options, out);
   fputs("\noptions of mica itself (before the command):\n", out);
   cli_print_options(cli_program_options, out);
+  fputs("\noptions of mica help:\n", out);
+  cli_print_options(cli_help_options, out);
   fputs("\nexamples:\n"
         "  mica run input/cantilever.cfg                    # results in out/cantilever/\n"
         "  mica mls input/mls_skatulla.cfg -o out/order3 --set mls.order=3 --set mls.radius=3.01\n"
@@ -77,4 +81,8 @@ int cli_print_command_help(const MicaCommand *command, FILE *out) {
   paragraph(exit_status, out);
   fputs("\nsettings of the deck (docs/input.md):\n", out);
   return mica_deck_print_schema(command->schema, CLI_WIDTH, out);
+}
+
+int cli_print_command_markdown(const MicaCommand *command, const char *group, FILE *out) {
+  return mica_deck_print_schema_markdown(command->schema, group, out);
 }

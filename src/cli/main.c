@@ -69,6 +69,31 @@ const CliOption cli_command_options[] = {
     {"help", 'h', NULL, 0, "print this help (the command's options and deck settings) and exit", ask_help},
     {NULL, 0, NULL, 0, NULL, NULL}};
 
+static int ask_markdown(Invocation *inv, const char *who, const char *value) {
+  (void)who, (void)value;
+  inv->markdown = 1;
+  return 0;
+}
+
+static int set_group(Invocation *inv, const char *who, const char *value) {
+  if (inv->group) {
+    fprintf(stderr, "%s: --group given twice ('%s' and '%s'); one group per table\n", who, inv->group, value);
+    return CLI_USAGE;
+  }
+  inv->group = value;
+  return 0;
+}
+
+const CliOption cli_help_options[] = {
+    {"markdown", 0, NULL, 0,
+     "print only the command's deck settings, as a Markdown table (the tables of docs/input.md, which "
+     "docs/gen_input_tables.sh rewrites with it)",
+     ask_markdown},
+    {"group", 0, "GROUP", 0, "with --markdown: only the settings under GROUP (study: study and study.*)",
+     set_group},
+    {"help", 'h', NULL, 0, "list the commands and options and exit (as does mica help)", ask_help},
+    {NULL, 0, NULL, 0, NULL, NULL}};
+
 const CliOption cli_program_options[] = {
     {"help", 'h', NULL, 0, "list the commands and options and exit (as does mica help)", ask_help},
     {"version", 0, NULL, 0, "print the version and exit", ask_version},
@@ -104,26 +129,52 @@ static const MicaCommand *find_command(const char *who, const char *name) {
   return NULL;
 }
 
-/* mica help [<command>] */
-/* The exit status of printing a help text: composing a schema can only fail for want of memory. */
-static int help_status(int ierr) {
+/* mica help [--markdown [--group GROUP]] [<command>] */
+/* The exit status of printing a help text: composing a schema fails only for want of memory, a Markdown table
+ * also for a --group that holds no setting (bad input). */
+static int help_status(int ierr, const char *who) {
   if (!ierr) return 0;
-  mica_error_report("mica");
+  mica_error_report(who);
   return mica_exit_status(ierr);
 }
 
+/* The topic of mica help: one command. */
+static int take_topic(Invocation *inv, const char *who, const char *arg) {
+  if (inv->command) {
+    fprintf(stderr, "%s: one command at a time ('%s' and '%s'); `mica help` lists them\n", who,
+            inv->command->type.name, arg);
+    return CLI_USAGE;
+  }
+  inv->command = find_command(who, arg);
+  return inv->command ? 0 : CLI_USAGE;
+}
+
+/* An option of mica help that would have no effect is refused, as a deck setting would be. */
+static int check_help_options(const Invocation *inv) {
+  if (inv->group && !inv->markdown) {
+    fprintf(stderr, "mica help: --group %s needs --markdown (it selects the rows of the Markdown table)\n",
+            inv->group);
+    return CLI_USAGE;
+  }
+  if (inv->markdown && !inv->command) {
+    fprintf(stderr, "mica help: --markdown prints one command's settings: which command? (mica help "
+                    "--markdown run)\n");
+    return CLI_USAGE;
+  }
+  return 0;
+}
+
 static int print_help_topic(int argc, char **argv) {
-  if (argc == 1) {
+  Invocation inv = {0};
+  int status = cli_parse(argc, argv, "mica help", cli_help_options, &inv, take_topic, NULL);
+  if (!status && !inv.help) status = check_help_options(&inv);
+  if (status) return status;
+  if (inv.help || !inv.command) {
     cli_print_program_help(stdout);
     return 0;
   }
-  if (argc > 2) {
-    fprintf(stderr, "mica help: one command at a time ('%s' and '%s'); `mica help` lists them\n", argv[1], argv[2]);
-    return CLI_USAGE;
-  }
-  const MicaCommand *command = find_command("mica help", argv[1]);
-  if (!command) return CLI_USAGE;
-  return help_status(cli_print_command_help(command, stdout));
+  if (inv.markdown) return help_status(cli_print_command_markdown(inv.command, inv.group, stdout), "mica help");
+  return help_status(cli_print_command_help(inv.command, stdout), "mica help");
 }
 
 /* The command's own arguments, argv[0] being its name. */
@@ -133,7 +184,7 @@ static int parse_command(int argc, char **argv, Invocation *inv, int *done) {
   int status = cli_parse(argc, argv, who, cli_command_options, inv, take_deck, NULL);
   if (status) return status;
   if (inv->help) {
-    return help_status(cli_print_command_help(inv->command, stdout));
+    return help_status(cli_print_command_help(inv->command, stdout), "mica");
   }
   if (!inv->deck_path) {
     fprintf(stderr, "%s: which deck? ", who);

@@ -533,4 +533,76 @@ int mica_deck_print_schema(const MicaDeckKey *base, int width, FILE *stream) {
   return mica_schema_destroy(&composed);
 }
 
+/* ---- the schema as Markdown (docs/input.md's tables) ---- */
+
+/* A path under group ("mls" holds "mls" and "mls.order", not "mlsx"); every path with no group. */
+static int in_group(const char *path, const char *group) {
+  if (!group || !group[0]) return 1;
+  const size_t n = strlen(group);
+  return !strncmp(path, group, n) && (path[n] == '\0' || path[n] == '.');
+}
+
+/* '<' before a letter, '/' or '!': what Markdown would take for an HTML tag. */
+static int opens_tag(const char *c) {
+  const char next = (char)(c[1] | 0x20);
+  return c[0] == '<' && (c[1] == '/' || c[1] == '!' || (next >= 'a' && next <= 'z'));
+}
+
+/* Text in a table cell, as it reads: '|' would end the cell, '*' and '\\' would be markup, a tag would vanish
+ * and a newline would end the row. */
+static void markdown_text(const char *text, FILE *stream) {
+  for (const char *c = text; *c; c++) {
+    if (*c == '|' || *c == '*' || *c == '\\') fputc('\\', stream);
+    if (opens_tag(c)) fputs("&lt;", stream);
+    else fputc(*c == '\n' ? ' ' : *c, stream);
+  }
+}
+
+/* After the meaning, what the text help prints under it: a chooser's types, a family type's description. */
+static void markdown_types(const MicaDeckKey *key, const MicaDeckKey *previous, FILE *stream) {
+  for (int i = 0; key->type == MICA_KEY_CHOICE && key->registry && i < mica_registry_count(key->registry); i++) {
+    const MicaType *type = mica_registry_type(key->registry, i);
+    if (!type->description || !type->description[0]) continue;
+    fprintf(stream, "<br>`%s`: ", type->name);
+    markdown_text(type->description, stream);
+  }
+  if (!key->family || (previous && previous->owner == key->owner)) return;
+  const MicaType *type = mica_registry_find(key->family, key->owner);
+  if (!type || !type->description || !type->description[0]) return;
+  fprintf(stream, "<br>%s `%s`: ", key->family->family, type->name);
+  markdown_text(type->description, stream);
+}
+
+static void markdown_row(const MicaDeckKey *key, const MicaDeckKey *previous, FILE *stream) {
+  KeyColumns columns = key_columns(key);
+  fprintf(stream, "| `%s` | %s | ", key->path, columns.type);
+  markdown_text(columns.def, stream);
+  fputs(" | ", stream);
+  markdown_text(columns.range, stream);
+  fputs(" | ", stream);
+  markdown_text(key->help ? key->help : "", stream);
+  markdown_types(key, previous, stream);
+  fputs(" |\n", stream);
+}
+
+static int print_markdown(const MicaDeckKey *schema, const char *group, FILE *stream) {
+  const MicaDeckKey *previous = NULL;
+  long rows = 0;
+  for (const MicaDeckKey *key = schema; key->path; key++) rows += in_group(key->path, group);
+  MICA_CHECK(rows > 0, MICA_ERR_INPUT, "no setting is in the group '%s' (a group is a setting's path up to a dot: mls "
+             "of mls.order)", group);
+  fputs("| setting | type | default | range | meaning |\n|---|---|---|---|---|\n", stream);
+  for (const MicaDeckKey *key = schema; key->path; previous = key++)
+    if (in_group(key->path, group)) markdown_row(key, previous, stream);
+  return MICA_SUCCESS;
+}
+
+int mica_deck_print_schema_markdown(const MicaDeckKey *base, const char *group, FILE *stream) {
+  MicaSchema *composed;
+  MICA_CALL(mica_schema_compose(base, &composed));
+  int ierr = print_markdown(mica_schema_keys(composed), group, stream);
+  mica_schema_destroy(&composed);
+  return ierr;
+}
+
 const MicaDeckKey *mica_deck_schema(const MicaDeck *deck) { return deck->schema; }

@@ -110,5 +110,21 @@ expect_failure 2 "option '--output' needs a value (it is followed by the option 
 expect_failure 2 "option '--set' needs a value: --set PATH=VALUE or --set=PATH=VALUE" -- "$MICA" check --set
 ok "missing values"
 
+# mica help --markdown: the settings table alone, on stdout (tests/cli/docs.sh checks its rows); its options
+# refused where they would have no effect
+"$MICA" help --markdown --group mls mls > "$work/md.txt" || fail "mica help --markdown --group mls mls exited $?"
+[ "$(head -n 2 "$work/md.txt")" = $'| setting | type | default | range | meaning |\n|---|---|---|---|---|' ] \
+  || fail "mica help --markdown does not start with the table's head: $(head -n 2 "$work/md.txt")"
+[ "$(tail -n +3 "$work/md.txt" | grep -vc '^| `mls\.[a-z_]*` | ')" = 0 ] || fail "mica help --markdown --group mls has other lines"
+[ "$(tail -n +3 "$work/md.txt" | wc -l)" = "$("$MICA" help mls | grep -c '^mls\.')" ] \
+  || fail "mica help --markdown --group mls mls has not one row per mls.* setting of mica help mls"
+ok "mica help --markdown --group mls mls: $(tail -n +3 "$work/md.txt" | wc -l) rows, the mls.* settings"
+expect_failure 2 "mica help: --group mls needs --markdown" -- "$MICA" help --group mls run
+expect_failure 2 "mica help: --markdown prints one command's settings: which command?" -- "$MICA" help --markdown
+expect_failure 2 "mica help: one command at a time ('run' and 'mls')" -- "$MICA" help --markdown run mls
+expect_failure 2 "mica help: --group given twice" -- "$MICA" help --markdown --group mls --group bc run
+expect_failure 2 "mica help: no setting is in the group 'mlsx'" -- "$MICA" help --markdown --group mlsx run
+expect_failure 2 "mica help: unknown option '--markdwn'; did you mean '--markdown'?" -- "$MICA" help --markdwn run
+
 "$MICA" --version | grep -qx "mica [0-9.]*" || fail "mica --version does not print the version"
 ok "mica --version"

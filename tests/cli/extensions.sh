@@ -2,7 +2,7 @@
 # with tests/extensions/*.c, a weight (bump, (1 − r²)³), a classical model (linear-scaled, linear elasticity
 # with E doubled) and an output (displacements_csv: the particles' displacements after the solve, with its own
 # setting output.displacements_csv) that register themselves; nothing else names them. mica-ext must offer them
-# in help (whose text docs/input.md's tables follow), run decks that choose them and give numbers known
+# in help and in the Markdown tables docs/input.md is generated from (mica help --markdown), run decks that choose them and give numbers known
 # independently, and plain mica must refuse them as bad input.
 source "$(dirname "$0")/common.bash"
 case "$MICA_BIN" in build-san/*) : "${MICA_EXT_BIN:=build-san/tests/mica-ext}" ;; *) : "${MICA_EXT_BIN:=build/tests/mica-ext}" ;; esac
@@ -44,6 +44,27 @@ settings "$MICA" run | grep -qx output.displacements_csv && fail "plain mica hel
 grep -qF "output type displacements_csv: test extension: the particles' displacements" "$work/help.txt" \
   || fail "mica-ext help run does not describe the output type displacements_csv"
 ok "docs/input.md covers every setting of mica-ext but the output extension's own, which help describes"
+# docs/input.md's tables (mica help --markdown, docs/gen_input_tables.sh): a row's choices are its range column
+"$EXT" help --markdown run > "$work/ext.md" || fail "mica-ext help --markdown run failed"
+"$MICA" help --markdown run > "$work/plain.md" || fail "mica help --markdown run failed"
+row() { awk -F' [|] ' -v key="| \`$1\`" '$1 == key' "$2"; }
+md_choices() { row "$1" "$2" | awk -F' [|] ' '{ gsub(/\\[|]/, " ", $4); print $4 }'; }
+for key in mls.weight:bump material.model:linear-scaled material.micro_model:linear-scaled; do
+  path=${key%%:*} type=${key#*:}
+  md_choices "$path" "$work/ext.md" | tr ' ' '\n' | grep -qx -- "$type" \
+    || fail "mica-ext help --markdown run: $path's choices lack $type: $(md_choices "$path" "$work/ext.md")"
+  row "$path" "$work/ext.md" | grep -qF -- "<br>\`$type\`: test extension: " \
+    || fail "mica-ext help --markdown run: $path's row does not describe $type"
+  [ -n "$(md_choices "$path" "$work/plain.md")" ] || fail "mica help --markdown run has no row $path"
+  md_choices "$path" "$work/plain.md" | tr ' ' '\n' | grep -qx -- "$type" && fail "plain mica's $path offers $type"
+  ok "Markdown: $path offers and describes $type with the extensions only"
+done
+[ "$(row output.displacements_csv "$work/ext.md" | cut -d'|' -f3-4)" = ' bool | false ' ] \
+  || fail "mica-ext help --markdown run: no row output.displacements_csv (bool, false): $(row output.displacements_csv "$work/ext.md")"
+row output.displacements_csv "$work/ext.md" | grep -qF '<br>output type `displacements_csv`: test extension: ' \
+  || fail "mica-ext help --markdown run: output.displacements_csv's row does not describe its output type"
+[ -z "$(row output.displacements_csv "$work/plain.md")" ] || fail "plain mica help --markdown run has output.displacements_csv"
+ok "Markdown: the output extension's own setting is a row of mica-ext's table only"
 # the registry loop over the output types, with the extension's among them
 MICA_BIN="$MICA_EXT_BIN" bash "$(dirname "$0")/outputs.sh" > "$work/outputs.log" 2>&1 \
   || fail "outputs.sh with mica-ext: $(tail -3 "$work/outputs.log")"

@@ -2,7 +2,7 @@
  * types' ("auto"), its own default, a key several types declare with different defaults (bc.alpha), and
  * mica_type_float's fallback to the type's own default; a registry fragment (the outputs' idiom: every type's
  * keys in registry order, each naming its type, no chooser; a key two types declare refused); the converted
- * families' flags. */
+ * families' flags; the schema as docs/input.md's Markdown table. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "mica/bc.h"
+#include "mica/deck.h"
 #include "mica/fe.h"
 
 MICA_SCHEMA_TABLES
@@ -157,12 +158,64 @@ static void test_families(void **state) {
   assert_string_equal(choices, "efg|fe");
 }
 
+/* The Markdown table of docs/input.md (mica_deck_print_schema_markdown): one row per composed key in schema
+ * order; a chooser's types and a fragment type's description after the help, as the text help prints them
+ * under it; '|', '*' and a '<' that would open a tag escaped; --group's rows only, none of them bad input. */
+static const MicaDeckKey md_base[] = {
+    {.path = "g.kind", .type = MICA_KEY_CHOICE, .min = 1, .max = 0, .registry = &toy, .help = "which: x|y, 2*3 < 4 <b>"},
+    {.path = "out", .type = MICA_KEY_FRAGMENT, .min = 1, .max = 0, .registry = &side},
+    {.path = "h.n", .type = MICA_KEY_INT, .def = "4", .min = 1, .max = 9, .help = "count"},
+    {0}};
+
+static char *markdown(const char *group, int expect) {
+  char *text = NULL;
+  size_t size = 0;
+  FILE *stream = open_memstream(&text, &size);
+  assert_non_null(stream);
+  assert_int_equal(mica_deck_print_schema_markdown(md_base, group, stream), expect);
+  fclose(stream);
+  return text;
+}
+
+static void test_markdown_table(void **state) {
+  (void)state;
+  const char *head = "| setting | type | default | range | meaning |\n|---|---|---|---|---|\n";
+  const char *g = "| `g.kind` | choice | \"a\" | a\\|b\\|c | which: x\\|y, 2\\*3 < 4 &lt;b><br>`a`: first<br>`b`: second"
+                  "<br>`c`: third |\n"
+                  "| `g.alpha` | float | - | [0, 10] | with g.kind = a or b: the factor (default: 1 with a, 2.5 with b) |\n"
+                  "| `g.beta` | int | 3 | [0, 10] | with g.kind = a or c: a's own |\n";
+  const char *out = "| `out.on` | bool | true |  | switch<br>side `on`: switched |\n"
+                    "| `out.items` | list | - |  | the list<br>side `list`: listed |\n"
+                    "| `out.items.[].name` | string | - |  | a name |\n";
+  const char *h = "| `h.n` | int | 4 | [1, 9] | count |\n";
+  char expected[2048], *text = markdown(NULL, MICA_SUCCESS);
+  snprintf(expected, sizeof expected, "%s%s%s%s", head, g, out, h);
+  assert_string_equal(text, expected);
+  free(text);
+  text = markdown("g", MICA_SUCCESS);
+  snprintf(expected, sizeof expected, "%s%s", head, g);
+  assert_string_equal(text, expected);
+  free(text);
+  text = markdown("out.items", MICA_SUCCESS); /* a group's first row keeps its type's description */
+  snprintf(expected, sizeof expected, "%s%s", head, strstr(out, "| `out.items`"));
+  assert_string_equal(text, expected);
+  free(text);
+  for (int i = 0; i < 2; i++) { /* "g.k" is no group of g.kind; nothing printed */
+    text = markdown(i ? "g.k" : "nothing", MICA_ERR_INPUT);
+    assert_string_equal(text, "");
+    assert_non_null(strstr(mica_error_message(), "no setting is in the group"));
+    mica_error_clear();
+    free(text);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_compose_choices_and_defaults),
       cmocka_unit_test(test_type_float),
       cmocka_unit_test(test_registry_fragment),
       cmocka_unit_test(test_families),
+      cmocka_unit_test(test_markdown_table),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
