@@ -257,7 +257,8 @@ static int inf_sup_one(const StabilityOptions *o, const RunProblem *rp, InfSupRo
   }
   MICA_CALL_CLEANUP(ierr);
   row->particles = np, row->constrained = nv, row->nfree = nr;
-  row->nquad = cells ? rp->solid->npcells : rp->solid->volume->npoints; /* n_p: the pressure unknowns */
+  /* n_p, the pressure unknowns: 1 + degree·dim per cell, or one per quadrature point */
+  row->nquad = cells ? rp->solid->npcells * (1 + rp->solid->opt.pressure->degree * dim) : rp->solid->volume->npoints;
   row->lambda_max = lambda[nr - 1];
   row->zero = 0;
   while (row->zero < nr && lambda[row->zero] <= o->zero_tol * row->lambda_max) row->zero++;
@@ -310,6 +311,7 @@ int stability_inf_sup(const StabilityOptions *o, const MicaDeck *deck, const cha
     ierr = refined_deck(deck, o->inf_sup_counts[i], row->count, &refined);
     if (!ierr) ierr = run_problem_build(refined, &rp);
     if (!ierr) ierr = inf_sup_one(o, &rp, row);
+    const int cells = !ierr && mica_solid_pressure_cells(rp.solid);
     run_problem_free(&rp);
     mica_deck_destroy(&refined);
     if (ierr) {
@@ -317,9 +319,9 @@ int stability_inf_sup(const StabilityOptions *o, const MicaDeck *deck, const cha
       mica_error_trace(__FILE__, __LINE__, __func__, ierr);
       goto cleanup;
     }
-    printf("inf-sup N = %ld: %ld particles (%ld on the boundary), %ld free unknowns, %ld quadrature points: "
-           "%d zero eigenvalues, β = %.6g\n", row->count[0], row->particles, row->constrained, row->nfree, row->nquad,
-           row->zero, row->beta);
+    printf("inf-sup N = %ld: %ld particles (%ld on the boundary), %ld free unknowns, %ld %s: %d zero eigenvalues, "
+           "β = %.6g\n", row->count[0], row->particles, row->constrained, row->nfree, row->nquad,
+           cells ? "cell pressures" : "quadrature points", row->zero, row->beta);
     fflush(stdout);
     MICA_CALL_CLEANUP(record_row(row, summary));
     nrows++;
