@@ -104,18 +104,21 @@ static int group_points(MicaSolid *s) {
   memcpy(fill, s->pcell_ptr, sizeof(long) * (size_t)(ncells + 1));
   for (long p = 0; p < disc->nquad; p++) s->pcell_point[fill[disc->qcell[p]]++] = p;
   MICA_FREE(fill);
+  /* the largest union of a cell's supports (its dense tangent is that squared), counted with a marker */
+  long *mark = NULL;
+  MICA_CALL(MICA_MALLOC(mark, s->nparticles + 1));
+  for (long I = 0; I < s->nparticles; I++) mark[I] = -1;
   s->pcell_cap = 1, s->pcell_maxpoints = 1;
   for (long k = 0; k < ncells; k++) {
-    long total = 0;
-    for (long i = s->pcell_ptr[k]; i < s->pcell_ptr[k + 1]; i++) {
-      const long p = s->pcell_point[i];
-      total += c->ptr[p + 1] - c->ptr[p];
-    }
-    s->pcell_cap = total > s->pcell_cap ? total : s->pcell_cap; /* a bound on the union */
+    long nu = 0;
+    for (long i = s->pcell_ptr[k]; i < s->pcell_ptr[k + 1]; i++)
+      for (long e = c->ptr[s->pcell_point[i]]; e < c->ptr[s->pcell_point[i] + 1]; e++)
+        if (mark[c->index[e]] != k) mark[c->index[e]] = k, nu++;
+    s->pcell_cap = nu > s->pcell_cap ? nu : s->pcell_cap;
     const long npts = s->pcell_ptr[k + 1] - s->pcell_ptr[k];
     s->pcell_maxpoints = npts > s->pcell_maxpoints ? npts : s->pcell_maxpoints;
   }
-  if (s->pcell_cap > s->nparticles) s->pcell_cap = s->nparticles;
+  MICA_FREE(mark);
   return MICA_SUCCESS;
 }
 

@@ -16,7 +16,7 @@ out="$OUT_DIR/incompressible"
 rm -rf "$out" && mkdir -p "$out"
 deck=input/cook_incompressible.cfg
 TH_LINEAR=19.4229   # Taylor-Hood P2/P1, N = 256 (docs/verification.md)
-TH_NEOHOOKE=5.2229  # Taylor-Hood P2/P1, N = 128 (docs/verification.md)
+TH_NEOHOOKE=5.2240  # Taylor-Hood P2/P1, N = 256 (docs/verification.md)
 tip() { json_value tip_uy "$1/summary.json"; }
 # off VALUE REFERENCE: |VALUE/REFERENCE - 1|
 off() { awk -v v="$1" -v r="$2" 'BEGIN { d = v / r - 1; printf "%.5f", d < 0 ? -d : d }'; }
