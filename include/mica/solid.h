@@ -143,8 +143,24 @@ static inline int mica_bc_method_has(const MicaBoundaryMethodOps *ops, unsigned 
 
 /* ---- The problem ---------------------------------------------------------------------------------------- */
 
+/* ---- Volumetric treatment: the pressure space (material.pressure; src/assemble/pressure.c) ----------------
+ * "none" (the default): the displacement form, whose pressure is λ div u (or λ ln J) at every quadrature point.
+ * "cell-constant" / "cell-linear": a pressure constant / linear in each background cell, condensed cell by cell:
+ * B-bar (small strain) or F-bar (finite strain) with the dilatation projected onto the cell's polynomials, the
+ * energy Σ_q w_q W(F̄_q) (docs/theory.md §Nearly incompressible solids). Capability flags (MicaType.flags): */
+enum {
+  MICA_PRESSURE_CELLS = 1u << 0 /* couples the points of each background cell through its mean dilatation */
+};
+typedef struct MicaPressureOps {
+  MicaType type; /* "none", "cell-constant", "cell-linear"; MICA_PRESSURE_* flags */
+  int degree;    /* of the polynomial pressure in a cell (0: constant, 1: linear), a number like a basis order */
+} MicaPressureOps;
+extern const MicaPressureOps mica_pressure_none, mica_pressure_cell_constant, mica_pressure_cell_linear;
+extern MicaRegistry mica_pressure_registry;
+
 typedef struct MicaSolidOptions {
   MicaFieldModel field;         /* the model: classical (adapting a MicaModelOps kernel) or generalized */
+  const MicaPressureOps *pressure; /* the pressure space; NULL is the default's "none" (displacement form) */
   const MicaBoundaryMethodOps *bc_method;
   double bc_alpha;              /* stabilization / penalty factor α (Nitsche β = α E / h; penalty β = α E (L/h)^(p−1) / h) */
   int basis_order;              /* MLS basis order p (the penalty's scaling) */
@@ -202,7 +218,35 @@ typedef struct MicaSolid {
   int chunk_points;               /* points the kernel stages before it updates the group matrix */
   long *cell_nodes;               /* [cell_cap] the union, ascending */
   long *cell_slot;                /* [nparticles] position of a particle in the union, −1 outside it */
+  /* material.pressure = cell-constant (pressure.c): the volume points of each background cell, the largest
+   * union of a cell's supports and points per cell, and the scratch of one cell */
+  long npcells;
+  long *pcell_ptr, *pcell_point;  /* cell c's points: pcell_point[pcell_ptr[c] .. pcell_ptr[c+1]) */
+  long pcell_cap, pcell_maxpoints;
+  long *pcell_nodes;              /* [pcell_cap] a cell's union, ascending */
+  double *pcell_work;
 } MicaSolid;
+
+/* The pressure space of material.pressure (group "material"), into opt->pressure. */
+int mica_pressure_from_settings(const MicaSettings *settings, MicaSolidOptions *opt);
+/* 1 if the solid's pressure lives on the background cells (MICA_PRESSURE_CELLS). */
+int mica_solid_pressure_cells(const MicaSolid *s);
+/* Builds the cells' point lists and scratch (mica_solid_create calls it); MICA_ERR_INPUT when the solid cannot
+ * have a cell pressure (a message without location: the caller adds the deck line). */
+int mica_pressure_cells_build(MicaSolid *s);
+void mica_pressure_cells_free(MicaSolid *s);
+/* The volume terms of a cell pressure: R += Σ_q w_q P_eff : ∇N and K += the cells' condensed tangents (full
+ * blocks, both triangles), K may be NULL. No body force (the caller adds it). */
+int mica_pressure_assemble(MicaSolid *s, const double *u, double *R, MicaSparse *K);
+/* Π = Σ_q w_q W(F̄_q) at u (the energy whose gradient and Hessian mica_pressure_assemble gives; tests). */
+int mica_pressure_energy(MicaSolid *s, const double *u, double *energy);
+/* The pressure polynomials of cell c at its points (in pcell_point order): psi[i·m + k] = ψ_k(x_i) and
+ * Minv_psi = M⁻¹ψ at each point (M the cell's moment matrix Σ w ψ ψᵀ), modes = m = 1 + degree·dim (psi and
+ * Minv_psi hold points × 4). For the inf-sup test (G = Σ_c B_cᵀ M_c⁻¹ B_c). */
+int mica_pressure_cell_basis(MicaSolid *s, long c, double *psi, double *Minv_psi, int *modes);
+/* The cell-averaged dilatation Θ_c of cell c at u (J̄ = mean det F at finite strain, mean div u at small
+ * strain), and the cell's volume; for output and tests. */
+void mica_pressure_cell_dilatation(const MicaSolid *s, long c, const double *u, double *theta, double *volume);
 
 /* Builds the caches (volume and the boundary sets that carry conditions) from the approximation, the
  * multiplier nodes, and the sparsity pattern. Takes ownership of the condition arrays (allocated with

@@ -77,6 +77,7 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   opt.basis_order = (int)order;
   MICA_CALL_CLEANUP(read_vci(deck, rp->disc, &opt));
   MICA_CALL_CLEANUP(run_read_scni(deck, rp, &opt));
+  MICA_CALL_CLEANUP(run_read_pressure(deck, rp, &opt));
   MICA_CALL_CLEANUP(check_nitsche_model(deck, &opt));
   const MicaDiscretization *disc = rp->disc;
   if (mica_parallel_active()) { /* MPI: this rank's share of the quadrature points (run_parallel.c) */

@@ -91,6 +91,9 @@ int run_read_exact(const MicaDeck *deck, RunProblem *rp, const MicaFieldModel *m
 
 /* The model and its constants from material.* (run_material.c). */
 int run_read_material(const MicaDeck *deck, int dim, MicaSolidOptions *opt);
+/* material.pressure into opt->pressure, checked against the model, plane kind, integration and MPI (after
+ * run_read_scni: rp->integration). */
+int run_read_pressure(const MicaDeck *deck, const RunProblem *rp, MicaSolidOptions *opt);
 
 /* The approximation and integration choices (run_method.c). problem.method: run_is_fe; for "fe", the deck
  * checks (grid, order, odd counts, cells = elements; *order from mls.order), the mesh and discretization

@@ -57,6 +57,7 @@ static int add_counts(RunProblem *rp, const RunTotals *c, MicaJson *summary) {
                                                    : s->opt.field.ops->type.name));
   MICA_CALL(mica_json_int(summary, "unknowns_per_particle", s->ncomp));
   MICA_CALL(mica_json_string(summary, "bc_method", s->opt.bc_method->type.name));
+  MICA_CALL(mica_json_string(summary, "pressure", s->opt.pressure ? s->opt.pressure->type.name : "none"));
   MICA_CALL(mica_json_number(summary, "bc_alpha", s->opt.bc_alpha));
   MICA_CALL(mica_json_number(summary, "time_discretize", rp->time_discretize));
   MICA_CALL(mica_json_number(summary, "time_mls_setup", rp->time_mls));

@@ -83,6 +83,10 @@ const MicaDeckKey mica_run_schema[] = {
      .registry = &mica_field_model_registry,
      .help = "continuum model (docs/theory.md §models): a classical model (E, nu), or a field model of generalized "
              "kinematics"},
+    {.path = "material.pressure", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &mica_pressure_registry,
+     .help = "the pressure space of a classical solid (docs/theory.md §Nearly incompressible solids): none (the "
+             "displacement form) or cell-constant (a pressure per background cell, condensed: B-bar / F-bar with the "
+             "cell's mean dilatation; locking-free as ν → 0.5)"},
     {.path = "material.micro_model", .type = MICA_KEY_CHOICE, .def = "\"svk\"", .min = 1.0, .max = 0.0,
      .registry = &mica_model_registry,
      .help = "micromorph: the micro energy ψ (a classical model with material.E, material.nu)"},

@@ -92,6 +92,51 @@ static void assemble_g_s(const RunProblem *rp, double *G, double *S) {
   }
 }
 
+/* G = Bᵀ M_p⁻¹ B for a cell pressure (material.pressure = cell-constant | cell-linear): the pressure space is
+ * the polynomials ψ_k of each background cell, B_c,k(I a) = Σ_{q∈c} w_q ψ_k(x_q) N_I,a(x_q) (the cell's
+ * divergence moments) and M_c = Σ_q w_q ψ ψᵀ, so G = Σ_c B_cᵀ M_c⁻¹ B_c = ‖Π_P div u_h‖², Π_P the L2
+ * projection onto the cells' polynomials; then the mean pressure is taken out (L2_0): with u_h ≈ 0 on the whole
+ * boundary, ∫ div u_h = ∮ u_h·n is the residue of the collocation between the vertices, which shrinks with h
+ * and would be counted as a falling β. b: scratch of (2·4 + 1)·nu doubles; psi, mpsi of 4 × points per cell. */
+static int assemble_g_cells(const RunProblem *rp, double *G, double *b, double *psi, double *mpsi) {
+  MicaSolid *s = rp->solid;
+  const MicaShapeCache *c = s->volume;
+  const int dim = rp->disc->dim;
+  const long nu = rp->disc->nparticles * dim;
+  double *Bm = b, *MBm = b + 4 * nu, *total = b + 8 * nu, Vtotal = 0;
+  memset(total, 0, sizeof(double) * (size_t)nu);
+  for (long k = 0; k < s->npcells; k++) {
+    int m;
+    MICA_CALL(mica_pressure_cell_basis(s, k, psi, mpsi, &m));
+    memset(Bm, 0, sizeof(double) * (size_t)(8 * nu));
+    for (long i = s->pcell_ptr[k]; i < s->pcell_ptr[k + 1]; i++) {
+      const long p = s->pcell_point[i], local = i - s->pcell_ptr[k];
+      const double w = rp->disc->qw[p];
+      Vtotal += w;
+      for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
+        for (int a = 0; a < dim; a++) {
+          const long j = c->index[e] * dim + a;
+          const double div = w * c->dN[e * dim + a];
+          total[j] += div;
+          for (int l = 0; l < m; l++) Bm[l * nu + j] += psi[local * m + l] * div, MBm[l * nu + j] += mpsi[local * m + l] * div;
+        }
+    }
+    for (long j = 0; j < nu; j++) {
+      int touched = 0; /* the columns outside the cell's supports add nothing */
+      for (int l = 0; l < m; l++) touched |= Bm[l * nu + j] != 0.0;
+      if (!touched) continue;
+      for (long i = 0; i < nu; i++) {
+        double v = 0;
+        for (int l = 0; l < m; l++) v += Bm[l * nu + i] * MBm[l * nu + j];
+        G[j * nu + i] += v;
+      }
+    }
+  }
+  for (long j = 0; j < nu; j++)
+    for (long i = 0; i < nu; i++) G[j * nu + i] -= total[i] * total[j] / Vtotal;
+  return MICA_SUCCESS;
+}
+
 /* The boundary vertices of every set, each once. */
 static int boundary_vertices(const MicaDiscretization *disc, double **xv, long *nv) {
   const int dim = disc->dim;
@@ -181,6 +226,18 @@ static int inf_sup_one(const StabilityOptions *o, const RunProblem *rp, InfSupRo
   MICA_CALL_CLEANUP(MICA_CALLOC(G, (size_t)nu * nu));
   MICA_CALL_CLEANUP(MICA_CALLOC(S, (size_t)nu * nu));
   assemble_g_s(rp, G, S);
+  const int cells = mica_solid_pressure_cells(rp->solid);
+  if (cells) { /* the cells' pressure space replaces the pointwise divergence */
+    memset(G, 0, sizeof(double) * (size_t)nu * (size_t)nu);
+    double *b = NULL, *psi = NULL, *mpsi = NULL;
+    const long per = 4 * (rp->solid->pcell_maxpoints + 1);
+    ierr = MICA_MALLOC(b, 9 * nu);
+    if (!ierr) ierr = MICA_MALLOC(psi, per);
+    if (!ierr) ierr = MICA_MALLOC(mpsi, per);
+    if (!ierr) ierr = assemble_g_cells(rp, G, b, psi, mpsi);
+    free(b), free(psi), free(mpsi);
+    MICA_CALL_CLEANUP(ierr);
+  }
   MICA_CALL_CLEANUP(boundary_vertices(rp->disc, &xv, &nv));
   MICA_CALL_CLEANUP(null_space(rp, xv, nv, &Z1));
   const long nfree = np - nv, nr = nfree * dim;
@@ -199,7 +256,9 @@ static int inf_sup_one(const StabilityOptions *o, const RunProblem *rp, InfSupRo
                       "has zero gradient at every quadrature point (too low a quadrature rule)");
   }
   MICA_CALL_CLEANUP(ierr);
-  row->particles = np, row->constrained = nv, row->nfree = nr, row->nquad = rp->solid->volume->npoints;
+  row->particles = np, row->constrained = nv, row->nfree = nr;
+  /* n_p, the pressure unknowns: 1 + degree·dim per cell, or one per quadrature point */
+  row->nquad = cells ? rp->solid->npcells * (1 + rp->solid->opt.pressure->degree * dim) : rp->solid->volume->npoints;
   row->lambda_max = lambda[nr - 1];
   row->zero = 0;
   while (row->zero < nr && lambda[row->zero] <= o->zero_tol * row->lambda_max) row->zero++;
@@ -252,6 +311,7 @@ int stability_inf_sup(const StabilityOptions *o, const MicaDeck *deck, const cha
     ierr = refined_deck(deck, o->inf_sup_counts[i], row->count, &refined);
     if (!ierr) ierr = run_problem_build(refined, &rp);
     if (!ierr) ierr = inf_sup_one(o, &rp, row);
+    const int cells = !ierr && mica_solid_pressure_cells(rp.solid);
     run_problem_free(&rp);
     mica_deck_destroy(&refined);
     if (ierr) {
@@ -259,9 +319,9 @@ int stability_inf_sup(const StabilityOptions *o, const MicaDeck *deck, const cha
       mica_error_trace(__FILE__, __LINE__, __func__, ierr);
       goto cleanup;
     }
-    printf("inf-sup N = %ld: %ld particles (%ld on the boundary), %ld free unknowns, %ld quadrature points: "
-           "%d zero eigenvalues, β = %.6g\n", row->count[0], row->particles, row->constrained, row->nfree, row->nquad,
-           row->zero, row->beta);
+    printf("inf-sup N = %ld: %ld particles (%ld on the boundary), %ld free unknowns, %ld %s: %d zero eigenvalues, "
+           "β = %.6g\n", row->count[0], row->particles, row->constrained, row->nfree, row->nquad,
+           cells ? "cell pressures" : "quadrature points", row->zero, row->beta);
     fflush(stdout);
     MICA_CALL_CLEANUP(record_row(row, summary));
     nrows++;

@@ -399,10 +399,18 @@ static int assemble_points_grouped(MicaSolid *s, const VolumeTerms *v, int kerne
   return MICA_SUCCESS;
 }
 
+/* A cell pressure (pressure.c): the cells' condensed terms, then the body load point by point. */
+static int assemble_volume_cells(MicaSolid *s, const VolumeTerms *v, const double *u, double *R, MicaSparse *K) {
+  MICA_CALL(mica_pressure_assemble(s, u, R, K));
+  for (long p = 0; v->has_body && p < s->volume->npoints; p++) MICA_CALL(add_body_force(s, p, v->t, v->scale, R));
+  return MICA_SUCCESS;
+}
+
 static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K) {
   const Layout L = layout_of(s);
   VolumeTerms v = {&L, t, load_scale(s, t), 0};
   for (int a = 0; a < s->ncomp; a++) v.has_body |= s->opt.body[a] != NULL;
+  if (mica_solid_pressure_cells(s)) return assemble_volume_cells(s, &v, u, R, K);
   if (K && kernel_applies(s, s->volume)) return assemble_points_grouped(s, &v, 1, u, R, K);
   /* symmetric (test = trial functions) and one scatter per group, unless VCI's Petrov–Galerkin */
   if (K && !s->volume->dN_test && !s->opt.general_kernel) return assemble_points_grouped(s, &v, 0, u, R, K);

@@ -160,7 +160,9 @@ static void clique_fill(const MicaSolid *s, const MicaShapeCache *c, long p, int
 
 static int build_pattern(MicaSolid *s) {
   const int with_multipliers = mica_bc_method_has(s->opt.bc_method, MICA_BC_MULTIPLIERS);
-  long ncliques = s->volume->npoints, total = s->volume->ptr[s->volume->npoints];
+  /* a cell pressure couples every point of a cell: the cell's points' supports are one clique */
+  const int cells = mica_solid_pressure_cells(s);
+  long ncliques = cells ? s->npcells : s->volume->npoints, total = s->volume->ptr[s->volume->npoints];
   /* parallel: every multiplier node's own block, which rank 0 pins whether or not its points touch the node */
   const long nsingle = s->opt.parallel ? s->nmultiplier_nodes : 0;
   ncliques += nsingle, total += nsingle;
@@ -178,9 +180,13 @@ static int build_pattern(MicaSolid *s) {
   MICA_CALL_CLEANUP(MICA_MALLOC(nodes, total));
   long q = 0;
   ptr[0] = 0;
-  for (long p = 0; p < s->volume->npoints; p++, q++) {
-    clique_fill(s, s->volume, p, -1, nodes + ptr[q]);
-    ptr[q + 1] = ptr[q] + clique_size(s, s->volume, p, -1);
+  for (long k = 0; k < (cells ? s->npcells : s->volume->npoints); k++, q++) {
+    ptr[q + 1] = ptr[q];
+    for (long i = cells ? s->pcell_ptr[k] : k; i < (cells ? s->pcell_ptr[k + 1] : k + 1); i++) {
+      const long p = cells ? s->pcell_point[i] : i;
+      clique_fill(s, s->volume, p, -1, nodes + ptr[q + 1]);
+      ptr[q + 1] += clique_size(s, s->volume, p, -1);
+    }
   }
   for (int c = 0; c < s->ndirichlet; c++) {
     const MicaShapeCache *b = s->boundary[s->dirichlet[c].set];
@@ -352,6 +358,7 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
   MICA_CALL_CLEANUP(number_multipliers(s));
   MICA_CALL_CLEANUP(build_collocation(s));
   s->ndof = (s->nparticles + s->nmultiplier_nodes) * s->ncomp;
+  MICA_CALL_CLEANUP(mica_pressure_cells_build(s));
   const double start = mica_wtime();
   MICA_CALL_CLEANUP(build_pattern(s));
   s->time_pattern = mica_wtime() - start;
@@ -382,6 +389,7 @@ void mica_solid_conditions_free(MicaFunction **body, int ndirichlet, MicaDirichl
 int mica_solid_destroy(MicaSolid **solid) {
   MicaSolid *s = *solid;
   if (!s) return MICA_SUCCESS;
+  mica_pressure_cells_free(s);
   mica_shape_cache_destroy(&s->volume);
   if (s->boundary)
     for (int set = 0; set < s->disc->nsets; set++) {

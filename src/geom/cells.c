@@ -101,6 +101,7 @@ int geom_grid_quadrature(const GeomMap *map, const GeomGrid *grid, int order, Mi
   disc->nquad = ncells * per_cell;
   MICA_CALL(MICA_MALLOC(disc->qx, disc->nquad * dim));
   MICA_CALL(MICA_MALLOC(disc->qw, disc->nquad));
+  MICA_CALL(MICA_MALLOC(disc->qcell, disc->nquad)); /* a cell pressure (material.pressure) groups by it */
   disc->volume = 0.0;
   long q = 0;
   for (long c = 0; c < ncells; c++) {
@@ -120,6 +121,7 @@ int geom_grid_quadrature(const GeomMap *map, const GeomGrid *grid, int order, Mi
         wref *= wu[k % order];
       }
       MICA_CALL(mapped_point(map, xi, wref, &disc->qx[q * dim], &disc->qw[q]));
+      disc->qcell[q] = c;
       disc->volume += disc->qw[q];
     }
   }

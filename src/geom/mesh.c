@@ -217,10 +217,13 @@ static int mesh_volume(const GmshMesh *mesh, int dim, Rule rules[TYPE_MAX], Mica
   disc->nquad = nquad;
   MICA_CALL(MICA_MALLOC(disc->qx, nquad * dim));
   MICA_CALL(MICA_MALLOC(disc->qw, nquad));
-  long q = 0;
+  MICA_CALL(MICA_MALLOC(disc->qcell, nquad)); /* the element of each point (a cell pressure groups by it) */
+  long q = 0, cell = 0;
   disc->volume = 0.0;
   for (long e = 0; e < mesh->nelements; e++) {
     if (!is_volume(mesh, e, dim)) continue;
+    for (long g = 0; g < rules[mesh->type[e]].n; g++) disc->qcell[q + g] = cell;
+    cell++;
     const Rule *rule = &rules[mesh->type[e]];
     const double tiny = 1e-12 * pow(element_size(mesh, e), dim);
     for (long g = 0; g < rule->n; g++, q++) {

@@ -371,6 +371,7 @@ static int use_particles(MicaDiscretization *disc, double **volume) {
   disc->gauss_x = disc->qx, disc->gauss_w = disc->qw;
   disc->qx = qx, disc->qw = *volume;
   *volume = NULL;
+  MICA_FREE(disc->qcell); /* the points are the particles now, in no background cell */
   disc->nquad = disc->ncells = disc->nparticles;
   disc->volume = 0.0;
   for (long p = 0; p < disc->nparticles; p++) disc->volume += disc->qw[p];
