@@ -88,6 +88,8 @@ typedef struct MicaBoundarySet {
   int element_size; /* vertices per element: 2 (2-D), 3 or 4 (3-D) */
   long *element_vertices; /* [nelements*element_size], indices into this set's vertices */
   long *cell;       /* [n] the volume cell (finite element) each point lies on, or NULL if not recorded */
+  long *grid_cell;  /* [n] the background cell of a built-in shape's index grid the point lies on (axis 0
+                       fastest; what parallel.data = "distributed" gives each point's owner by), or NULL */
 } MicaBoundarySet;
 
 /* Nodal cells (mica_discretization_nodal): one cell Ω_I per particle, tiling the body, each given by Gauss
@@ -165,6 +167,12 @@ typedef struct MicaDiscretization {
    * trilinear hexahedra where the map is multilinear, biquadratic and triquadratic ones where it bends them),
    * a Gmsh mesh's elements, or the finite elements of problem.method = "fe"; NULL if none. */
   MicaCellMesh *mesh;
+  /* A built-in shape with particles on an index grid (regular, graded, jittered layouts): particles per axis
+   * (particle i0 + n0 (i1 + n1 i2)), background cells per axis (cell c0 + m0 (c1 + m1 c2), whose Gauss points
+   * are qx[c·grid_points_per_cell ...]); 0 otherwise (Gmsh, irregular, nodal): what parallel.data =
+   * "distributed" splits into blocks. */
+  long grid_particles[3], grid_cells[3];
+  long grid_points_per_cell;
 } MicaDiscretization;
 
 /* Builds particles, cells and quadrature points. Errors (MICA_ERR_INPUT): sizes, counts < 2, a polygon that

@@ -43,6 +43,7 @@ void geom_set_free(MicaBoundarySet *set) {
   MICA_FREE(set->vertex_x);
   MICA_FREE(set->element_vertices);
   MICA_FREE(set->cell);
+  MICA_FREE(set->grid_cell);
 }
 
 /* ---- faces of the grid on a set ---- */
@@ -146,6 +147,11 @@ static int face_points(const GeomMap *map, const GeomGrid *grid, const FaceRef *
     set->w[*q] = wu[gs] * (dim == 2 ? 1.0 : wu[gt]) * w0 * w1 * len;
     for (int d = 0; d < dim; d++) set->normal[*q * dim + d] = sign * c[d] / len;
     set->element[*q] = element;
+    long cell[3] = {0, 0, 0};
+    cell[p->axis] = p->side ? grid->n[p->axis] - 1 : 0;
+    cell[t[0]] = f->i;
+    if (t[1] >= 0) cell[t[1]] = f->j;
+    set->grid_cell[*q] = (cell[2] * grid->n[1] + cell[1]) * grid->n[0] + cell[0];
     double *lam = &set->lambda_N[*q * 4];
     if (dim == 2) {
       lam[0] = 1.0 - s, lam[1] = s;
@@ -200,6 +206,7 @@ static int build_set(const GeomMap *map, const GeomGrid *grid, const GeomSetSpec
   MICA_CALL_CLEANUP(set_vertices(grid, faces, nfaces, esize, &keys, &nkeys));
   const long per_face = dim == 2 ? order : (long)order * order;
   MICA_CALL_CLEANUP(geom_set_alloc(set, dim, nfaces * per_face, nfaces, esize, nkeys));
+  MICA_CALL_CLEANUP(MICA_CALLOC(set->grid_cell, nfaces * per_face + 1));
   for (long v = 0; v < nkeys; v++) {
     double xi[3];
     key_to_parameter(grid, keys[v], xi);

@@ -38,6 +38,14 @@ static int create_mapped(const MicaShapeSpec *shape, const MicaLayoutSpec *layou
   MICA_CALL_CLEANUP(geom_grid_boundary(&map, &grid, boundary_order(cells), disc));
   MICA_CALL_CLEANUP(mapped_particles(&map, layout, &axes, disc));
   MICA_CALL_CLEANUP(geom_grid_mesh(&map, &grid, &disc->mesh));
+  if (layout->kind != MICA_LAYOUT_IRREGULAR) { /* particles on the index grid, cells on theirs */
+    disc->grid_points_per_cell = 1;
+    for (int d = 0; d < 3; d++) {
+      disc->grid_particles[d] = d < map.dim ? axes.n[d] : 1;
+      disc->grid_cells[d] = d < map.dim ? grid.n[d] : 1;
+      if (d < map.dim) disc->grid_points_per_cell *= cells->order;
+    }
+  }
 cleanup:
   geom_axes_destroy(&axes);
   geom_grid_destroy(&grid);
