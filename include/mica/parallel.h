@@ -178,7 +178,8 @@ typedef struct MicaGhostPlan {
  * share of the discretization (its volume and boundary points; particles and boundary vertices whole). With
  * parallel.data = "distributed" (owned = 1), the particles too: `local` holds this rank's block of particles
  * (owned, first) and its ghosts (the other ranks' particles within the supports of its points), numbered
- * locally; partition->n is then the local count and partition->part the owner of each local particle. */
+ * locally (its volume is the body's); partition->n is then the local count and partition->part the owner of each
+ * local particle. */
 typedef struct MicaDistribution {
   MicaPartition *partition;
   int *volume_owner;       /* [nquad] */

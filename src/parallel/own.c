@@ -165,7 +165,7 @@ static int local_volume(const MicaDiscretization *disc, const long lo[3], const 
     memcpy(d->qw + k, disc->qw + c * per, sizeof(double) * (size_t)per);
     k += per;
   }
-  for (long q = 0; q < d->nquad; q++) d->volume += d->qw[q];
+  for (long q = 0; q < d->nquad; q++) d->volume += d->qw[q]; /* this rank's part: summed once built */
   return MICA_SUCCESS;
 }
 
@@ -238,18 +238,21 @@ static int local_particles(const MicaDiscretization *disc, MicaDistribution *dis
   return MICA_SUCCESS;
 }
 
-/* The MLS approximation of the local particles with the whole run's radii (a ghost at the layer's edge would get
- * a different local spacing from its truncated neighborhood). */
+/* The MLS approximation of the local particles with the whole run's radii and local spacings (a ghost at the
+ * layer's edge would get other ones from its truncated neighborhood; the spacings are the boundary methods' h). */
 static int local_mls(const MlsApprox *mls, const MlsOptions *mls_opt, const long *grid, MicaDistribution *dist) {
   const MicaDiscretization *d = dist->local;
   const int dim = d->dim;
-  const double *radii = mls_radii(mls);
+  const double *radii = mls_radii(mls), *spacing = mls_spacing(mls);
   double *local = NULL;
   MICA_CALL(mls_create(dim, d->nparticles, d->x, mls_opt, &dist->mls));
   MICA_CALL(MICA_MALLOC(local, d->nparticles * dim + 1));
   for (long i = 0; i < d->nparticles; i++)
     memcpy(local + i * dim, radii + grid[i] * dim, sizeof(double) * (size_t)dim);
-  const int ierr = mls_set_radii(dist->mls, local);
+  int ierr = mls_set_radii(dist->mls, local);
+  for (long i = 0; i < d->nparticles; i++)
+    memcpy(local + i * dim, spacing + grid[i] * dim, sizeof(double) * (size_t)dim);
+  if (!ierr) ierr = mls_set_spacing(dist->mls, local);
   free(local);
   return ierr;
 }
@@ -427,6 +430,8 @@ int mica_distribution_create_owned(const MicaDiscretization *disc, const MlsAppr
   }
   if (!ierr) ierr = mica_parallel_inject("build");
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  /* the body's volume, not the rank's part (the penalty's length scale L = volume^(1/dim) is the body's) */
+  MICA_CALL_CLEANUP(mica_parallel_sum(MICA_SUCCESS, &dist->local->volume, 1));
   dist->nparticles = mica_parallel_sum_long(dist->nowned);
   MicaParallelStats *st = &dist->stats;
   st->owned_particles = dist->nowned;
