@@ -181,6 +181,21 @@ typedef struct MicaDiscretization {
 int mica_discretization_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
                                const MicaCellSpec *cells, MicaDiscretization **disc);
 int mica_discretization_destroy(MicaDiscretization **disc);
+
+/* A block of a built-in shape's index grids (regular, graded or jittered layout): boxes [lo, hi) of grid indices. */
+typedef struct MicaGridBlock {
+  long particle_lo[3], particle_hi[3]; /* the particles laid out (grid order, the whole layout's values) */
+  long cell_lo[3], cell_hi[3];         /* the cells whose volume points are built (cell order) */
+  long boundary_lo[3], boundary_hi[3]; /* the cells whose boundary faces' points are built */
+} MicaGridBlock;
+/* Only the block's particles, volume points and boundary points (no output mesh; grid_* give the whole grids; the
+ * sets' boundary vertices and elements are those of the block's faces, numbered per set; volume: the block's). What
+ * an MPI rank builds with parallel.data = "distributed": nothing of the whole layout's size. */
+int mica_discretization_create_block(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                                     const MicaCellSpec *cells, const MicaGridBlock *block, MicaDiscretization **disc);
+/* The grids' sizes alone: particles and cells per axis (1 beyond the dimension), Gauss points per cell. */
+int mica_discretization_grid(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                             long particles[3], long ncells[3], long *points_per_cell);
 /* Nodal integration: builds a nodal cell around every particle, the dual cells of the particles' logical
  * grid (corners at the averages of the 2^dim surrounding particles in parameter space, so boundary particles
  * get half and quarter cells; mapped by the shape's X, so curved boundaries are followed; split where the map

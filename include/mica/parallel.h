@@ -36,6 +36,7 @@
 #include <mpi.h>
 
 #include "mica/error.h"
+#include "mica/geom.h"
 #include "mica/mls.h"
 #include "mica/sparse.h"
 
@@ -199,14 +200,14 @@ typedef struct MicaDistribution {
   MicaGhostPlan ghosts;
 } MicaDistribution;
 
-/* Collective. parallel.data = "distributed": the particle and cell index grids of disc (a built-in shape's
- * regular, graded or jittered layout) split into one block per rank, P factored along the axes to keep the
- * blocks' interfaces small (as PETSc's DMDA does: no partitioner); this rank's particles, its cells' volume and
- * boundary points, and its ghosts from the supports of those points in mls (the search of the rank's points
- * only). A local MLS approximation on the local particles with mls's radii (opt: mls's options). */
-int mica_distribution_create_owned(const struct MicaDiscretization *disc, const MlsApprox *mls,
-                                   const MlsOptions *mls_opt, const MicaParallelOptions *opt,
-                                   MicaDistribution **dist);
+/* Collective. parallel.data = "distributed": the particle and cell index grids of a built-in shape's regular,
+ * graded or jittered layout split into one block per rank, P factored along the axes to keep the blocks'
+ * interfaces small (as PETSc's DMDA does: no partitioner); this rank builds its particles, its cells' volume and
+ * boundary points, and its ghosts from the supports of those points (a box of the grid around its block, with
+ * its own MLS search), and the MLS approximation of its particles (mls_opt) with the whole layout's radii. */
+int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                                   const MicaCellSpec *cells, const MlsOptions *mls_opt,
+                                   const MicaParallelOptions *opt, MicaDistribution **dist);
 /* The blocks per axis the split of P ranks over a grid of cells[3] gives (procs[d] ≤ cells[d]); MICA_ERR_INPUT
  * if P does not fit the grid. */
 int mica_block_split(int P, int dim, const long cells[3], int procs[3]);

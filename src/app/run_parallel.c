@@ -1,5 +1,6 @@
 /* `mica run` and `mica check` under MPI (src/parallel): the deck's parallel settings, and the partition's
  * and the distributed solver's numbers in the summary and the log. Nothing here runs in a serial run. */
+#include <limits.h>
 #include <mpi.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -84,8 +85,14 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
   opt.max_iterations = (int)iterations;
   if (rp->owned_data) {
     MlsOptions mls_opt;
+    MicaShapeSpec shape;
+    MicaLayoutSpec layout;
+    MicaCellSpec cells;
+    char mesh[PATH_MAX];
+    MICA_CALL(run_read_shape(deck, &shape, mesh, sizeof mesh));
+    MICA_CALL(run_read_layout(deck, shape.dim, 0, &layout, &cells));
     MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
-    MICA_CALL(mica_distribution_create_owned(rp->disc, rp->mls, &mls_opt, &opt, &rp->dist));
+    MICA_CALL(mica_distribution_create_owned(&shape, &layout, &cells, &mls_opt, &opt, &rp->dist));
     const MicaDistribution *d = rp->dist;
     printf("MPI: %d ranks, parallel.data = distributed: blocks %d × %d × %d of the index grids, particles per rank "
            "%ld (+ up to %ld ghosts), quadrature points per rank %ld to %ld (%.3g s)\n",

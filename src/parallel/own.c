@@ -4,9 +4,11 @@
  * as PETSc's DMDA splits its index box, P factored into blocks per axis. A particle's owner and its number in
  * the ranks' contiguous numbering follow from its grid index and the O(P) block sizes, on any rank.
  *
- * This first step still builds the whole discretization and MLS search on every rank and cuts this rank's share
- * out of it (the search is run for this rank's points only); the caller frees the whole one before the solid
- * is built. */
+ * A rank builds the particles of a box of the grid around its block (mica_discretization_create_block: jittered
+ * particles from their own draws of the counter-based stream), its cells' volume and boundary points, and the MLS
+ * approximation of that box; the supports of its points in it are its particles; the box grows until they lie
+ * MARGIN layers inside it, so that their local spacings and radii are those of the whole layout. Nothing of the
+ * whole layout's size is allocated on any rank. */
 #include <math.h>
 #include <mpi.h>
 #include <stdlib.h>
@@ -144,87 +146,136 @@ static int add_supports(const MlsApprox *mls, long n, const double *x, long **se
 
 /* ---- this rank's discretization --------------------------------------------------------------------------- */
 
-static int cell_owned(long c, const MicaDiscretization *disc, const long lo[3], const long hi[3]) {
-  long idx[3];
-  grid_index(c, disc->grid_cells, idx);
-  return in_box(idx, lo, hi);
+/* The rank's source: the particles of a grid box around its block (src_lo, src_hi), its cells' volume and
+ * boundary points, and the MLS approximation of those particles. */
+typedef struct {
+  long lo[3], hi[3];
+  MicaDiscretization *disc;
+  MlsApprox *mls;
+} Source;
+
+static void source_free(Source *src) {
+  mls_destroy(&src->mls);
+  mica_discretization_destroy(&src->disc);
 }
 
-static int local_volume(const MicaDiscretization *disc, const long lo[3], const long hi[3], MicaDiscretization *d) {
-  const int dim = disc->dim;
-  const long per = disc->grid_points_per_cell, ncells = disc->nquad / per;
-  long n = 0, k = 0;
-  for (long c = 0; c < ncells; c++) n += cell_owned(c, disc, lo, hi);
-  d->ncells = n;
-  d->nquad = n * per;
-  MICA_CALL(MICA_MALLOC(d->qx, d->nquad * dim + 1));
-  MICA_CALL(MICA_MALLOC(d->qw, d->nquad + 1));
-  for (long c = 0; c < ncells; c++) {
-    if (!cell_owned(c, disc, lo, hi)) continue;
-    memcpy(d->qx + k * dim, disc->qx + c * per * dim, sizeof(double) * (size_t)(per * dim));
-    memcpy(d->qw + k, disc->qw + c * per, sizeof(double) * (size_t)per);
-    k += per;
-  }
-  for (long q = 0; q < d->nquad; q++) d->volume += d->qw[q]; /* this rank's part: summed once built */
-  return MICA_SUCCESS;
+static long source_index(const Source *src, const long idx[3]) {
+  return (idx[0] - src->lo[0]) + (src->hi[0] - src->lo[0]) * ((idx[1] - src->lo[1]) + (src->hi[1] - src->lo[1]) * (idx[2] - src->lo[2]));
 }
 
-/* The set's points on this rank's cells (no boundary vertices or elements: the multipliers are refused). */
-static int local_set(const MicaDiscretization *disc, const MicaBoundarySet *set, const long lo[3], const long hi[3],
-                     MicaBoundarySet *out) {
-  const int dim = disc->dim;
-  memset(out, 0, sizeof *out);
-  memcpy(out->name, set->name, sizeof out->name);
-  MICA_CHECK(set->grid_cell, MICA_ERR_ARGUMENT, "boundary set '%s' has no grid cells", set->name);
-  long n = 0, k = 0;
-  for (long q = 0; q < set->n; q++) n += cell_owned(set->grid_cell[q], disc, lo, hi);
-  out->n = n;
-  out->element_size = set->element_size;
-  MICA_CALL(MICA_MALLOC(out->x, n * dim + 1));
-  MICA_CALL(MICA_MALLOC(out->w, n + 1));
-  MICA_CALL(MICA_MALLOC(out->normal, n * dim + 1));
-  MICA_CALL(MICA_MALLOC(out->element, n + 1));
-  MICA_CALL(MICA_MALLOC(out->lambda_N, n * 4 + 1));
-  for (long q = 0; q < set->n; q++) {
-    if (!cell_owned(set->grid_cell[q], disc, lo, hi)) continue;
-    memcpy(out->x + k * dim, set->x + q * dim, sizeof(double) * (size_t)dim);
-    memcpy(out->normal + k * dim, set->normal + q * dim, sizeof(double) * (size_t)dim);
-    memcpy(out->lambda_N + k * 4, set->lambda_N + q * 4, sizeof(double) * 4);
-    out->w[k] = set->w[q];
-    out->element[k] = set->element[q];
-    k++;
+static void source_grid(const Source *src, long k, long idx[3]) {
+  const long w0 = src->hi[0] - src->lo[0], w1 = src->hi[1] - src->lo[1];
+  idx[0] = src->lo[0] + k % w0, k /= w0;
+  idx[1] = src->lo[1] + k % w1, idx[2] = src->lo[2] + k / w1;
+}
+
+/* Layers of particles kept beyond the farthest one a point's support needs: their neighbors set its local spacing,
+ * hence its radius, as in the whole layout (docs/architecture.md §Parallel runs). */
+enum { MARGIN = 3 };
+
+/* Whether the needed particles stay MARGIN layers inside the box wherever it does not end at the grid's edge. */
+static int source_deep_enough(const Source *src, const long n[3], const long *needed, long nneeded) {
+  for (long k = 0; k < nneeded; k++) {
+    long idx[3];
+    source_grid(src, needed[k], idx);
+    for (int d = 0; d < 3; d++) {
+      if (src->lo[d] > 0 && idx[d] - src->lo[d] < MARGIN) return 0;
+      if (src->hi[d] < n[d] && src->hi[d] - 1 - idx[d] < MARGIN) return 0;
+    }
   }
-  return MICA_SUCCESS;
+  return 1;
+}
+
+/* The rank's source with `layers` layers of particles around its particle block and the particles of its cells
+ * (cell c of m along an axis lies between particle lines about c (n − 1)/m and (c + 1)(n − 1)/m). */
+static int source_build(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                        const MlsOptions *mls_opt, const long n[3], const long m[3], const long plo[3],
+                        const long phi[3], const long clo[3], const long chi[3], long layers, Source *src) {
+  MicaGridBlock block;
+  memset(&block, 0, sizeof block);
+  for (int d = 0; d < 3; d++) {
+    long a = clo[d] * (n[d] - 1) / m[d], b = (chi[d] * (n[d] - 1) + m[d] - 1) / m[d] + 1;
+    a = (a < plo[d] ? a : plo[d]) - layers, b = (b > phi[d] ? b : phi[d]) + layers;
+    src->lo[d] = block.particle_lo[d] = a < 0 ? 0 : a;
+    src->hi[d] = block.particle_hi[d] = b > n[d] ? n[d] : b;
+    block.cell_lo[d] = block.boundary_lo[d] = clo[d];
+    block.cell_hi[d] = block.boundary_hi[d] = chi[d];
+  }
+  MICA_CALL(mica_discretization_create_block(shape, layout, cells, &block, &src->disc));
+  return mls_create(src->disc->dim, src->disc->nparticles, src->disc->x, mls_opt, &src->mls);
+}
+
+/* ... and of the rank's own particles (the outputs evaluate the fields there). */
+static int add_owned_supports(const Source *src, const long plo[3], const long phi[3], long **needed, long *nneeded) {
+  const int dim = src->disc->dim;
+  double *x = NULL;
+  long k = 0;
+  MICA_CALL(MICA_MALLOC(x, box_size(plo, phi) * dim + 1));
+  for (long i2 = plo[2]; i2 < phi[2]; i2++)
+    for (long i1 = plo[1]; i1 < phi[1]; i1++)
+      for (long i0 = plo[0]; i0 < phi[0]; i0++, k++) {
+        const long idx[3] = {i0, i1, i2};
+        memcpy(x + k * dim, src->disc->x + source_index(src, idx) * dim, sizeof(double) * (size_t)dim);
+      }
+  const int ierr = add_supports(src->mls, k, x, needed, nneeded);
+  free(x);
+  return ierr;
+}
+
+/* The source's particles in the supports of its points: grown until they lie MARGIN layers inside it. */
+static int source_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                         const MlsOptions *mls_opt, const long n[3], const long m[3], const long plo[3],
+                         const long phi[3], const long clo[3], const long chi[3], Source *src, long **needed,
+                         long *nneeded) {
+  long layers = (long)ceil(mls_opt->dilation > 0 ? mls_opt->dilation : 1.0) + MARGIN;
+  for (;;) {
+    MICA_CALL(source_build(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, layers, src));
+    const MicaDiscretization *d = src->disc;
+    *nneeded = 0;
+    MICA_CALL(add_supports(src->mls, d->nquad, d->qx, needed, nneeded));
+    for (int s = 0; s < d->nsets; s++) MICA_CALL(add_supports(src->mls, d->sets[s].n, d->sets[s].x, needed, nneeded));
+    MICA_CALL(add_owned_supports(src, plo, phi, needed, nneeded)); /* the fields are written at them */
+    if (source_deep_enough(src, n, *needed, *nneeded)) return MICA_SUCCESS;
+    source_free(src);
+    free(*needed);
+    *needed = NULL;
+    layers *= 2;
+  }
 }
 
 /* The local particles: the owned block (grid order), then the ghosts (ascending grid index); their owners and
- * contiguous numbers. grid[]: the grid index of each. */
-static int local_particles(const MicaDiscretization *disc, MicaDistribution *dist, const long *needed, long nneeded,
-                           const long *offsets, long **grid_out, MicaDiscretization *d) {
-  const int dim = disc->dim, rank = mica_parallel_rank();
-  const long *n = disc->grid_particles;
-  long lo[3], hi[3], *grid = NULL;
+ * contiguous numbers. The volume and boundary points are the source's (its cells are the rank's). */
+static int local_particles(const Source *src, MicaDistribution *dist, const long n[3], const long *needed,
+                           long nneeded, const long *offsets, long **srcmap) {
+  const MicaDiscretization *sd = src->disc;
+  const int dim = sd->dim, rank = mica_parallel_rank();
+  long lo[3], hi[3];
   block_box(rank, dist->procs, n, lo, hi);
   dist->nowned = box_size(lo, hi);
   long nghost = 0;
   for (long k = 0; k < nneeded; k++) {
     long idx[3];
-    grid_index(needed[k], n, idx);
+    source_grid(src, needed[k], idx);
     nghost += !in_box(idx, lo, hi);
   }
   dist->nghost = nghost;
   const long nlocal = dist->nowned + nghost;
-  MICA_CALL(MICA_MALLOC(grid, nlocal + 1));
+  long *map = NULL;
+  MICA_CALL(MICA_MALLOC(map, nlocal + 1));
+  *srcmap = map;
   long m = 0;
   for (long i2 = lo[2]; i2 < hi[2]; i2++)
     for (long i1 = lo[1]; i1 < hi[1]; i1++)
-      for (long i0 = lo[0]; i0 < hi[0]; i0++) grid[m++] = i0 + n[0] * (i1 + n[1] * i2);
+      for (long i0 = lo[0]; i0 < hi[0]; i0++) {
+        const long idx[3] = {i0, i1, i2};
+        map[m++] = source_index(src, idx);
+      }
   for (long k = 0; k < nneeded; k++) {
     long idx[3];
-    grid_index(needed[k], n, idx);
-    if (!in_box(idx, lo, hi)) grid[m++] = needed[k];
+    source_grid(src, needed[k], idx);
+    if (!in_box(idx, lo, hi)) map[m++] = needed[k];
   }
-  *grid_out = grid;
+  MicaDiscretization *d = dist->local;
   d->nparticles = nlocal;
   MICA_CALL(MICA_MALLOC(d->x, nlocal * dim + 1));
   MICA_CALL(MICA_MALLOC(dist->global_node, nlocal + 1));
@@ -232,26 +283,39 @@ static int local_particles(const MicaDiscretization *disc, MicaDistribution *dis
   p->n = nlocal;
   MICA_CALL(MICA_MALLOC(p->part, nlocal + 1));
   for (long i = 0; i < nlocal; i++) {
-    memcpy(d->x + i * dim, disc->x + grid[i] * dim, sizeof(double) * (size_t)dim);
-    dist->global_node[i] = global_number(grid[i], n, dist->procs, offsets, &p->part[i]);
+    long idx[3];
+    source_grid(src, map[i], idx);
+    memcpy(d->x + i * dim, sd->x + map[i] * dim, sizeof(double) * (size_t)dim);
+    dist->global_node[i] = global_number(idx[0] + n[0] * (idx[1] + n[1] * idx[2]), n, dist->procs, offsets, &p->part[i]);
   }
   return MICA_SUCCESS;
 }
 
-/* The MLS approximation of the local particles with the whole run's radii and local spacings (a ghost at the
- * layer's edge would get other ones from its truncated neighborhood; the spacings are the boundary methods' h). */
-static int local_mls(const MlsApprox *mls, const MlsOptions *mls_opt, const long *grid, MicaDistribution *dist) {
+/* The source's volume and boundary points become the local discretization's (moved, not copied). */
+static void take_points(Source *src, MicaDiscretization *d) {
+  MicaDiscretization *sd = src->disc;
+  d->dim = sd->dim;
+  d->ncells = sd->ncells, d->nquad = sd->nquad, d->qx = sd->qx, d->qw = sd->qw;
+  d->nsets = sd->nsets, d->sets = sd->sets;
+  sd->qx = sd->qw = NULL, sd->sets = NULL, sd->nsets = 0, sd->nquad = 0;
+  d->volume = 0; /* this rank's part: summed once built */
+  for (long q = 0; q < d->nquad; q++) d->volume += d->qw[q];
+}
+
+/* The MLS approximation of the local particles with the source's radii and local spacings (a ghost at the
+ * source's edge would get other ones from its truncated neighborhood; the spacings are the boundary methods' h). */
+static int local_mls(const Source *src, const MlsOptions *mls_opt, const long *map, MicaDistribution *dist) {
   const MicaDiscretization *d = dist->local;
   const int dim = d->dim;
-  const double *radii = mls_radii(mls), *spacing = mls_spacing(mls);
+  const double *radii = mls_radii(src->mls), *spacing = mls_spacing(src->mls);
   double *local = NULL;
   MICA_CALL(mls_create(dim, d->nparticles, d->x, mls_opt, &dist->mls));
   MICA_CALL(MICA_MALLOC(local, d->nparticles * dim + 1));
   for (long i = 0; i < d->nparticles; i++)
-    memcpy(local + i * dim, radii + grid[i] * dim, sizeof(double) * (size_t)dim);
+    memcpy(local + i * dim, radii + map[i] * dim, sizeof(double) * (size_t)dim);
   int ierr = mls_set_radii(dist->mls, local);
   for (long i = 0; i < d->nparticles; i++)
-    memcpy(local + i * dim, spacing + grid[i] * dim, sizeof(double) * (size_t)dim);
+    memcpy(local + i * dim, spacing + map[i] * dim, sizeof(double) * (size_t)dim);
   if (!ierr) ierr = mls_set_spacing(dist->mls, local);
   free(local);
   return ierr;
@@ -366,57 +430,49 @@ int mica_owned_norm(const MicaDistribution *dist, const double *v, int ncomp, do
 
 /* ---- public ----------------------------------------------------------------------------------------------- */
 
-static int check_grid(const MicaDiscretization *disc) {
-  MICA_CHECK(disc->grid_points_per_cell > 0 && !disc->nodal, MICA_ERR_INPUT,
-             "parallel.data = \"distributed\" needs a built-in shape with a regular, graded or jittered particle "
-             "layout and background-cell quadrature (an index grid to split); use parallel.data = \"replicated\"");
-  return MICA_SUCCESS;
-}
-
-static int build_owned(const MicaDiscretization *disc, const MlsApprox *mls, const MlsOptions *mls_opt,
-                       MicaDistribution *dist) {
+static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                       const MlsOptions *mls_opt, MicaDistribution *dist) {
   const int P = mica_parallel_size(), rank = mica_parallel_rank();
-  long lo[3], hi[3], *offsets = NULL, *needed = NULL, nneeded = 0, *grid = NULL;
+  long n[3], m[3], per_cell, plo[3], phi[3], clo[3], chi[3], *offsets = NULL, *needed = NULL, nneeded = 0;
+  long *map = NULL;
+  Source src;
+  memset(&src, 0, sizeof src);
   int ierr = MICA_SUCCESS;
-  MICA_CALL(check_grid(disc));
-  MICA_CALL(mica_block_split(P, disc->dim, disc->grid_cells, dist->procs));
-  for (int d = 0; d < disc->dim; d++)
-    MICA_CHECK(dist->procs[d] <= disc->grid_particles[d], MICA_ERR_INPUT,
+  MICA_CALL(mica_discretization_grid(shape, layout, cells, n, m, &per_cell));
+  MICA_CALL(mica_block_split(P, shape->dim, m, dist->procs));
+  for (int d = 0; d < shape->dim; d++)
+    MICA_CHECK(dist->procs[d] <= n[d], MICA_ERR_INPUT,
                "parallel.data = \"distributed\": %d blocks along axis %d for %ld particles; use fewer ranks",
-               dist->procs[d], d, disc->grid_particles[d]);
+               dist->procs[d], d, n[d]);
   MICA_CALL(MICA_CALLOC(dist->partition, 1));
   MicaPartition *p = dist->partition;
   p->nparts = P;
   MICA_CALL(MICA_CALLOC(p->part_size, P + 1));
   MICA_CALL(MICA_CALLOC(offsets, P + 1));
   for (int r = 0; r < P; r++) {
-    block_box(r, dist->procs, disc->grid_particles, lo, hi);
-    p->part_size[r] = box_size(lo, hi);
+    block_box(r, dist->procs, n, plo, phi);
+    p->part_size[r] = box_size(plo, phi);
     offsets[r + 1] = offsets[r] + p->part_size[r];
   }
-  p->imbalance = (double)p->part_size[0] * P / (double)offsets[P];
-  for (int r = 1; r < P; r++)
+  for (int r = 0; r < P; r++)
     if ((double)p->part_size[r] * P / (double)offsets[P] > p->imbalance)
       p->imbalance = (double)p->part_size[r] * P / (double)offsets[P];
+  block_box(rank, dist->procs, n, plo, phi);
+  block_box(rank, dist->procs, m, clo, chi);
+  MICA_CALL_CLEANUP(source_create(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, &src, &needed, &nneeded));
   MICA_CALL_CLEANUP(MICA_CALLOC(dist->local, 1));
-  MicaDiscretization *d = dist->local;
-  d->dim = disc->dim;
-  block_box(rank, dist->procs, disc->grid_cells, lo, hi);
-  MICA_CALL_CLEANUP(local_volume(disc, lo, hi, d));
-  MICA_CALL_CLEANUP(MICA_CALLOC(d->sets, disc->nsets + 1));
-  d->nsets = disc->nsets;
-  for (int s = 0; s < disc->nsets; s++) MICA_CALL_CLEANUP(local_set(disc, &disc->sets[s], lo, hi, &d->sets[s]));
-  MICA_CALL_CLEANUP(add_supports(mls, d->nquad, d->qx, &needed, &nneeded));
-  for (int s = 0; s < d->nsets; s++) MICA_CALL_CLEANUP(add_supports(mls, d->sets[s].n, d->sets[s].x, &needed, &nneeded));
-  MICA_CALL_CLEANUP(local_particles(disc, dist, needed, nneeded, offsets, &grid, d));
-  MICA_CALL_CLEANUP(local_mls(mls, mls_opt, grid, dist));
+  take_points(&src, dist->local);
+  MICA_CALL_CLEANUP(local_particles(&src, dist, n, needed, nneeded, offsets, &map));
+  MICA_CALL_CLEANUP(local_mls(&src, mls_opt, map, dist));
   MICA_CALL_CLEANUP(ghost_plan(dist, offsets));
 cleanup:
-  free(offsets), free(needed), free(grid);
+  source_free(&src);
+  free(offsets), free(needed), free(map);
   return ierr;
 }
 
-int mica_distribution_create_owned(const MicaDiscretization *disc, const MlsApprox *mls, const MlsOptions *mls_opt,
+int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                                   const MicaCellSpec *cells, const MlsOptions *mls_opt,
                                    const MicaParallelOptions *opt, MicaDistribution **out) {
   *out = NULL;
   const double start = mica_wtime();
@@ -425,8 +481,8 @@ int mica_distribution_create_owned(const MicaDiscretization *disc, const MlsAppr
   if (!ierr) {
     dist->opt = *opt;
     dist->owned = 1;
-    dist->nsets = disc->nsets;
-    ierr = build_owned(disc, mls, mls_opt, dist);
+    ierr = build_owned(shape, layout, cells, mls_opt, dist);
+    if (!ierr) dist->nsets = dist->local->nsets;
   }
   if (!ierr) ierr = mica_parallel_inject("build");
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));

@@ -6,7 +6,7 @@
 #     the field's largest magnitude; tests/cli/pvtu_compare.py) with MUMPS, within 1e-7 with GAMG (solver.linear_rtol
 #     1e-12 times the conditioning), and the relative L2 error norm within the same tolerances (absolute): Cook's membrane with
 #     Neo-Hooke (4 load steps), the 3-D cube in tension (linear), the Cosserat manufactured solution with penalty
-#     and with Nitsche, the cube with Nitsche;
+#     and with Nitsche, the cube with Nitsche; and with MUMPS at P = 2, 3, 4 on a jittered and a graded layout;
 #   - no rank holds the whole problem: on a 12³ cube at P = 4, the ranks' owned particles, volume points and
 #     boundary points sum to the serial run's counts, the summed tangent has the serial nnz, and each rank holds
 #     (owned + ghosts) fewer than 0.6 of the particles;
@@ -95,6 +95,21 @@ check_deck cosserat 1e-9 1e-6 tests/decks/cosserat/nitsche.cfg --set bc.method=\
 check_deck nitsche 1e-10 1e-7 tests/decks/cosserat/nitsche.cfg
 check_deck cube_nitsche 1e-10 1e-7 tests/decks/parallel/cube.cfg --set "particles.count=[6,6,6]" --set quadrature.order=3 \
   --set bc.method=\"nitsche\"
+
+# a rank lays out its own block: jittered particles from their own draws of the counter-based stream, graded ones
+# with the whole layout's spacings and radii near the block's edge (MUMPS at P = 2, 3, 4)
+check_layout() {
+  local name=$1 deck=$2; shift 2
+  serial "$work/$name" "$deck" "$@"
+  for np in 2 3 4; do
+    distributed "$np" "$work/$name-$np" "$deck" "$@"
+    same "$work/$name" "$work/$name-$np" "$np" 1e-10
+  done
+}
+check_layout jittered tests/decks/parallel/cook.cfg --set "particles.count=[9,9]" --set solver.steps=2 \
+  --set particles.layout=\"jittered\" --set particles.seed=7
+check_layout graded tests/decks/parallel/cube.cfg --set "particles.count=[7,6,6]" --set quadrature.order=3 \
+  --set particles.layout=\"graded\" --set "particles.grading=[4.0]" --set mls.spacing=\"far\"
 
 # ---- no rank holds the whole problem -----------------------------------------------------------------------
 medium=(--set "particles.count=[12,12,12]" --set quadrature.order=2 --set output.vtu=false)
