@@ -5,8 +5,8 @@
 #     VTU pieces hold every serial particle once with every field within 1e-10 of the serial value (relative to
 #     the field's largest magnitude; tests/cli/pvtu_compare.py) with MUMPS, within 1e-7 with GAMG (solver.linear_rtol
 #     1e-12 times the conditioning), and the relative L2 error norm within the same tolerances (absolute): Cook's membrane with
-#     Neo-Hooke (4 load steps), the 3-D cube in tension (linear), the Cosserat manufactured solution with penalty
-#     and with Nitsche, the cube with Nitsche; and with MUMPS at P = 2, 3, 4 on a jittered and a graded layout;
+#     Neo-Hooke (4 load steps), the 3-D cube in tension (linear) — both with Nitsche's method, the default —, the
+#     Cosserat manufactured solution with penalty and with Nitsche, the cube with penalty; and with MUMPS at P = 2, 3, 4 on a jittered and a graded layout;
 #   - no rank holds the whole problem: on a 12³ cube at P = 4, the ranks' owned particles, volume points and
 #     boundary points sum to the serial run's counts, the summed tangent has the serial nnz, and each rank holds
 #     (owned + ghosts) fewer than 0.6 of the particles;
@@ -93,8 +93,8 @@ check_deck cube 1e-10 1e-7 tests/decks/parallel/cube.cfg --set "particles.count=
 # was written, moved the fields by 1e-5)
 check_deck cosserat 1e-9 1e-6 tests/decks/cosserat/nitsche.cfg --set bc.method=\"penalty\"
 check_deck nitsche 1e-10 1e-7 tests/decks/cosserat/nitsche.cfg
-check_deck cube_nitsche 1e-10 1e-7 tests/decks/parallel/cube.cfg --set "particles.count=[6,6,6]" --set quadrature.order=3 \
-  --set bc.method=\"nitsche\"
+check_deck cube_penalty 1e-10 1e-7 tests/decks/parallel/cube.cfg --set "particles.count=[6,6,6]" --set quadrature.order=3 \
+  --set bc.method=\"penalty\"
 
 # a rank lays out its own block: jittered particles from their own draws of the counter-based stream, graded ones
 # with the whole layout's spacings and radii near the block's edge (MUMPS at P = 2, 3, 4)
