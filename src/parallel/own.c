@@ -459,11 +459,13 @@ static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
       p->imbalance = (double)p->part_size[r] * P / (double)offsets[P];
   block_box(rank, dist->procs, n, plo, phi);
   block_box(rank, dist->procs, m, clo, chi);
-  MICA_CALL_CLEANUP(source_create(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, &src, &needed, &nneeded));
-  MICA_CALL_CLEANUP(MICA_CALLOC(dist->local, 1));
-  take_points(&src, dist->local);
-  MICA_CALL_CLEANUP(local_particles(&src, dist, n, needed, nneeded, offsets, &map));
-  MICA_CALL_CLEANUP(local_mls(&src, mls_opt, map, dist));
+  ierr = source_create(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, &src, &needed, &nneeded);
+  if (!ierr) ierr = MICA_CALLOC(dist->local, 1);
+  if (!ierr) take_points(&src, dist->local);
+  if (!ierr) ierr = local_particles(&src, dist, n, needed, nneeded, offsets, &map);
+  if (!ierr) ierr = local_mls(&src, mls_opt, map, dist);
+  /* every rank reaches the plan's collectives, or none */
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
   MICA_CALL_CLEANUP(ghost_plan(dist, offsets));
 cleanup:
   source_free(&src);

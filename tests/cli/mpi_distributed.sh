@@ -127,6 +127,8 @@ for key, total in (("rank_particles_owned", "particles"), ("rank_points", "quadr
                    ("rank_boundary_points", "boundary_points")):
     check(sum(p[key]) == s[total], f"{key} {p[key]} sum to the serial {total} {s[total]}")
     check(max(p[key]) < s[total], f"{key}: each rank below the whole {s[total]}")
+# the split of 4 ranks over 11³ cells: two axes halved has 2 · 121 interface faces, one axis in 4 has 3 · 121
+check(sorted(p["parallel_blocks"]) == [1, 2, 2], f"blocks {p['parallel_blocks']}: two axes halved")
 held = p["rank_particles_local"]
 check(len(held) == 4 and max(held) < 0.6 * s["particles"],
       f"particles held per rank (owned + ghosts) {held}: each below 0.6 of {s['particles']}")
