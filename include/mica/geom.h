@@ -88,6 +88,8 @@ typedef struct MicaBoundarySet {
   int element_size; /* vertices per element: 2 (2-D), 3 or 4 (3-D) */
   long *element_vertices; /* [nelements*element_size], indices into this set's vertices */
   long *cell;       /* [n] the volume cell (finite element) each point lies on, or NULL if not recorded */
+  long *grid_cell;  /* [n] the background cell of a built-in shape's index grid the point lies on (axis 0
+                       fastest; what parallel.data = "distributed" gives each point's owner by), or NULL */
 } MicaBoundarySet;
 
 /* Nodal cells (mica_discretization_nodal): one cell Ω_I per particle, tiling the body, each given by Gauss
@@ -165,6 +167,12 @@ typedef struct MicaDiscretization {
    * trilinear hexahedra where the map is multilinear, biquadratic and triquadratic ones where it bends them),
    * a Gmsh mesh's elements, or the finite elements of problem.method = "fe"; NULL if none. */
   MicaCellMesh *mesh;
+  /* A built-in shape with particles on an index grid (regular, graded, jittered layouts): particles per axis
+   * (particle i0 + n0 (i1 + n1 i2)), background cells per axis (cell c0 + m0 (c1 + m1 c2), whose Gauss points
+   * are qx[c·grid_points_per_cell ...]); 0 otherwise (Gmsh, irregular, nodal): what parallel.data =
+   * "distributed" splits into blocks. */
+  long grid_particles[3], grid_cells[3];
+  long grid_points_per_cell;
 } MicaDiscretization;
 
 /* Builds particles, cells and quadrature points. Errors (MICA_ERR_INPUT): sizes, counts < 2, a polygon that
@@ -173,6 +181,21 @@ typedef struct MicaDiscretization {
 int mica_discretization_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
                                const MicaCellSpec *cells, MicaDiscretization **disc);
 int mica_discretization_destroy(MicaDiscretization **disc);
+
+/* A block of a built-in shape's index grids (regular, graded or jittered layout): boxes [lo, hi) of grid indices. */
+typedef struct MicaGridBlock {
+  long particle_lo[3], particle_hi[3]; /* the particles laid out (grid order, the whole layout's values) */
+  long cell_lo[3], cell_hi[3];         /* the cells whose volume points are built (cell order) */
+  long boundary_lo[3], boundary_hi[3]; /* the cells whose boundary faces' points are built */
+} MicaGridBlock;
+/* Only the block's particles, volume points and boundary points (no output mesh; grid_* give the whole grids; the
+ * sets' boundary vertices and elements are those of the block's faces, numbered per set; volume: the block's). What
+ * an MPI rank builds with parallel.data = "distributed": nothing of the whole layout's size. */
+int mica_discretization_create_block(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                                     const MicaCellSpec *cells, const MicaGridBlock *block, MicaDiscretization **disc);
+/* The grids' sizes alone: particles and cells per axis (1 beyond the dimension), Gauss points per cell. */
+int mica_discretization_grid(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                             long particles[3], long ncells[3], long *points_per_cell);
 /* Nodal integration: builds a nodal cell around every particle, the dual cells of the particles' logical
  * grid (corners at the averages of the 2^dim surrounding particles in parameter space, so boundary particles
  * get half and quarter cells; mapped by the shape's X, so curved boundaries are followed; split where the map

@@ -156,6 +156,10 @@ int mls_create(int dim, long n, const double *x, const MlsOptions *opt, MlsAppro
 int mls_destroy(MlsApprox **mls);
 /* Replaces the radii: radii[i*dim + d] (ball: radii[i*dim]). */
 int mls_set_radii(MlsApprox *mls, const double *radii);
+/* Replaces the local spacings (mls_spacing) without changing the radii: an approximation on a subset of a larger
+ * set of particles (an MPI rank's block and ghosts) takes the whole set's, which its truncated neighborhoods
+ * would not reproduce at the subset's edge. */
+int mls_set_spacing(MlsApprox *mls, const double *spacing);
 
 int mls_dim(const MlsApprox *mls);
 long mls_num_particles(const MlsApprox *mls);

@@ -56,6 +56,10 @@ typedef struct MicaNonlinearProblem {
   /* Called when the first factorization of a direct solver fails numerically (no load step has changed the
    * tangent yet): returns the error to report instead (NULL: the solver's own error). */
   int (*first_factor_failed)(void *ctx);
+  /* The norm of R, u and Δu (NULL: the 2-norm of the n entries). A problem whose vectors are split over ranks
+   * (each holding its owned entries and ghost copies of others') gives the 2-norm over every rank's owned
+   * entries, the same on every rank, so that all ranks take the same decisions (after PETSc's VecNorm). */
+  int (*norm)(void *ctx, const double *v, double *norm);
 } MicaNonlinearProblem;
 
 /* Solves from u (initial guess, updated in place) to load factor 1; on_step (may be NULL) is called after

@@ -36,6 +36,7 @@
 #include <mpi.h>
 
 #include "mica/error.h"
+#include "mica/geom.h"
 #include "mica/mls.h"
 #include "mica/sparse.h"
 
@@ -163,8 +164,23 @@ typedef struct MicaParallelStats {
   long subdomain_dofs_max, subdomain_dofs_min;
 } MicaParallelStats;
 
+/* parallel.data = "distributed" (own.c): the plan of the ghost exchange. A rank's ghosts are owned elsewhere;
+ * per rank r, the ghosts it receives from r (recv_index: their local particle numbers, grouped by r) and the owned
+ * particles it sends to r (send_index), counts and displacements in particles. */
+typedef struct MicaGhostPlan {
+  int *send_counts, *send_displs, *recv_counts, *recv_displs; /* [P + 1] each */
+  long *send_index, *recv_index;
+  int *scaled;      /* [4 P] the counts and displacements times the unknowns per particle, per exchange */
+  double *send_buffer, *recv_buffer;
+  long buffer_size; /* doubles in each buffer */
+} MicaGhostPlan;
+
 /* A problem distributed over the ranks: the partition, who owns which quadrature point, and this rank's
- * share of the discretization (its volume and boundary points; particles and boundary vertices whole). */
+ * share of the discretization (its volume and boundary points; particles and boundary vertices whole). With
+ * parallel.data = "distributed" (owned = 1), the particles too: `local` holds this rank's block of particles
+ * (owned, first) and its ghosts (the other ranks' particles within the supports of its points), numbered
+ * locally (its volume is the body's); partition->n is then the local count and partition->part the owner of each
+ * local particle. */
 typedef struct MicaDistribution {
   MicaPartition *partition;
   int *volume_owner;       /* [nquad] */
@@ -174,7 +190,36 @@ typedef struct MicaDistribution {
   MicaParallelStats stats;
   long nparticles;
   int nsets;
+  /* parallel.data = "distributed" only (0 / NULL otherwise) */
+  int owned;
+  int procs[3];           /* the block split of the particle and cell grids: blocks per axis */
+  long nowned, nghost;    /* local particles: owned ones first, then ghosts */
+  long *global_node;      /* [nowned + nghost] each local particle's number in the ranks' contiguous numbering
+                             (the offsets of the lower ranks' blocks + the position in its owner's block) */
+  MlsApprox *mls;         /* the MLS approximation on the local particles, with the global run's radii */
+  MicaGhostPlan ghosts;
 } MicaDistribution;
+
+/* Collective. parallel.data = "distributed": the particle and cell index grids of a built-in shape's regular,
+ * graded or jittered layout split into one block per rank, P factored along the axes to keep the blocks'
+ * interfaces small (as PETSc's DMDA does: no partitioner); this rank builds its particles, its cells' volume and
+ * boundary points, and its ghosts from the supports of those points (a box of the grid around its block, with
+ * its own MLS search), and the MLS approximation of its particles (mls_opt) with the whole layout's radii. */
+int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                                   const MicaCellSpec *cells, const MlsOptions *mls_opt,
+                                   const MicaParallelOptions *opt, MicaDistribution **dist);
+/* The blocks per axis the split of P ranks over a grid of cells[3] gives (procs[d] ≤ cells[d]); MICA_ERR_INPUT
+ * if P does not fit the grid. */
+int mica_block_split(int P, int dim, const long cells[3], int procs[3]);
+/* Collective. v[nlocal·ncomp] (ncomp unknowns per particle): the owners' values copied into the ghosts. */
+int mica_ghost_update(MicaDistribution *dist, double *v, int ncomp);
+/* Collective, after agreeing on ierr: each ghost's entries added into its owner's, then the owners' sums copied
+ * back into the ghosts (v complete everywhere: the sum over ranks of their contributions). */
+int mica_ghost_sum(MicaDistribution *dist, int ierr, double *v, int ncomp);
+/* Collective: mica_ghost_sum of a residual, after agreeing on ierr (the failure injection point "assemble"). */
+int mica_owned_residual(MicaDistribution *dist, int ierr, double *R, int ncomp);
+/* Collective: the 2-norm over the ranks of the owned entries of v (bitwise the same on every rank). */
+int mica_owned_norm(const MicaDistribution *dist, const double *v, int ncomp, double *norm);
 
 /* Collective. Partitions (on rank 0, broadcast) and builds this rank's share of disc. */
 int mica_distribution_create(const struct MicaDiscretization *disc, const MlsApprox *mls,
@@ -189,6 +234,8 @@ int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOp
 
 /* Collective: nnz of the sum over ranks of their matrices L (the pattern of the whole tangent). */
 int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz);
+/* The same for matrices in local numbering: node k of L is node global_node[k] of nglobal (NULL: the identity). */
+int mica_parallel_matrix_nnz_mapped(const MicaSparse *L, const long *global_node, long nglobal, long *nnz);
 /* Collective: the largest value of v over the ranks (for counts: memory per rank, ...). */
 long mica_parallel_max_long(long v);
 long mica_parallel_sum_long(long v);

@@ -18,6 +18,10 @@ static inline uint64_t mica_random_next(MicaRandom *r) {
   return z ^ (z >> 31);
 }
 
+/* The generator k draws further on: SplitMix64 is a counter, so draw k of a stream is known without the k before
+ * it (a rank lays out its block of jittered particles alone and gets the whole layout's values). */
+static inline MicaRandom mica_random_skip(MicaRandom r, uint64_t k) { return (MicaRandom){r.state + k * 0x9E3779B97F4A7C15ULL}; }
+
 /* Uniform in [0, 1). */
 static inline double mica_random_uniform(MicaRandom *r) { return (double)(mica_random_next(r) >> 11) * 0x1.0p-53; }
 

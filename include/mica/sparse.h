@@ -107,6 +107,11 @@ typedef struct MicaLinearLayout {
   MPI_Comm comm;
   long nnodes;
   const int *node_owner; /* [nnodes] ranks of comm; NULL: all on rank 0 */
+  /* Local numbering (parallel.data = "distributed"): the matrices and vectors hold this rank's nodes only, the
+   * nowned it owns first, then ghosts; node k is node_global[k] of the nglobal nodes, whose numbers are
+   * contiguous per rank in rank order. NULL: the matrices are in the global numbering. */
+  const long *node_global;
+  long nowned, nglobal;
 } MicaLinearLayout;
 
 typedef struct MicaLinearSolverOps {

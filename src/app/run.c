@@ -51,6 +51,20 @@ static int read_vci(const MicaDeck *deck, const MicaDiscretization *disc, MicaSo
   return MICA_SUCCESS;
 }
 
+/* parallel.data = "distributed": from now on the run's discretization and MLS are this rank's (the
+ * distribution's); the whole ones are freed unless a reuse keeps them for the next run. */
+static int take_local_geometry(RunProblem *rp) {
+  if (rp->owns_geometry) {
+    mls_destroy(&rp->mls);
+    mica_discretization_destroy(&rp->disc);
+    rp->owns_geometry = 0;
+  }
+  rp->disc = rp->dist->local;
+  rp->mls = rp->dist->mls;
+  rp->approx = (MicaApprox){&mica_approx_mls, rp->dist->mls};
+  return MICA_SUCCESS;
+}
+
 static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *donor) {
   MicaSolidOptions opt;
   memset(&opt, 0, sizeof opt);
@@ -80,11 +94,23 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   MICA_CALL_CLEANUP(run_read_pressure(deck, rp, &opt));
   MICA_CALL_CLEANUP(check_nitsche_model(deck, &opt));
   const MicaDiscretization *disc = rp->disc;
+  const char *data;
+  MICA_CALL_CLEANUP(mica_deck_string(deck, "parallel.data", &data));
+  const int distributed = !strcmp(data, "distributed");
+  /* a serial run of a distributed deck is its one-block case: the same refusals, so a deck means the same anywhere */
+  if (distributed && !mica_parallel_active()) MICA_CALL_CLEANUP(run_parallel_owned_check(deck, rp, &opt));
   if (mica_parallel_active()) { /* MPI: this rank's share of the quadrature points (run_parallel.c) */
     MICA_CALL_CLEANUP(run_check_serial_only(deck, rp));
+    rp->owned_data = distributed;
+    if (rp->owned_data) {
+      MICA_CALL_CLEANUP(run_parallel_owned_check(deck, rp, &opt));
+      /* on the whole body, before it goes (a rank's share holds part of each set) */
+      MICA_CALL_CLEANUP(run_check_rigid(deck, rp, &opt.field, ndirichlet, dirichlet));
+    }
     MICA_CALL_CLEANUP(run_parallel_distribute(deck, rp));
     opt.parallel = rp->dist;
     disc = rp->dist->local;
+    if (rp->owned_data) MICA_CALL_CLEANUP(take_local_geometry(rp));
   }
   const double start = mica_wtime(), cpu = mica_cputime();
   ierr = mica_study_mls_input(mica_solid_create_sharing(disc, &rp->approx, &opt, ndirichlet, dirichlet, ntraction,
@@ -198,9 +224,11 @@ void run_problem_free(RunProblem *rp) {
     mica_solid_destroy(&reuse->solid);
     reuse->solid = rp->solid, rp->solid = NULL;
   }
-  if (reuse && !reuse->at_particles && !rp->owns_geometry)
+  /* (distributed data: the caches are on this rank's particles, not the kept discretization's) */
+  if (reuse && !reuse->at_particles && !rp->owns_geometry && !rp->owned_data)
     reuse->at_particles = rp->at_particles, rp->at_particles = NULL;
-  if (reuse && !reuse->at_mesh && !rp->owns_geometry) reuse->at_mesh = rp->at_mesh, rp->at_mesh = NULL;
+  if (reuse && !reuse->at_mesh && !rp->owns_geometry && !rp->owned_data)
+    reuse->at_mesh = rp->at_mesh, rp->at_mesh = NULL;
   mica_solid_destroy(&rp->solid);
   mica_distribution_destroy(&rp->dist);
   free(rp->near_null);
@@ -279,10 +307,10 @@ static int add_newton_stats(const MicaNewtonStats *st, MicaJson *summary) {
 /* Memory per dof (docs/performance.md §memory): the shape-function caches (N, ∇N, ∇∇N, particle index, point
  * offsets), the tangent (values, row indices, column offsets) and its factor's values (8 bytes × nnz_factor;
  * CHOLMOD's supernodal indices and UMFPACK's pattern come on top). */
-static int add_memory_per_dof(const RunProblem *rp, const RunTotals *c, const MicaNewtonStats *st, MicaJson *summary) {
-  const double dofs = (double)rp->solid->ndof;
+static int add_memory_per_dof(const RunTotals *c, const MicaNewtonStats *st, MicaJson *summary) {
+  const double dofs = (double)c->dofs;
   MICA_CALL(mica_json_number(summary, "memory_cache_bytes_per_dof", (double)c->cache_bytes / dofs));
-  const double matrix_bytes = (double)(c->nnz * 16 + (rp->solid->ndof + 1) * 8);
+  const double matrix_bytes = (double)(c->nnz * 16 + (c->dofs + 1) * 8);
   MICA_CALL(mica_json_number(summary, "memory_matrix_bytes_per_dof", matrix_bytes / dofs));
   MICA_CALL(mica_json_number(summary, "memory_factor_bytes_per_dof", 8.0 * (double)st->linear.nnz_factor / dofs));
   return MICA_SUCCESS;
@@ -294,7 +322,7 @@ static int add_solve_stats(const RunProblem *rp, const RunTotals *totals, const 
                            double time_newton, MicaJson *summary) {
   MICA_CALL(mica_json_number(summary, "time_newton", time_newton));
   MICA_CALL(add_newton_stats(stats, summary));
-  MICA_CALL(add_memory_per_dof(rp, totals, stats, summary));
+  MICA_CALL(add_memory_per_dof(totals, stats, summary));
   MICA_CALL(run_krylov_summary(rp, stats, summary));
   MICA_CALL(run_parallel_ranks(rp, stats, summary));
   MICA_CALL(run_parallel_solver_stats(rp, summary));

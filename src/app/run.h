@@ -68,6 +68,8 @@ typedef struct RunProblem {
   int reused_geometry;          /* 1: disc and mls came from the previous run */
   RunEstimate estimate;         /* the cost guard's estimate (estimate.c), made before the discretization */
   double *near_null;            /* solver.linear = "petsc": the rigid motions, [count][ndof] (run_linear.c) */
+  int owned_data;               /* parallel.data = "distributed" under MPI: disc and approx are this rank's block
+                                   and ghosts (dist->local, dist->mls); the whole ones were freed */
 } RunProblem;
 
 /* The dimension of the model's kinematics (3 for an axisymmetric section) and the deck's name of unknown c
@@ -151,8 +153,18 @@ typedef struct RunTotals {
   long nnz;                 /* of the (whole) tangent */
   long support_entries, support_points, max_support; /* volume points' supports */
   long cache_bytes;         /* shape-function caches, all ranks together */
+  /* the whole problem's counts: rp->disc's and the solid's, or with distributed data the sums over the ranks'
+   * owned particles, cells and points */
+  long particles, cells, quadrature_points, boundary_points, dofs;
+  double volume;
 } RunTotals;
 int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp);
+/* The rigid motions the conditions leave free: a deck error (run_counts.c; on rp->disc). */
+int run_check_rigid(const MicaDeck *deck, const RunProblem *rp, const MicaFieldModel *field, int ndirichlet,
+                    const MicaDirichlet *dirichlet);
+/* parallel.data = "distributed": refuses (deck error, the setting named) what it does not cover yet. */
+int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt);
+
 int run_parallel_totals(const RunProblem *rp, RunTotals *totals);
 int run_parallel_counts(const RunProblem *rp, MicaJson *summary);
 int run_parallel_memory(const RunProblem *rp, MicaJson *summary);

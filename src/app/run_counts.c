@@ -25,6 +25,8 @@ static int count_totals(const RunProblem *rp, RunTotals *c) {
   c->support_points = s->volume->npoints;
   c->max_support = s->volume->max_support;
   c->cache_bytes = (long)cache_bytes(s);
+  c->particles = rp->disc->nparticles, c->cells = rp->disc->ncells, c->quadrature_points = rp->disc->nquad;
+  c->boundary_points = boundary_points(rp->disc), c->dofs = s->ndof, c->volume = rp->disc->volume;
   if (rp->dist) MICA_CALL(run_parallel_totals(rp, c));
   return MICA_SUCCESS;
 }
@@ -35,23 +37,24 @@ static int add_counts(RunProblem *rp, const RunTotals *c, MicaJson *summary) {
   MICA_CALL(mica_json_string(summary, "method", rp->approx.ops->type.name));
   if (rp->fe) MICA_CALL(mica_json_string(summary, "element", mica_fe_element_name(rp->fe->dim, rp->fe->order)));
   MICA_CALL(mica_json_int(summary, "dim", rp->disc->dim));
-  MICA_CALL(mica_json_int(summary, "particles", rp->disc->nparticles));
-  MICA_CALL(mica_json_int(summary, "cells", rp->disc->ncells));
+  MICA_CALL(mica_json_int(summary, "particles", c->particles));
+  MICA_CALL(mica_json_int(summary, "cells", c->cells));
   MICA_CALL(mica_json_string(summary, "integration", rp->integration));
-  MICA_CALL(mica_json_int(summary, "quadrature_points", rp->disc->nquad));
+  MICA_CALL(mica_json_int(summary, "quadrature_points", c->quadrature_points));
   /* the error norms' points: quadrature.error_order's own, else the solve's (the Gauss points of the nodal cells
    * for the nodal modes) */
-  const long error_points = rp->error_disc ? rp->error_disc->nquad : rp->disc->nodal ? rp->disc->ngauss : rp->disc->nquad;
+  const long error_points = rp->error_disc ? rp->error_disc->nquad : rp->disc->nodal ? rp->disc->ngauss
+                                                                                      : c->quadrature_points;
   MICA_CALL(mica_json_int(summary, "error_points", error_points));
-  MICA_CALL(mica_json_int(summary, "boundary_points", boundary_points(rp->disc)));
-  MICA_CALL(mica_json_int(summary, "dofs", s->ndof));
+  MICA_CALL(mica_json_int(summary, "boundary_points", c->boundary_points));
+  MICA_CALL(mica_json_int(summary, "dofs", c->dofs));
   MICA_CALL(mica_json_int(summary, "multiplier_nodes", s->nmultiplier_nodes));
   MICA_CALL(mica_json_int(summary, "nnz", c->nnz));
   MICA_CALL(mica_json_int(summary, "support_max", c->max_support));
   MICA_CALL(mica_json_number(summary, "support_mean", (double)c->support_entries / (double)c->support_points));
   MICA_CALL(mica_json_int(summary, "cache_bytes", c->cache_bytes));
-  MICA_CALL(mica_json_int(summary, "matrix_bytes", (long)(c->nnz * 16 + (s->ndof + 1) * 8)));
-  MICA_CALL(mica_json_number(summary, "volume", rp->disc->volume));
+  MICA_CALL(mica_json_int(summary, "matrix_bytes", (long)(c->nnz * 16 + (c->dofs + 1) * 8)));
+  MICA_CALL(mica_json_number(summary, "volume", c->volume));
   MICA_CALL(mica_json_string(summary, "model", mica_type_has(&s->opt.field.ops->type, MICA_FIELD_CLASSICAL)
                                                    ? s->opt.field.classical->type.name
                                                    : s->opt.field.ops->type.name));
@@ -78,8 +81,8 @@ static void print_counts(const RunProblem *rp, const RunTotals *c) {
   const MicaSolid *s = rp->solid;
   printf("%ld particles, %ld %s cells, %ld quadrature points (+%ld on the boundary), %ld dofs, nnz %ld, support "
          "%.1f mean / %ld max, cache %.1f MB, matrix %.1f MB\n",
-         rp->disc->nparticles, rp->disc->ncells, rp->disc->nodal ? "nodal" : "background", rp->disc->nquad,
-         boundary_points(rp->disc), s->ndof, c->nnz, (double)c->support_entries / (double)c->support_points,
+         c->particles, c->cells, rp->disc->nodal ? "nodal" : "background", c->quadrature_points,
+         c->boundary_points, c->dofs, c->nnz, (double)c->support_entries / (double)c->support_points,
          c->max_support, (double)c->cache_bytes / 1e6, (double)(c->nnz * 16) / 1e6);
   if (s->opt.vci) printf("VCI: corrected test gradients in %.3g s\n", s->time_vci);
   if (rp->fe)
@@ -92,13 +95,20 @@ static void print_counts(const RunProblem *rp, const RunTotals *c) {
 /* A body its conditions do not hold has a singular tangent: said before anything is assembled, with the motions
  * and the components to hold; on the whole discretization (an MPI rank's share holds part of each set). Not part
  * of building the problem: `mica stability` builds free bodies on purpose, to count their rigid modes. */
+int run_check_rigid(const MicaDeck *deck, const RunProblem *rp, const MicaFieldModel *field, int ndirichlet,
+                    const MicaDirichlet *dirichlet) {
+  const char *names[MICA_MAX_COMP + 1];
+  const int ncomp = run_model_names(rp, field, 0, names);
+  char where[256];
+  mica_deck_where(deck, ndirichlet ? "bcs.dirichlet" : "bcs", where, sizeof where);
+  return mica_dirichlet_check_rigid(rp->disc, rp->axisymmetric, ncomp, names, ndirichlet, dirichlet, where);
+}
+
+/* (parallel.data = "distributed" checked the whole body before it was cut: build_solid) */
 static int check_rigid_modes(const MicaDeck *deck, const RunProblem *rp) {
   const MicaSolid *s = rp->solid;
-  const char *names[MICA_MAX_COMP + 1];
-  const int ncomp = run_model_names(rp, &s->opt.field, 0, names);
-  char where[256];
-  mica_deck_where(deck, s->ndirichlet ? "bcs.dirichlet" : "bcs", where, sizeof where);
-  return mica_dirichlet_check_rigid(rp->disc, rp->axisymmetric, ncomp, names, s->ndirichlet, s->dirichlet, where);
+  if (rp->owned_data) return MICA_SUCCESS;
+  return run_check_rigid(deck, rp, &s->opt.field, s->ndirichlet, s->dirichlet);
 }
 
 int run_problem_prepare(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse, const char *outdir, RunOutput *out,

@@ -193,6 +193,33 @@ static int read_axisymmetric(const MicaDeck *deck, RunProblem *rp) {
   return MICA_SUCCESS;
 }
 
+/* parallel.data = "distributed" under MPI, for what it covers (what it does not is refused later, with the deck
+ * line: run_parallel_owned_check, on the whole discretization built as usual): each rank builds its own block
+ * once the run is distributed (run_parallel_distribute), so here only the boundary sets, for the checks of the
+ * conditions (set names, rigid motions), and the grids' sizes. */
+static int boundary_only(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout, int fe,
+                         int *yes) {
+  const char *data, *mode;
+  int axisymmetric;
+  *yes = 0;
+  if (!mica_parallel_active() || fe || shape->kind == MICA_SHAPE_GMSH || layout->kind == MICA_LAYOUT_IRREGULAR)
+    return MICA_SUCCESS;
+  MICA_CALL(mica_deck_string(deck, "parallel.data", &data));
+  MICA_CALL(mica_deck_string(deck, "quadrature.mode", &mode));
+  MICA_CALL(mica_deck_bool(deck, "geometry.axisymmetric", &axisymmetric));
+  *yes = !strcmp(data, "distributed") && !strcmp(mode, "gauss") && !axisymmetric;
+  return MICA_SUCCESS;
+}
+
+static int build_boundary(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                          RunProblem *rp) {
+  MicaGridBlock block;
+  long n[3], per_cell;
+  memset(&block, 0, sizeof block);
+  MICA_CALL(mica_discretization_grid(shape, layout, cells, n, block.boundary_hi, &per_cell));
+  return mica_discretization_create_block(shape, layout, cells, &block, &rp->disc);
+}
+
 /* Discretization (revolved for an axisymmetric section) and MLS approximation. */
 int run_build_geometry(const MicaDeck *deck, RunProblem *rp) {
   MicaShapeSpec shape;
@@ -206,6 +233,14 @@ int run_build_geometry(const MicaDeck *deck, RunProblem *rp) {
   MICA_CALL(run_is_fe(deck, &fe));
   if (fe) MICA_CALL(run_check_fe_deck(deck, &shape, &layout, &cells, &fe_order));
   double start = mica_wtime();
+  int only_boundary;
+  MICA_CALL(boundary_only(deck, &shape, &layout, fe, &only_boundary));
+  if (only_boundary) {
+    MICA_CALL(build_boundary(&shape, &layout, &cells, rp));
+    MICA_CALL(run_read_integration(deck, &shape, &layout, &cells, rp));
+    rp->time_discretize = mica_wtime() - start;
+    return MICA_SUCCESS;
+  }
   MICA_CALL(mica_discretization_create(&shape, &layout, &cells, &rp->disc));
   if (shape.kind == MICA_SHAPE_GMSH) { /* the counts are the mesh's: estimated once it is read */
     MICA_CALL(run_estimate(deck, &shape, &layout, &cells, rp->disc, &rp->estimate));

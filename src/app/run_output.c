@@ -165,8 +165,11 @@ static int output_order(const RunProblem *rp) { return rp->solid->opt.field.ops-
 
 static int particle_cache(RunProblem *rp) {
   if (rp->at_particles && rp->at_particles->order != output_order(rp)) mica_shape_cache_destroy(&rp->at_particles);
-  if (!rp->at_particles) MICA_CALL(rp->approx.ops->particles(rp->approx.ctx, output_order(rp), &rp->at_particles));
-  return MICA_SUCCESS;
+  if (rp->at_particles) return MICA_SUCCESS;
+  if (rp->owned_data) /* at the owned particles only (the first ones): the ghosts' own supports reach past the rank */
+    return rp->approx.ops->points(rp->approx.ctx, rp->dist->nowned, rp->disc->x, NULL, output_order(rp),
+                                  "output at particle", &rp->at_particles);
+  return rp->approx.ops->particles(rp->approx.ctx, output_order(rp), &rp->at_particles);
 }
 
 /* The shape functions at the mesh's points through the same ops call as a probe's (the approximation finds the

@@ -1,11 +1,13 @@
 /* `mica run` and `mica check` under MPI (src/parallel): the deck's parallel settings, and the partition's
  * and the distributed solver's numbers in the summary and the log. Nothing here runs in a serial run. */
+#include <limits.h>
 #include <mpi.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "run.h"
+#include "study_common.h"
 
 /* A solver that distributes the matrix itself (petsc) is neither gathered nor wrapped in Schwarz: the keys that
  * choose those would have no effect. */
@@ -25,6 +27,48 @@ static int check_distributed_solver(const MicaDeck *deck) {
   return MICA_SUCCESS;
 }
 
+/* parallel.data = "distributed": what it does not cover yet is refused, naming the setting (no silent replication). */
+static int refuse_owned(const MicaDeck *deck, const char *path, const char *what) {
+  char where[256];
+  mica_deck_where(deck, mica_deck_given(deck, path) ? path : "parallel.data", where, sizeof where);
+  MICA_ERROR(MICA_ERR_INPUT, "%s: %s is not available with parallel.data = \"distributed\" yet; %s, or use "
+             "parallel.data = \"replicated\"", where, path, what);
+}
+
+int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt) {
+  const char *linear, *layout;
+  int flag;
+  long order;
+  MICA_CALL(mica_deck_string(deck, "solver.linear", &linear));
+  const MicaLinearSolverOps *ops = mica_linear_solver_find(linear);
+  if (!ops || !mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED))
+    return refuse_owned(deck, "solver.linear", "set solver.linear = \"petsc\" (the distributed matrix)");
+  if (rp->disc->grid_points_per_cell <= 0) {
+    MICA_CALL(mica_deck_string(deck, "particles.layout", &layout));
+    return refuse_owned(deck, strcmp(layout, "irregular") ? "geometry.shape" : "particles.layout",
+                        "use a built-in shape with a regular, graded or jittered layout");
+  }
+  if (rp->axisymmetric) return refuse_owned(deck, "geometry.axisymmetric", "run a plane or 3-D solid");
+  if (rp->fe) return refuse_owned(deck, "problem.method", "use problem.method = \"efg\"");
+  if (rp->disc->nodal) return refuse_owned(deck, "quadrature.mode", "use quadrature.mode = \"gauss\"");
+  if (mica_bc_method_has(opt->bc_method, MICA_BC_MULTIPLIERS) ||
+      mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION))
+    return refuse_owned(deck, "bc.method", "use bc.method = \"penalty\" or \"nitsche\"");
+  if (opt->vci) return refuse_owned(deck, "quadrature.vci", "set quadrature.vci = false");
+  MlsOptions mls_opt;
+  MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
+  if (mls_opt.weight && mica_type_has(&mls_opt.weight->type, MLS_WEIGHT_ADAPTIVE))
+    return refuse_owned(deck, "mls.weight", "use a weight without a per-particle shape parameter");
+  MICA_CALL(mica_deck_int(deck, "quadrature.error_order", &order));
+  if (order > 0) return refuse_owned(deck, "quadrature.error_order", "leave it 0 (the error norms on the solve's points)");
+  if (mica_deck_has(deck, "output.probes")) return refuse_owned(deck, "output.probes", "remove the probes");
+  MICA_CALL(mica_deck_bool(deck, "output.mesh", &flag));
+  if (flag) return refuse_owned(deck, "output.mesh", "set output.mesh = false (the particle VTU pieces are written)");
+  MICA_CALL(mica_deck_bool(deck, "output.quadrature_fields", &flag));
+  if (flag) return refuse_owned(deck, "output.quadrature_fields", "set output.quadrature_fields = false");
+  return MICA_SUCCESS;
+}
+
 int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
   MicaParallelOptions opt;
   const char *kind;
@@ -39,6 +83,24 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
   opt.solver = strcmp(kind, "schwarz") ? MICA_PARALLEL_GATHER : MICA_PARALLEL_SCHWARZ;
   opt.overlap = (int)overlap;
   opt.max_iterations = (int)iterations;
+  if (rp->owned_data) {
+    MlsOptions mls_opt;
+    MicaShapeSpec shape;
+    MicaLayoutSpec layout;
+    MicaCellSpec cells;
+    char mesh[PATH_MAX];
+    MICA_CALL(run_read_shape(deck, &shape, mesh, sizeof mesh));
+    MICA_CALL(run_read_layout(deck, shape.dim, 0, &layout, &cells));
+    MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
+    MICA_CALL(mica_distribution_create_owned(&shape, &layout, &cells, &mls_opt, &opt, &rp->dist));
+    const MicaDistribution *d = rp->dist;
+    printf("MPI: %d ranks, parallel.data = distributed: blocks %d × %d × %d of the index grids, particles per rank "
+           "%ld (+ up to %ld ghosts), quadrature points per rank %ld to %ld (%.3g s)\n",
+           mica_parallel_size(), d->procs[0], d->procs[1], d->procs[2], d->nowned, d->stats.ghost_particles_max,
+           d->stats.min_owned_points, d->stats.max_owned_points, d->stats.time_partition);
+    fflush(stdout);
+    return MICA_SUCCESS;
+  }
   MICA_CALL(mica_distribution_create(rp->disc, rp->mls, &opt, &rp->dist));
   const MicaDistribution *d = rp->dist;
   printf("MPI: %d ranks, METIS edge cut %ld, imbalance %.3f; quadrature points per rank %ld to %ld, ghost particles "
@@ -49,8 +111,21 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
   return MICA_SUCCESS;
 }
 
+/* parallel.data = "distributed": the whole problem's counts are the sums of the ranks' owned parts. */
+static int owned_totals(const RunProblem *rp, RunTotals *c) {
+  const MicaDistribution *d = rp->dist;
+  MICA_CALL(mica_parallel_matrix_nnz_mapped(rp->solid->K, d->global_node, d->nparticles, &c->nnz));
+  c->particles = d->nparticles;
+  c->dofs = d->nparticles * rp->solid->ncomp;
+  c->cells = mica_parallel_sum_long(c->cells);
+  c->quadrature_points = mica_parallel_sum_long(c->quadrature_points);
+  c->boundary_points = mica_parallel_sum_long(c->boundary_points);
+  return MICA_SUCCESS; /* the volume: the body's, summed when the distribution was built */
+}
+
 int run_parallel_totals(const RunProblem *rp, RunTotals *c) {
-  MICA_CALL(mica_parallel_matrix_nnz(rp->solid->K, &c->nnz));
+  if (rp->owned_data) MICA_CALL(owned_totals(rp, c));
+  else MICA_CALL(mica_parallel_matrix_nnz(rp->solid->K, &c->nnz));
   c->support_entries = mica_parallel_sum_long(c->support_entries);
   c->support_points = mica_parallel_sum_long(c->support_points);
   c->max_support = mica_parallel_max_long(c->max_support);
@@ -67,7 +142,14 @@ int run_parallel_counts(const RunProblem *rp, MicaJson *summary) {
   const int distributed = ops && mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED);
   MICA_CALL(mica_json_string(summary, "parallel_solver",
                              distributed ? linear : d->opt.solver == MICA_PARALLEL_SCHWARZ ? "schwarz" : "gather"));
-  MICA_CALL(mica_json_int(summary, "edge_cut", d->partition->edge_cut));
+  MICA_CALL(mica_json_string(summary, "parallel_data", d->owned ? "distributed" : "replicated"));
+  if (d->owned) {
+    MICA_CALL(mica_json_open_array(summary, "parallel_blocks"));
+    for (int k = 0; k < 3; k++) MICA_CALL(mica_json_int(summary, NULL, d->procs[k]));
+    MICA_CALL(mica_json_close(summary));
+  } else {
+    MICA_CALL(mica_json_int(summary, "edge_cut", d->partition->edge_cut));
+  }
   MICA_CALL(mica_json_number(summary, "imbalance", d->partition->imbalance));
   MICA_CALL(mica_json_int(summary, "points_per_rank_min", d->stats.min_owned_points));
   MICA_CALL(mica_json_int(summary, "points_per_rank_max", d->stats.max_owned_points));
@@ -108,7 +190,7 @@ int run_parallel_solver_stats(const RunProblem *rp, MicaJson *summary) {
 }
 
 /* Per rank: what it owns and what its share of the distributed work cost it. */
-enum { RANK_POINTS, RANK_BOUNDARY, RANK_NNZ, RANK_WALL_CACHE, RANK_CPU_CACHE, RANK_WALL_ASSEMBLE, RANK_CPU_ASSEMBLE,
+enum { RANK_POINTS, RANK_BOUNDARY, RANK_OWNED, RANK_LOCAL, RANK_NNZ, RANK_WALL_CACHE, RANK_CPU_CACHE, RANK_WALL_ASSEMBLE, RANK_CPU_ASSEMBLE,
        RANK_WAIT_WALL, RANK_WAIT_CPU, RANK_FIELDS };
 
 static int add_rank_array(MicaJson *summary, const char *key, const double *rows, int nranks, int field) {
@@ -118,13 +200,14 @@ static int add_rank_array(MicaJson *summary, const char *key, const double *rows
 }
 
 static void print_ranks(const double *rows, int nranks) {
-  printf("per rank: points (+boundary), own matrix entries, wall / CPU seconds of cache+pattern and of the assemblies "
+  printf("per rank: particles owned / held (with ghosts), points (+boundary), own matrix entries, wall / CPU seconds of cache+pattern and of the assemblies "
          "(CPU without the wait), wall seconds waiting in the residual sum\n");
   for (int r = 0; r < nranks; r++) {
     const double *v = rows + r * RANK_FIELDS;
-    printf("  rank %d: %8.0f (+%6.0f) points  nnz %10.0f  cache+pattern %7.3f / %7.3f s  assemble %8.3f / %8.3f s  "
+    printf("  rank %d: %8.0f / %8.0f particles  %8.0f (+%6.0f) points  nnz %10.0f  cache+pattern %7.3f / %7.3f s  "
+           "assemble %8.3f / %8.3f s  "
            "wait %7.3f s\n",
-           r, v[RANK_POINTS], v[RANK_BOUNDARY], v[RANK_NNZ], v[RANK_WALL_CACHE], v[RANK_CPU_CACHE], v[RANK_WALL_ASSEMBLE],
+           r, v[RANK_OWNED], v[RANK_LOCAL], v[RANK_POINTS], v[RANK_BOUNDARY], v[RANK_NNZ], v[RANK_WALL_CACHE], v[RANK_CPU_CACHE], v[RANK_WALL_ASSEMBLE],
            v[RANK_CPU_ASSEMBLE] - v[RANK_WAIT_CPU], v[RANK_WAIT_WALL]);
   }
   fflush(stdout);
@@ -142,6 +225,9 @@ int run_parallel_ranks(const RunProblem *rp, const MicaNewtonStats *stats, MicaJ
   mine[RANK_BOUNDARY] = 0;
   for (int s = 0; s < d->local->nsets; s++) mine[RANK_BOUNDARY] += (double)d->local->sets[s].n;
   mine[RANK_NNZ] = (double)rp->solid->K->nnz;
+  /* the particles this rank owns and holds (owned + ghosts: the whole set with replicated data) */
+  mine[RANK_OWNED] = (double)d->stats.owned_particles;
+  mine[RANK_LOCAL] = (double)(d->owned ? d->nowned + d->nghost : d->nparticles);
   mine[RANK_WALL_CACHE] = rp->time_cache_pattern, mine[RANK_CPU_CACHE] = rp->cpu_cache_pattern;
   mine[RANK_WALL_ASSEMBLE] = stats->time_assemble, mine[RANK_CPU_ASSEMBLE] = stats->cpu_assemble;
   mica_parallel_residual_time(&mine[RANK_WAIT_WALL], &mine[RANK_WAIT_CPU], &calls);
@@ -153,6 +239,9 @@ int run_parallel_ranks(const RunProblem *rp, const MicaNewtonStats *stats, MicaJ
   /* the assembly's own CPU time: without the time spent (spinning) in the residual sum */
   for (int r = 0; r < nranks; r++) rows[r * RANK_FIELDS + RANK_CPU_ASSEMBLE] -= rows[r * RANK_FIELDS + RANK_WAIT_CPU];
   ierr = add_rank_array(summary, "rank_points", rows, nranks, RANK_POINTS);
+  if (!ierr) ierr = add_rank_array(summary, "rank_boundary_points", rows, nranks, RANK_BOUNDARY);
+  if (!ierr) ierr = add_rank_array(summary, "rank_particles_owned", rows, nranks, RANK_OWNED);
+  if (!ierr) ierr = add_rank_array(summary, "rank_particles_local", rows, nranks, RANK_LOCAL);
   if (!ierr) ierr = add_rank_array(summary, "rank_nnz", rows, nranks, RANK_NNZ);
   if (!ierr) ierr = add_rank_array(summary, "rank_cpu_cache_and_pattern", rows, nranks, RANK_CPU_CACHE);
   if (!ierr) ierr = add_rank_array(summary, "rank_cpu_assemble", rows, nranks, RANK_CPU_ASSEMBLE);

@@ -157,6 +157,11 @@ const MicaDeckKey mica_run_schema[] = {
              "solvers on the tangent distributed over the ranks (solver.petsc chooses the method)"},
     {"solver.parallel", MICA_KEY_CHOICE, "\"gather\"", NOLIMIT, "gather|schwarz", 0, 0,
      "MPI runs: gather the tangent to rank 0 for CHOLMOD/UMFPACK, or additive Schwarz CG/GMRES (not with petsc)"},
+    {"parallel.data", MICA_KEY_CHOICE, "\"replicated\"", NOLIMIT, "replicated|distributed", 0, 0,
+     "MPI runs: replicated — every rank builds all particles, the partition is METIS's and vectors are whole on "
+     "every rank; distributed — each rank owns a block of a built-in shape's particle and cell index grids and "
+     "holds only those, its points and a ghost layer (solver.linear = \"petsc\"; penalty or Nitsche, "
+     "background-cell quadrature, no probes, mesh output or VCI yet)"},
     {"solver.overlap", MICA_KEY_INT, "2", 0, 100, NULL, 0, 0,
      "schwarz: layers of neighboring particles added to each rank's subdomain"},
     {"solver.linear_rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "cg, schwarz, petsc: Krylov stops at |r| ≤ linear_rtol |b|"},

@@ -451,7 +451,10 @@ int mica_solid_assemble(MicaSolid *s, double t, const double *u, double *R, Mica
   memset(R, 0, sizeof(double) * (size_t)s->ndof);
   if (K) mica_sparse_zero(K);
   const int ierr = assemble_points(s, t, u, R, K);
-  /* parallel: this rank's points only; the residual is summed over the ranks (K stays distributed) */
-  if (s->opt.parallel) MICA_CALL(mica_parallel_residual(ierr, R, s->ndof));
+  /* parallel: this rank's points only; the residual is summed over the ranks (K stays distributed): whole with
+   * replicated data, at the owned particles (and copied into the ghosts) with distributed data */
+  MicaDistribution *dist = s->opt.parallel;
+  if (dist && dist->owned) MICA_CALL(mica_owned_residual(dist, ierr, R, s->ncomp));
+  else if (dist) MICA_CALL(mica_parallel_residual(ierr, R, s->ndof));
   return ierr;
 }

@@ -32,6 +32,13 @@ static int first_tangent_singular(void *ctx) {
              cause);
 }
 
+/* parallel.data = "distributed": R, u and Δu hold the rank's particles, owned ones first; the norm is over every
+ * rank's owned entries. */
+static int solid_owned_norm(void *ctx, const double *v, double *norm) {
+  const MicaSolid *s = ctx;
+  return mica_owned_norm(s->opt.parallel, v, s->ncomp, norm);
+}
+
 void mica_solid_nonlinear_problem(MicaSolid *s, MicaNonlinearProblem *problem) {
   /* CHOLMOD refuses an indefinite tangent (it may become one under load): UMFPACK takes over then */
   const int spd = mica_solid_symmetric_definite(s);
@@ -46,6 +53,7 @@ void mica_solid_nonlinear_problem(MicaSolid *s, MicaNonlinearProblem *problem) {
       .linear_fallback = spd ? &mica_linear_umfpack : NULL,
       .fallback_note = "the tangent is not positive definite; switching to UMFPACK",
       .first_factor_failed = first_tangent_singular,
+      .norm = s->opt.parallel && s->opt.parallel->owned ? solid_owned_norm : NULL,
   };
 }
 

@@ -43,6 +43,7 @@ void geom_set_free(MicaBoundarySet *set) {
   MICA_FREE(set->vertex_x);
   MICA_FREE(set->element_vertices);
   MICA_FREE(set->cell);
+  MICA_FREE(set->grid_cell);
 }
 
 /* ---- faces of the grid on a set ---- */
@@ -73,6 +74,16 @@ typedef struct {
   const GeomFacePiece *piece;
   long i, j;
 } FaceRef;
+
+/* The background cell a face lies on (its index in the cell grid, axis 0 fastest). */
+static void face_cell(const GeomGrid *grid, const FaceRef *f, long cell[3]) {
+  int t[2];
+  tangent_axes(grid->dim, f->piece->axis, t);
+  cell[0] = cell[1] = cell[2] = 0;
+  cell[f->piece->axis] = f->piece->side ? grid->n[f->piece->axis] - 1 : 0;
+  cell[t[0]] = f->i;
+  if (t[1] >= 0) cell[t[1]] = f->j;
+}
 
 /* The cell ranges of a piece along its tangential axes and the number of faces it holds. */
 static long piece_faces(const GeomGrid *grid, const GeomFacePiece *p, long first[2], long last[2]) {
@@ -146,6 +157,9 @@ static int face_points(const GeomMap *map, const GeomGrid *grid, const FaceRef *
     set->w[*q] = wu[gs] * (dim == 2 ? 1.0 : wu[gt]) * w0 * w1 * len;
     for (int d = 0; d < dim; d++) set->normal[*q * dim + d] = sign * c[d] / len;
     set->element[*q] = element;
+    long cell[3];
+    face_cell(grid, f, cell);
+    set->grid_cell[*q] = (cell[2] * grid->n[1] + cell[1]) * grid->n[0] + cell[0];
     double *lam = &set->lambda_N[*q * 4];
     if (dim == 2) {
       lam[0] = 1.0 - s, lam[1] = s;
@@ -156,20 +170,32 @@ static int face_points(const GeomMap *map, const GeomGrid *grid, const FaceRef *
   return MICA_SUCCESS;
 }
 
-/* The faces of all pieces of a set, in order; *faces is allocated. */
-static int collect_faces(const GeomGrid *grid, const GeomSetSpec *spec, long *nfaces, FaceRef **faces) {
+static int face_in_box(const GeomGrid *grid, const FaceRef *f, const long lo[3], const long hi[3]) {
+  long cell[3];
+  face_cell(grid, f, cell);
+  for (int d = 0; d < 3; d++)
+    if (cell[d] < lo[d] || cell[d] >= hi[d]) return 0;
+  return 1;
+}
+
+/* The faces of all pieces of a set on the cells of the box [lo, hi), in order; *faces is allocated. */
+static int collect_faces(const GeomGrid *grid, const GeomSetSpec *spec, const long lo[3], const long hi[3],
+                         long *nfaces, FaceRef **faces) {
   long count = 0;
   for (int k = 0; k < spec->npieces; k++) {
     long first[2], last[2];
     count += piece_faces(grid, &spec->pieces[k], first, last);
   }
-  MICA_CALL(MICA_MALLOC(*faces, count));
+  MICA_CALL(MICA_MALLOC(*faces, count + 1));
   *nfaces = 0;
   for (int k = 0; k < spec->npieces; k++) {
     long first[2], last[2];
     piece_faces(grid, &spec->pieces[k], first, last);
     for (long j = first[1]; j < last[1]; j++)
-      for (long i = first[0]; i < last[0]; i++) (*faces)[(*nfaces)++] = (FaceRef){&spec->pieces[k], i, j};
+      for (long i = first[0]; i < last[0]; i++) {
+        const FaceRef f = {&spec->pieces[k], i, j};
+        if (face_in_box(grid, &f, lo, hi)) (*faces)[(*nfaces)++] = f;
+      }
   }
   return MICA_SUCCESS;
 }
@@ -190,16 +216,17 @@ static int set_vertices(const GeomGrid *grid, const FaceRef *faces, long nfaces,
 }
 
 static int build_set(const GeomMap *map, const GeomGrid *grid, const GeomSetSpec *spec, int order,
-                     const double *u, const double *wu, MicaBoundarySet *set) {
+                     const double *u, const double *wu, const long lo[3], const long hi[3], MicaBoundarySet *set) {
   int ierr = MICA_SUCCESS;
   const int dim = map->dim, esize = dim == 2 ? 2 : 4;
   FaceRef *faces = NULL;
   long *keys = NULL, nfaces = 0, nkeys = 0, q = 0;
   memcpy(set->name, spec->name, sizeof set->name);
-  MICA_CALL_CLEANUP(collect_faces(grid, spec, &nfaces, &faces));
+  MICA_CALL_CLEANUP(collect_faces(grid, spec, lo, hi, &nfaces, &faces));
   MICA_CALL_CLEANUP(set_vertices(grid, faces, nfaces, esize, &keys, &nkeys));
   const long per_face = dim == 2 ? order : (long)order * order;
   MICA_CALL_CLEANUP(geom_set_alloc(set, dim, nfaces * per_face, nfaces, esize, nkeys));
+  MICA_CALL_CLEANUP(MICA_CALLOC(set->grid_cell, nfaces * per_face + 1));
   for (long v = 0; v < nkeys; v++) {
     double xi[3];
     key_to_parameter(grid, keys[v], xi);
@@ -220,6 +247,12 @@ cleanup:
 }
 
 int geom_grid_boundary(const GeomMap *map, const GeomGrid *grid, int order, MicaDiscretization *disc) {
+  const long lo[3] = {0, 0, 0}, hi[3] = {grid->n[0], grid->n[1], grid->n[2]};
+  return geom_grid_boundary_box(map, grid, order, lo, hi, disc);
+}
+
+int geom_grid_boundary_box(const GeomMap *map, const GeomGrid *grid, int order, const long lo[3], const long hi[3],
+                           MicaDiscretization *disc) {
   double u[GEOM_GAUSS_MAX], wu[GEOM_GAUSS_MAX];
   MICA_CHECK(order >= 1 && order <= GEOM_GAUSS_MAX, MICA_ERR_INPUT,
              "cells: boundary_order = %d outside [1, %d]", order, GEOM_GAUSS_MAX);
@@ -227,6 +260,6 @@ int geom_grid_boundary(const GeomMap *map, const GeomGrid *grid, int order, Mica
   MICA_CALL(MICA_CALLOC(disc->sets, map->nsets));
   disc->nsets = map->nsets;
   for (int s = 0; s < map->nsets; s++)
-    MICA_CALL(build_set(map, grid, &map->sets[s], order, u, wu, &disc->sets[s]));
+    MICA_CALL(build_set(map, grid, &map->sets[s], order, u, wu, lo, hi, &disc->sets[s]));
   return MICA_SUCCESS;
 }

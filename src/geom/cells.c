@@ -90,22 +90,38 @@ static int mapped_point(const GeomMap *map, const double *xi, double wref, doubl
 }
 
 int geom_grid_quadrature(const GeomMap *map, const GeomGrid *grid, int order, MicaDiscretization *disc) {
+  const long lo[3] = {0, 0, 0};
+  return geom_grid_quadrature_box(map, grid, order, lo, grid->n, disc);
+}
+
+static int in_cell_box(const long cell[3], const long lo[3], const long hi[3]) {
+  for (int d = 0; d < 3; d++)
+    if (cell[d] < lo[d] || cell[d] >= hi[d]) return 0;
+  return 1;
+}
+
+int geom_grid_quadrature_box(const GeomMap *map, const GeomGrid *grid, int order, const long lo_box[3],
+                             const long hi_box[3], MicaDiscretization *disc) {
   const int dim = map->dim;
   double u[GEOM_GAUSS_MAX], wu[GEOM_GAUSS_MAX];
   MICA_CHECK(order >= 1 && order <= GEOM_GAUSS_MAX, MICA_ERR_INPUT, "cells: order = %d outside [1, %d]",
              order, GEOM_GAUSS_MAX);
   MICA_CALL(geom_gauss_unit(order, u, wu));
-  long ncells = 1, per_cell = 1;
+  long ncells = 1, per_cell = 1, mine = 1;
   for (int d = 0; d < dim; d++) ncells *= grid->n[d], per_cell *= order;
-  disc->ncells = ncells;
-  disc->nquad = ncells * per_cell;
-  MICA_CALL(MICA_MALLOC(disc->qx, disc->nquad * dim));
-  MICA_CALL(MICA_MALLOC(disc->qw, disc->nquad));
-  MICA_CALL(MICA_MALLOC(disc->qcell, disc->nquad)); /* a cell pressure (material.pressure) groups by it */
+  for (int d = 0; d < 3; d++) mine *= hi_box[d] > lo_box[d] ? hi_box[d] - lo_box[d] : 0;
+  disc->ncells = mine;
+  disc->nquad = mine * per_cell;
+  MICA_CALL(MICA_MALLOC(disc->qx, disc->nquad * dim + 1));
+  MICA_CALL(MICA_MALLOC(disc->qw, disc->nquad + 1));
+  MICA_CALL(MICA_MALLOC(disc->qcell, disc->nquad + 1)); /* a cell pressure (material.pressure) groups by it */
   disc->volume = 0.0;
   long q = 0;
-  for (long c = 0; c < ncells; c++) {
+  for (long c = 0; c < ncells && mine > 0; c++) {
     long cell[3] = {0, 0, 0}, rest = c;
+    for (int d = 0; d < dim; d++) cell[d] = rest % grid->n[d], rest /= grid->n[d];
+    if (!in_cell_box(cell, lo_box, hi_box)) continue;
+    rest = c;
     double lo[3] = {0, 0, 0}, width[3] = {1, 1, 1}, vol = 1.0;
     for (int d = 0; d < dim; d++) {
       cell[d] = rest % grid->n[d], rest /= grid->n[d];

@@ -20,6 +20,18 @@ cleanup:
   return ierr;
 }
 
+/* The grids' sizes into disc (a regular, graded or jittered layout; 0 for the irregular one). */
+static void set_grid(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes, const GeomGrid *grid,
+                     const MicaCellSpec *cells, MicaDiscretization *disc) {
+  if (layout->kind == MICA_LAYOUT_IRREGULAR) return;
+  disc->grid_points_per_cell = 1;
+  for (int d = 0; d < 3; d++) {
+    disc->grid_particles[d] = d < map->dim ? axes->n[d] : 1;
+    disc->grid_cells[d] = d < map->dim ? grid->n[d] : 1;
+    if (d < map->dim) disc->grid_points_per_cell *= cells->order;
+  }
+}
+
 static int boundary_order(const MicaCellSpec *cells) {
   return cells->boundary_order == 0 ? cells->order : cells->boundary_order;
 }
@@ -38,6 +50,71 @@ static int create_mapped(const MicaShapeSpec *shape, const MicaLayoutSpec *layou
   MICA_CALL_CLEANUP(geom_grid_boundary(&map, &grid, boundary_order(cells), disc));
   MICA_CALL_CLEANUP(mapped_particles(&map, layout, &axes, disc));
   MICA_CALL_CLEANUP(geom_grid_mesh(&map, &grid, &disc->mesh));
+  set_grid(&map, layout, &axes, &grid, cells, disc); /* particles on the index grid, cells on theirs */
+cleanup:
+  geom_axes_destroy(&axes);
+  geom_grid_destroy(&grid);
+  return ierr;
+}
+
+static int create_block(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                        const MicaGridBlock *block, MicaDiscretization *disc) {
+  int ierr = MICA_SUCCESS;
+  GeomMap map;
+  GeomAxes axes = {0};
+  GeomGrid grid = {0};
+  double *xi = NULL;
+  MICA_CHECK(shape->kind != MICA_SHAPE_GMSH && layout->kind != MICA_LAYOUT_IRREGULAR, MICA_ERR_ARGUMENT,
+             "mica_discretization_create_block: a Gmsh mesh or an irregular layout has no index grid");
+  MICA_CALL(geom_map_init(shape, &map));
+  disc->dim = map.dim;
+  MICA_CALL_CLEANUP(geom_axes_create(layout, map.dim, &axes));
+  MICA_CALL_CLEANUP(geom_grid_create(&map, &axes, cells, &grid));
+  set_grid(&map, layout, &axes, &grid, cells, disc);
+  MICA_CALL_CLEANUP(geom_grid_quadrature_box(&map, &grid, cells->order, block->cell_lo, block->cell_hi, disc));
+  MICA_CALL_CLEANUP(
+      geom_grid_boundary_box(&map, &grid, boundary_order(cells), block->boundary_lo, block->boundary_hi, disc));
+  MICA_CALL_CLEANUP(geom_layout_box(&map, layout, &axes, block->particle_lo, block->particle_hi, &disc->nparticles, &xi));
+  MICA_CALL_CLEANUP(MICA_MALLOC(disc->x, disc->nparticles * map.dim + 1));
+  for (long p = 0; p < disc->nparticles; p++) geom_map_eval(&map, &xi[p * map.dim], &disc->x[p * map.dim], NULL);
+cleanup:
+  MICA_FREE(xi);
+  geom_axes_destroy(&axes);
+  geom_grid_destroy(&grid);
+  return ierr;
+}
+
+int mica_discretization_create_block(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                                     const MicaCellSpec *cells, const MicaGridBlock *block, MicaDiscretization **disc) {
+  int ierr = MICA_SUCCESS;
+  MicaDiscretization *d = NULL;
+  *disc = NULL;
+  MICA_CALL(MICA_CALLOC(d, 1));
+  MICA_CALL_CLEANUP(create_block(shape, layout, cells, block, d));
+  *disc = d;
+  return MICA_SUCCESS;
+cleanup:
+  mica_discretization_destroy(&d);
+  return ierr;
+}
+
+int mica_discretization_grid(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                             long particles[3], long ncells[3], long *points_per_cell) {
+  int ierr = MICA_SUCCESS;
+  GeomMap map;
+  GeomAxes axes = {0};
+  GeomGrid grid = {0};
+  MicaDiscretization d;
+  memset(&d, 0, sizeof d);
+  MICA_CHECK(shape->kind != MICA_SHAPE_GMSH && layout->kind != MICA_LAYOUT_IRREGULAR, MICA_ERR_ARGUMENT,
+             "mica_discretization_grid: a Gmsh mesh or an irregular layout has no index grid");
+  MICA_CALL(geom_map_init(shape, &map));
+  MICA_CALL_CLEANUP(geom_axes_create(layout, map.dim, &axes));
+  MICA_CALL_CLEANUP(geom_grid_create(&map, &axes, cells, &grid));
+  set_grid(&map, layout, &axes, &grid, cells, &d);
+  memcpy(particles, d.grid_particles, sizeof d.grid_particles);
+  memcpy(ncells, d.grid_cells, sizeof d.grid_cells);
+  *points_per_cell = d.grid_points_per_cell;
 cleanup:
   geom_axes_destroy(&axes);
   geom_grid_destroy(&grid);

@@ -67,6 +67,9 @@ void geom_axes_destroy(GeomAxes *axes);
 /* Parameter coordinates of the particles ([*n × dim]) for any layout kind; allocates *xi. */
 int geom_layout_particles(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes, long *n,
                           double **xi);
+/* The particles of the grid box [lo, hi) of a regular, graded or jittered layout, the same values (grid order). */
+int geom_layout_box(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes, const long lo[3],
+                    const long hi[3], long *n, double **xi);
 
 /* Background cells: a tensor grid in parameter space; edges[d] holds n[d] + 1 ascending values. */
 typedef struct {
@@ -79,6 +82,9 @@ int geom_grid_create(const GeomMap *map, const GeomAxes *axes, const MicaCellSpe
 void geom_grid_destroy(GeomGrid *grid);
 /* Volume quadrature points of the mapped cells into disc (qx, qw, nquad, ncells, volume). */
 int geom_grid_quadrature(const GeomMap *map, const GeomGrid *grid, int order, MicaDiscretization *disc);
+/* ... of the cells in the index box [lo, hi) only (cell order kept). */
+int geom_grid_quadrature_box(const GeomMap *map, const GeomGrid *grid, int order, const long lo[3], const long hi[3],
+                             MicaDiscretization *disc);
 /* The mapped cells as an output mesh (cell_mesh.c): linear cells where the map is multilinear, biquadratic and
  * triquadratic ones where it bends them. */
 int geom_grid_mesh(const GeomMap *map, const GeomGrid *grid, MicaCellMesh **mesh);
@@ -91,6 +97,9 @@ int geom_set_alloc(MicaBoundarySet *set, int dim, long npoints, long nelements, 
 void geom_set_free(MicaBoundarySet *set);
 /* The boundary sets of a mapped shape, integrated on the faces of the grid's cells; fills disc->sets. */
 int geom_grid_boundary(const GeomMap *map, const GeomGrid *grid, int order, MicaDiscretization *disc);
+/* ... on the faces of the cells in the index box [lo, hi) only (their vertices and elements numbered per set). */
+int geom_grid_boundary_box(const GeomMap *map, const GeomGrid *grid, int order, const long lo[3], const long hi[3],
+                           MicaDiscretization *disc);
 
 /* ---- Gmsh meshes ------------------------------------------------------------------------------------- */
 

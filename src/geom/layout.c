@@ -222,6 +222,41 @@ static int irregular_points(const GeomAxes *axes, MicaRandom *rng, long *n, doub
   return MICA_SUCCESS;
 }
 
+/* The particles of the index box [lo, hi) of a regular, graded or jittered layout, in grid order (axis 0
+ * fastest): the values geom_layout_particles gives them, a jittered coordinate from its own draw of the stream
+ * (draw p·dim + d of particle p, coordinate d, as jitter_points draws them in turn). */
+int geom_layout_box(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes, const long lo[3],
+                    const long hi[3], long *n, double **xi) {
+  const int dim = axes->dim;
+  MICA_CHECK(layout->kind != MICA_LAYOUT_IRREGULAR, MICA_ERR_ARGUMENT, "geom_layout_box: an irregular layout has no grid");
+  if (layout->kind == MICA_LAYOUT_JITTERED)
+    MICA_CHECK(layout->jitter >= 0 && layout->jitter < 0.5, MICA_ERR_INPUT,
+               "particles: jitter = %g must lie in [0, 0.5) (a fraction of the spacing)", layout->jitter);
+  long count = 1;
+  for (int d = 0; d < 3; d++) count *= hi[d] > lo[d] ? hi[d] - lo[d] : 0;
+  *n = count;
+  MICA_CALL(MICA_MALLOC(*xi, count * dim + 1));
+  const MicaRandom rng = mica_random_seed((uint64_t)layout->seed);
+  long k = 0;
+  for (long i2 = lo[2]; i2 < hi[2]; i2++)
+    for (long i1 = lo[1]; i1 < hi[1]; i1++)
+      for (long i0 = lo[0]; i0 < hi[0]; i0++, k++) {
+        const long idx[3] = {i0, i1, i2}, p = i0 + axes->n[0] * (i1 + axes->n[1] * i2);
+        for (int d = 0; d < dim; d++) {
+          const double *t = axes->t[d];
+          const long i = idx[d];
+          (*xi)[k * dim + d] = t[i];
+          if (layout->kind != MICA_LAYOUT_JITTERED) continue;
+          MicaRandom draw = mica_random_skip(rng, (uint64_t)(p * dim + d));
+          const double u = 2.0 * mica_random_uniform(&draw) - 1.0;
+          if (i == 0 || i == axes->n[d] - 1 || on_kink(map, d, t[i])) continue;
+          const double h = fmin(t[i + 1] - t[i], t[i] - t[i - 1]);
+          (*xi)[k * dim + d] = t[i] + u * layout->jitter * h;
+        }
+      }
+  return MICA_SUCCESS;
+}
+
 int geom_layout_particles(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes, long *n,
                           double **xi) {
   int ierr = MICA_SUCCESS;

@@ -148,6 +148,15 @@ int mls_set_radii(MlsApprox *mls, const double *radii) {
   return MICA_SUCCESS;
 }
 
+int mls_set_spacing(MlsApprox *mls, const double *spacing) {
+  const long count = mls->n * mls->dim;
+  for (long i = 0; i < count; i++)
+    MICA_CHECK(spacing[i] >= 0 && isfinite(spacing[i]), MICA_ERR_ARGUMENT, "spacing of particle %ld is %g",
+               i / mls->dim, spacing[i]);
+  memcpy(mls->spacing, spacing, sizeof(double) * (size_t)count);
+  return MICA_SUCCESS;
+}
+
 int mls_dim(const MlsApprox *mls) { return mls->dim; }
 long mls_num_particles(const MlsApprox *mls) { return mls->n; }
 int mls_num_terms(const MlsApprox *mls) { return mls->m; }

@@ -11,6 +11,7 @@
 #include "mica/geom.h"
 #include "mica/parallel.h"
 #include "mica/timer.h"
+#include "parallel_private.h"
 
 /* ---- rank 0: partition and owners ---------------------------------------------------------------------- */
 
@@ -252,6 +253,7 @@ int mica_distribution_destroy(MicaDistribution **distribution) {
   MicaDistribution *dist = *distribution;
   if (!dist) return MICA_SUCCESS;
   mica_partition_destroy(&dist->partition);
+  parallel_owned_free(dist);
   free(dist->volume_owner);
   if (dist->set_owner)
     for (int s = 0; s < dist->nsets; s++) free(dist->set_owner[s]);

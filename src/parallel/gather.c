@@ -91,7 +91,9 @@ const MicaLinearSolverOps mica_linear_gather = {
 
 int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOps *inner, MicaLinearSolver **solver) {
   if (mica_linear_solver_has(inner, MICA_LINEAR_DISTRIBUTED)) { /* petsc: each rank's rows, those of its particles */
-    const MicaLinearLayout layout = {mica_parallel_comm(), dist->partition->n, dist->partition->part};
+    MicaLinearLayout layout = {mica_parallel_comm(), dist->partition->n, dist->partition->part, NULL, 0, 0};
+    if (dist->owned) /* parallel.data = "distributed": local numbering, owned particles first */
+      layout.node_global = dist->global_node, layout.nowned = dist->nowned, layout.nglobal = dist->nparticles;
     MICA_CALL(mica_linear_solver_create(inner, solver));
     return mica_linear_solver_set_layout(*solver, &layout);
   }
@@ -128,9 +130,10 @@ static int count_distinct(long *keys, long count, long n, long *upper, long *dia
   return MICA_SUCCESS;
 }
 
-int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz) {
+int mica_parallel_matrix_nnz_mapped(const MicaSparse *L, const long *global_node, long nglobal, long *nnz) {
   const int P = mica_parallel_size();
-  const long n = L->n;
+  const long n = L->n, nd = L->ndof, N = global_node ? nglobal * nd : n;
+#define GLOBAL(j) (global_node ? global_node[(j) / nd] * nd + (j) % nd : (j))
   int *counts = NULL, *displs = NULL, *rcounts = NULL, *rdispls = NULL;
   long *send = NULL, *recv = NULL, *cursor = NULL, nrecv = 0, sendn = 0, mine[2] = {0, 0};
   int ierr = MICA_CALLOC(counts, 2L * P + 2);
@@ -138,8 +141,10 @@ int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz) {
   if (!ierr) ierr = MICA_CALLOC(cursor, P + 1);
   displs = counts + P + 1, rdispls = rcounts + P + 1;
   for (long j = 0; j < n && !ierr; j++) {
-    const int to = (int)((j / L->ndof) % P);
-    for (long q = L->colptr[j]; q < L->colptr[j + 1] && L->rowind[q] <= j; q++) counts[to]++, sendn++;
+    const long gj = GLOBAL(j);
+    const int to = (int)((gj / nd) % P);
+    for (long q = L->colptr[j]; q < L->colptr[j + 1]; q++)
+      if (GLOBAL(L->rowind[q]) <= gj) counts[to]++, sendn++;
   }
   if (!ierr && sendn >= (1L << 31)) /* MPI counts and displacements are int */
     ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_ARGUMENT, "%ld pattern entries exceed MPI's counts",
@@ -153,18 +158,23 @@ int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz) {
   }
   nrecv = rdispls[P];
   for (long j = 0; j < n; j++) {
-    const int to = (int)((j / L->ndof) % P);
-    for (long q = L->colptr[j]; q < L->colptr[j + 1] && L->rowind[q] <= j; q++) send[cursor[to]++] = j * n + L->rowind[q];
+    const long gj = GLOBAL(j);
+    const int to = (int)((gj / nd) % P);
+    for (long q = L->colptr[j]; q < L->colptr[j + 1]; q++)
+      if (GLOBAL(L->rowind[q]) <= gj) send[cursor[to]++] = gj * N + GLOBAL(L->rowind[q]);
   }
   ierr = MICA_MALLOC(recv, nrecv + 1);
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
   MPI_Alltoallv(send, counts, displs, MPI_LONG, recv, rcounts, rdispls, MPI_LONG, mica_parallel_comm());
   free(send);
   send = NULL;
-  count_distinct(recv, nrecv, n, &mine[0], &mine[1]);
+  count_distinct(recv, nrecv, N, &mine[0], &mine[1]);
   MPI_Allreduce(MPI_IN_PLACE, mine, 2, MPI_LONG, MPI_SUM, mica_parallel_comm());
   *nnz = 2 * mine[0] - mine[1];
 cleanup:
   free(counts), free(rcounts), free(cursor), free(send), free(recv);
   return ierr;
 }
+#undef GLOBAL
+
+int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz) { return mica_parallel_matrix_nnz_mapped(L, NULL, 0, nnz); }

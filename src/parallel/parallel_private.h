@@ -40,4 +40,7 @@ typedef struct ParallelSolver {
   void *krylov;              /* Schwarz work space */
 } ParallelSolver;
 
+/* own.c: what parallel.data = "distributed" adds to a distribution (its ghost plan, numbering, local MLS). */
+void parallel_owned_free(MicaDistribution *dist);
+
 #endif

@@ -17,9 +17,12 @@
  * GAMG with -pc_gamg_reuse_interpolation keeps its prolongators). MAT_SUBSET_OFF_PROC_ENTRIES reuses the
  * communication pattern of the first assembly.
  *
- * Vectors are replicated in mica until data ownership exists (issue 19): the right-hand side is copied into
+ * Vectors: with parallel.data = "replicated" they are replicated in mica: the right-hand side is copied into
  * each rank's owned rows, the solution gathered to every rank with VecScatterCreateToAll and put back in mica's
- * numbering. That copy and scatter go when mica's vectors are distributed.
+ * numbering. With "distributed" the layout is local (MicaLinearLayout.node_global): K and the vectors hold the
+ * rank's nodes only, owned first; its nodes' PETSc numbers are the layout's, the right-hand side's owned
+ * entries (summed over the ranks by the caller) are the rank's rows, and the solution comes back at the rank's
+ * nodes, ghosts included, through one VecScatter from PETSc's x; no array of the global length on any rank.
  *
  * The method: solver.petsc, a preset (mumps, gamg, hypre, asm-cholmod, asm-umfpack, bjacobi-cholmod, or none),
  * then solver.petsc_options over it, passed to PETSc's options database under a prefix of this solver's own
@@ -130,7 +133,9 @@ typedef struct {
   MPI_Comm comm;
   int rank, size;
   long n, nnodes;
+  long N;               /* global unknowns (n, unless the layout is local) */
   int ndof;
+  int local;            /* the layout's local numbering: K and the vectors hold this rank's nodes only */
   MicaPatternKey pattern;
   PetscInt *row_of_dof; /* [n] PETSc's row of each mica unknown (replicated) */
   long *local_dofs;     /* [nlocal] mica's unknown of each row this rank owns, in PETSc's order */
@@ -139,7 +144,7 @@ typedef struct {
   int blocked;          /* each node's ndof columns have the same rows */
   Mat A;
   KSP ksp;
-  Vec b, x, r, all;     /* all: the solution on every rank */
+  Vec b, x, r, all;     /* all: the solution on every rank (local layout: at this rank's nodes, ghosts included) */
   VecScatter to_all;
   MatNullSpace near_null;
   char prefix[32];
@@ -193,8 +198,27 @@ static void petsc_destroy(MicaLinearSolver *solver) {
   solver->data = NULL;
 }
 
+/* Local numbering: the layout's node numbers are PETSc's; this rank's rows are its first nowned nodes. */
+static int number_local_rows(PetscSolver *ps, const MicaLinearLayout *layout) {
+  MICA_CHECK(layout->nnodes == ps->nnodes && layout->nowned <= ps->nnodes, MICA_ERR_ARGUMENT,
+             "petsc: a local layout of %ld nodes (%ld owned) for a matrix of %ld", layout->nnodes, layout->nowned,
+             ps->nnodes);
+  ps->local = 1;
+  ps->N = layout->nglobal * ps->ndof;
+  ps->nlocal = (PetscInt)(layout->nowned * ps->ndof);
+  MICA_CALL(MICA_MALLOC(ps->row_of_dof, ps->n + 1));
+  MICA_CALL(MICA_MALLOC(ps->local_dofs, ps->nlocal + 1));
+  for (long k = 0; k < ps->nnodes; k++)
+    for (int c = 0; c < ps->ndof; c++) ps->row_of_dof[k * ps->ndof + c] = (PetscInt)(layout->node_global[k] * ps->ndof + c);
+  for (PetscInt i = 0; i < ps->nlocal; i++) ps->local_dofs[i] = i;
+  return MICA_SUCCESS;
+}
+
 /* Contiguous rows per rank: node k's PETSc node number, and the unknowns this rank owns. */
 static int number_rows(PetscSolver *ps, const MicaLinearLayout *layout) {
+  ps->local = 0;
+  ps->N = ps->n;
+  if (layout->node_global) return number_local_rows(ps, layout);
   long *start = NULL;
   MICA_CALL(MICA_CALLOC(start, ps->size + 1));
   int ierr = MICA_SUCCESS;
@@ -283,7 +307,7 @@ static int preallocate_serial(PetscSolver *ps, const MicaSparse *L) {
 /* Several: rows receive other ranks' contributions, which only the insertions know; a MATPREALLOCATOR is given
  * the same insertions (values ignored) and counts them exactly, off-rank rows included. */
 static int preallocate_distributed(PetscSolver *ps, const MicaSparse *L) {
-  const PetscInt N = (PetscInt)ps->n;
+  const PetscInt N = (PetscInt)ps->N;
   Mat pre;
   PCALL(MatCreate(ps->comm, &pre));
   PCALL(MatSetType(pre, MATPREALLOCATOR));
@@ -303,13 +327,29 @@ static int preallocate_distributed(PetscSolver *ps, const MicaSparse *L) {
   return MICA_SUCCESS;
 }
 
+/* The solution at this rank's nodes (local layout: owned and ghosts) from the distributed x: all[i] is x's entry
+ * row_of_dof[i]; without a local layout, all of x on every rank. */
+static int create_gather(PetscSolver *ps) {
+  if (!ps->local) {
+    PCALL(VecScatterCreateToAll(ps->x, &ps->to_all, &ps->all));
+    return MICA_SUCCESS;
+  }
+  IS from;
+  PCALL(VecCreateSeq(PETSC_COMM_SELF, (PetscInt)ps->n, &ps->all));
+  PCALL(ISCreateGeneral(PETSC_COMM_SELF, (PetscInt)ps->n, ps->row_of_dof, PETSC_USE_POINTER, &from));
+  PetscErrorCode code = VecScatterCreate(ps->x, from, ps->all, NULL, &ps->to_all);
+  ISDestroy(&from);
+  PCALL(code);
+  return MICA_SUCCESS;
+}
+
 static int create_matrix(PetscSolver *ps, const MicaSparse *L, const MicaKrylovOptions *k) {
-  const PetscInt N = (PetscInt)ps->n;
+  const PetscInt N = (PetscInt)ps->N;
   PCALL(MatCreate(ps->comm, &ps->A));
   PCALL(MatSetType(ps->A, MATAIJ));
   PCALL(MatSetSizes(ps->A, ps->nlocal, ps->nlocal, N, N));
   PCALL(MatSetBlockSize(ps->A, ps->ndof));
-  MICA_CALL(ps->size == 1 ? preallocate_serial(ps, L) : preallocate_distributed(ps, L));
+  MICA_CALL(ps->size == 1 && !ps->local ? preallocate_serial(ps, L) : preallocate_distributed(ps, L));
   PCALL(MatSetOption(ps->A, MAT_ROW_ORIENTED, PETSC_FALSE));
   PCALL(MatSetOption(ps->A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   PCALL(MatSetOption(ps->A, MAT_SUBSET_OFF_PROC_ENTRIES, PETSC_TRUE));
@@ -321,8 +361,7 @@ static int create_matrix(PetscSolver *ps, const MicaSparse *L, const MicaKrylovO
   }
   PCALL(MatCreateVecs(ps->A, &ps->x, &ps->b));
   PCALL(VecDuplicate(ps->b, &ps->r));
-  PCALL(VecScatterCreateToAll(ps->x, &ps->to_all, &ps->all));
-  return MICA_SUCCESS;
+  return create_gather(ps);
 }
 
 /* The caller's rigid motions, orthonormalized (modified Gram–Schmidt; a dependent one is dropped). */
@@ -474,7 +513,8 @@ static int petsc_solve(MicaLinearSolver *solver, const double *b, double *x) {
   const double start = mica_wtime(), cpu = mica_cputime();
   PetscScalar *a;
   PCALL(VecGetArray(ps->b, &a));
-  for (PetscInt i = 0; i < ps->nlocal; i++) a[i] = b[ps->local_dofs[i]]; /* replicated b: no communication */
+  /* replicated b, or a local layout's owned entries (complete: summed over the ranks): no communication */
+  for (PetscInt i = 0; i < ps->nlocal; i++) a[i] = b[ps->local_dofs[i]];
   PCALL(VecRestoreArray(ps->b, &a));
   PCALL(KSPSolve(ps->ksp, ps->b, ps->x));
   KSPConvergedReason reason;
@@ -493,7 +533,9 @@ static int petsc_solve(MicaLinearSolver *solver, const double *b, double *x) {
   PCALL(VecScatterEnd(ps->to_all, ps->x, ps->all, INSERT_VALUES, SCATTER_FORWARD));
   const PetscScalar *all;
   PCALL(VecGetArrayRead(ps->all, &all));
-  for (long i = 0; i < ps->n; i++) x[i] = all[ps->row_of_dof[i]];
+  if (ps->local) memcpy(x, all, sizeof(double) * (size_t)ps->n);
+  else
+    for (long i = 0; i < ps->n; i++) x[i] = all[ps->row_of_dof[i]];
   PCALL(VecRestoreArrayRead(ps->all, &all));
   MicaLinearSolverStats *st = &solver->stats;
   st->krylov_iterations += its;

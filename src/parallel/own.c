@@ -1,0 +1,514 @@
+/* parallel.data = "distributed": each rank owns a block of a built-in shape's particle index grid and the
+ * background cells of the same block of the cell grid, and holds only those, their quadrature and boundary
+ * points and the ghost particles its points' supports reach (parallel.h). No partitioner: the grids are split
+ * as PETSc's DMDA splits its index box, P factored into blocks per axis. A particle's owner and its number in
+ * the ranks' contiguous numbering follow from its grid index and the O(P) block sizes, on any rank.
+ *
+ * A rank builds the particles of a box of the grid around its block (mica_discretization_create_block: jittered
+ * particles from their own draws of the counter-based stream), its cells' volume and boundary points, and the MLS
+ * approximation of that box; the supports of its points in it are its particles; the box grows until they lie
+ * MARGIN layers inside it, so that their local spacings and radii are those of the whole layout. Nothing of the
+ * whole layout's size is allocated on any rank. */
+#include <math.h>
+#include <mpi.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mica/geom.h"
+#include "mica/parallel.h"
+#include "mica/timer.h"
+#include "parallel_private.h"
+
+/* ---- the block split --------------------------------------------------------------------------------------- */
+
+/* Interface between blocks, in cell faces: Σ_d (p_d − 1) Π_{e≠d} n_e. */
+static double split_cost(int dim, const long n[3], const int p[3]) {
+  double cost = 0;
+  for (int d = 0; d < dim; d++) {
+    double area = (double)(p[d] - 1);
+    for (int e = 0; e < dim; e++)
+      if (e != d) area *= (double)n[e];
+    cost += area;
+  }
+  return cost;
+}
+
+int mica_block_split(int P, int dim, const long cells[3], int procs[3]) {
+  double best = -1;
+  procs[0] = procs[1] = procs[2] = 1;
+  for (int p0 = 1; p0 <= P; p0++) {
+    if (P % p0) continue;
+    for (int p1 = 1; p1 <= P / p0; p1++) {
+      if ((P / p0) % p1) continue;
+      const int p[3] = {p0, p1, P / p0 / p1};
+      if (dim < 3 && p[2] != 1) continue;
+      if (dim < 2 && p[1] != 1) continue;
+      int fits = 1;
+      for (int d = 0; d < 3; d++) fits &= p[d] <= cells[d];
+      if (!fits) continue;
+      const double cost = split_cost(dim, cells, p);
+      if (best < 0 || cost < best) best = cost, memcpy(procs, p, sizeof p);
+    }
+  }
+  MICA_CHECK(best >= 0, MICA_ERR_INPUT,
+             "parallel.data = \"distributed\": %d ranks cannot split the %ld × %ld × %ld background cells into one "
+             "block each; use fewer ranks or more cells", P, cells[0], cells[1], cells[2]);
+  return MICA_SUCCESS;
+}
+
+static long block_lo(long n, int p, int k) { return n * k / p; }
+
+/* The block along an axis that index i falls in. */
+static int block_of(long i, long n, int p) {
+  int k = (int)(i * p / n);
+  while (k + 1 < p && block_lo(n, p, k + 1) <= i) k++;
+  while (k > 0 && block_lo(n, p, k) > i) k--;
+  return k;
+}
+
+static void rank_block(int rank, const int procs[3], int b[3]) {
+  b[0] = rank % procs[0], b[1] = (rank / procs[0]) % procs[1], b[2] = rank / (procs[0] * procs[1]);
+}
+
+/* Rank r's box [lo, hi) of a grid of n[3]. */
+static void block_box(int r, const int procs[3], const long n[3], long lo[3], long hi[3]) {
+  int b[3];
+  rank_block(r, procs, b);
+  for (int d = 0; d < 3; d++) lo[d] = block_lo(n[d], procs[d], b[d]), hi[d] = block_lo(n[d], procs[d], b[d] + 1);
+}
+
+static long box_size(const long lo[3], const long hi[3]) { return (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]); }
+
+static void grid_index(long t, const long n[3], long idx[3]) {
+  idx[0] = t % n[0], t /= n[0];
+  idx[1] = t % n[1], idx[2] = t / n[1];
+}
+
+static int in_box(const long idx[3], const long lo[3], const long hi[3]) {
+  for (int d = 0; d < 3; d++)
+    if (idx[d] < lo[d] || idx[d] >= hi[d]) return 0;
+  return 1;
+}
+
+/* The owner of grid particle t and its number in the ranks' contiguous numbering (offsets[P]: the lower ranks'
+ * particles before each rank). */
+static long global_number(long t, const long n[3], const int procs[3], const long *offsets, int *owner) {
+  long idx[3], lo[3], hi[3];
+  int b[3];
+  grid_index(t, n, idx);
+  for (int d = 0; d < 3; d++) b[d] = block_of(idx[d], n[d], procs[d]);
+  const int r = b[0] + procs[0] * (b[1] + procs[1] * b[2]);
+  block_box(r, procs, n, lo, hi);
+  *owner = r;
+  return offsets[r] + (idx[0] - lo[0]) + (hi[0] - lo[0]) * ((idx[1] - lo[1]) + (hi[1] - lo[1]) * (idx[2] - lo[2]));
+}
+
+/* ---- the particles the rank's points need ----------------------------------------------------------------- */
+
+static int compare_long(const void *a, const void *b) {
+  const long x = *(const long *)a, y = *(const long *)b;
+  return (x > y) - (x < y);
+}
+
+static long sort_unique(long *v, long n) {
+  qsort(v, (size_t)n, sizeof *v, compare_long);
+  long m = 0;
+  for (long i = 0; i < n; i++)
+    if (!m || v[i] != v[m - 1]) v[m++] = v[i];
+  return m;
+}
+
+/* set ∪= the supports of x[n·dim], searched in chunks so that only the distinct particles are kept. */
+static int add_supports(const MlsApprox *mls, long n, const double *x, long **set, long *nset) {
+  enum { CHUNK = 4096 };
+  const int dim = mls_dim(mls);
+  for (long first = 0; first < n; first += CHUNK) {
+    const long count = n - first < CHUNK ? n - first : CHUNK;
+    long *ptr = NULL, *index = NULL, *merged = NULL;
+    MICA_CALL(mica_point_supports(mls, count, x + first * dim, &ptr, &index, NULL));
+    const long found = sort_unique(index, ptr[count]);
+    int ierr = MICA_MALLOC(merged, *nset + found + 1);
+    long m = 0, i = 0, j = 0;
+    while (!ierr && (i < *nset || j < found)) {
+      const long a = i < *nset ? (*set)[i] : -1, b = j < found ? index[j] : -1;
+      if (j >= found || (i < *nset && a < b)) merged[m++] = a, i++;
+      else if (i >= *nset || b < a) merged[m++] = b, j++;
+      else merged[m++] = a, i++, j++;
+    }
+    free(ptr);
+    free(index);
+    MICA_CALL(ierr);
+    free(*set);
+    *set = merged, *nset = m;
+  }
+  return MICA_SUCCESS;
+}
+
+/* ---- this rank's discretization --------------------------------------------------------------------------- */
+
+/* The rank's source: the particles of a grid box around its block (src_lo, src_hi), its cells' volume and
+ * boundary points, and the MLS approximation of those particles. */
+typedef struct {
+  long lo[3], hi[3];
+  MicaDiscretization *disc;
+  MlsApprox *mls;
+} Source;
+
+static void source_free(Source *src) {
+  mls_destroy(&src->mls);
+  mica_discretization_destroy(&src->disc);
+}
+
+static long source_index(const Source *src, const long idx[3]) {
+  return (idx[0] - src->lo[0]) + (src->hi[0] - src->lo[0]) * ((idx[1] - src->lo[1]) + (src->hi[1] - src->lo[1]) * (idx[2] - src->lo[2]));
+}
+
+static void source_grid(const Source *src, long k, long idx[3]) {
+  const long w0 = src->hi[0] - src->lo[0], w1 = src->hi[1] - src->lo[1];
+  idx[0] = src->lo[0] + k % w0, k /= w0;
+  idx[1] = src->lo[1] + k % w1, idx[2] = src->lo[2] + k / w1;
+}
+
+/* Layers of particles kept beyond the farthest one a point's support needs: their neighbors set its local spacing,
+ * hence its radius, as in the whole layout (docs/architecture.md §Parallel runs). */
+enum { MARGIN = 3 };
+
+/* Whether the needed particles stay MARGIN layers inside the box wherever it does not end at the grid's edge. */
+static int source_deep_enough(const Source *src, const long n[3], const long *needed, long nneeded) {
+  for (long k = 0; k < nneeded; k++) {
+    long idx[3];
+    source_grid(src, needed[k], idx);
+    for (int d = 0; d < 3; d++) {
+      if (src->lo[d] > 0 && idx[d] - src->lo[d] < MARGIN) return 0;
+      if (src->hi[d] < n[d] && src->hi[d] - 1 - idx[d] < MARGIN) return 0;
+    }
+  }
+  return 1;
+}
+
+/* The rank's source with `layers` layers of particles around its particle block and the particles of its cells
+ * (cell c of m along an axis lies between particle lines about c (n − 1)/m and (c + 1)(n − 1)/m). */
+static int source_build(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                        const MlsOptions *mls_opt, const long n[3], const long m[3], const long plo[3],
+                        const long phi[3], const long clo[3], const long chi[3], long layers, Source *src) {
+  MicaGridBlock block;
+  memset(&block, 0, sizeof block);
+  for (int d = 0; d < 3; d++) {
+    long a = clo[d] * (n[d] - 1) / m[d], b = (chi[d] * (n[d] - 1) + m[d] - 1) / m[d] + 1;
+    a = (a < plo[d] ? a : plo[d]) - layers, b = (b > phi[d] ? b : phi[d]) + layers;
+    src->lo[d] = block.particle_lo[d] = a < 0 ? 0 : a;
+    src->hi[d] = block.particle_hi[d] = b > n[d] ? n[d] : b;
+    block.cell_lo[d] = block.boundary_lo[d] = clo[d];
+    block.cell_hi[d] = block.boundary_hi[d] = chi[d];
+  }
+  MICA_CALL(mica_discretization_create_block(shape, layout, cells, &block, &src->disc));
+  return mls_create(src->disc->dim, src->disc->nparticles, src->disc->x, mls_opt, &src->mls);
+}
+
+/* ... and of the rank's own particles (the outputs evaluate the fields there). */
+static int add_owned_supports(const Source *src, const long plo[3], const long phi[3], long **needed, long *nneeded) {
+  const int dim = src->disc->dim;
+  double *x = NULL;
+  long k = 0;
+  MICA_CALL(MICA_MALLOC(x, box_size(plo, phi) * dim + 1));
+  for (long i2 = plo[2]; i2 < phi[2]; i2++)
+    for (long i1 = plo[1]; i1 < phi[1]; i1++)
+      for (long i0 = plo[0]; i0 < phi[0]; i0++, k++) {
+        const long idx[3] = {i0, i1, i2};
+        memcpy(x + k * dim, src->disc->x + source_index(src, idx) * dim, sizeof(double) * (size_t)dim);
+      }
+  const int ierr = add_supports(src->mls, k, x, needed, nneeded);
+  free(x);
+  return ierr;
+}
+
+/* The source's particles in the supports of its points: grown until they lie MARGIN layers inside it. */
+static int source_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                         const MlsOptions *mls_opt, const long n[3], const long m[3], const long plo[3],
+                         const long phi[3], const long clo[3], const long chi[3], Source *src, long **needed,
+                         long *nneeded) {
+  long layers = (long)ceil(mls_opt->dilation > 0 ? mls_opt->dilation : 1.0) + MARGIN;
+  for (;;) {
+    MICA_CALL(source_build(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, layers, src));
+    const MicaDiscretization *d = src->disc;
+    *nneeded = 0;
+    MICA_CALL(add_supports(src->mls, d->nquad, d->qx, needed, nneeded));
+    for (int s = 0; s < d->nsets; s++) MICA_CALL(add_supports(src->mls, d->sets[s].n, d->sets[s].x, needed, nneeded));
+    MICA_CALL(add_owned_supports(src, plo, phi, needed, nneeded)); /* the fields are written at them */
+    if (source_deep_enough(src, n, *needed, *nneeded)) return MICA_SUCCESS;
+    source_free(src);
+    free(*needed);
+    *needed = NULL;
+    layers *= 2;
+  }
+}
+
+/* The local particles: the owned block (grid order), then the ghosts (ascending grid index); their owners and
+ * contiguous numbers. The volume and boundary points are the source's (its cells are the rank's). */
+static int local_particles(const Source *src, MicaDistribution *dist, const long n[3], const long *needed,
+                           long nneeded, const long *offsets, long **srcmap) {
+  const MicaDiscretization *sd = src->disc;
+  const int dim = sd->dim, rank = mica_parallel_rank();
+  long lo[3], hi[3];
+  block_box(rank, dist->procs, n, lo, hi);
+  dist->nowned = box_size(lo, hi);
+  long nghost = 0;
+  for (long k = 0; k < nneeded; k++) {
+    long idx[3];
+    source_grid(src, needed[k], idx);
+    nghost += !in_box(idx, lo, hi);
+  }
+  dist->nghost = nghost;
+  const long nlocal = dist->nowned + nghost;
+  long *map = NULL;
+  MICA_CALL(MICA_MALLOC(map, nlocal + 1));
+  *srcmap = map;
+  long m = 0;
+  for (long i2 = lo[2]; i2 < hi[2]; i2++)
+    for (long i1 = lo[1]; i1 < hi[1]; i1++)
+      for (long i0 = lo[0]; i0 < hi[0]; i0++) {
+        const long idx[3] = {i0, i1, i2};
+        map[m++] = source_index(src, idx);
+      }
+  for (long k = 0; k < nneeded; k++) {
+    long idx[3];
+    source_grid(src, needed[k], idx);
+    if (!in_box(idx, lo, hi)) map[m++] = needed[k];
+  }
+  MicaDiscretization *d = dist->local;
+  d->nparticles = nlocal;
+  MICA_CALL(MICA_MALLOC(d->x, nlocal * dim + 1));
+  MICA_CALL(MICA_MALLOC(dist->global_node, nlocal + 1));
+  MicaPartition *p = dist->partition;
+  p->n = nlocal;
+  MICA_CALL(MICA_MALLOC(p->part, nlocal + 1));
+  for (long i = 0; i < nlocal; i++) {
+    long idx[3];
+    source_grid(src, map[i], idx);
+    memcpy(d->x + i * dim, sd->x + map[i] * dim, sizeof(double) * (size_t)dim);
+    dist->global_node[i] = global_number(idx[0] + n[0] * (idx[1] + n[1] * idx[2]), n, dist->procs, offsets, &p->part[i]);
+  }
+  return MICA_SUCCESS;
+}
+
+/* The source's volume and boundary points become the local discretization's (moved, not copied). */
+static void take_points(Source *src, MicaDiscretization *d) {
+  MicaDiscretization *sd = src->disc;
+  d->dim = sd->dim;
+  d->ncells = sd->ncells, d->nquad = sd->nquad, d->qx = sd->qx, d->qw = sd->qw;
+  d->nsets = sd->nsets, d->sets = sd->sets;
+  sd->qx = sd->qw = NULL, sd->sets = NULL, sd->nsets = 0, sd->nquad = 0;
+  d->volume = 0; /* this rank's part: summed once built */
+  for (long q = 0; q < d->nquad; q++) d->volume += d->qw[q];
+}
+
+/* The MLS approximation of the local particles with the source's radii and local spacings (a ghost at the
+ * source's edge would get other ones from its truncated neighborhood; the spacings are the boundary methods' h). */
+static int local_mls(const Source *src, const MlsOptions *mls_opt, const long *map, MicaDistribution *dist) {
+  const MicaDiscretization *d = dist->local;
+  const int dim = d->dim;
+  const double *radii = mls_radii(src->mls), *spacing = mls_spacing(src->mls);
+  double *local = NULL;
+  MICA_CALL(mls_create(dim, d->nparticles, d->x, mls_opt, &dist->mls));
+  MICA_CALL(MICA_MALLOC(local, d->nparticles * dim + 1));
+  for (long i = 0; i < d->nparticles; i++)
+    memcpy(local + i * dim, radii + map[i] * dim, sizeof(double) * (size_t)dim);
+  int ierr = mls_set_radii(dist->mls, local);
+  for (long i = 0; i < d->nparticles; i++)
+    memcpy(local + i * dim, spacing + map[i] * dim, sizeof(double) * (size_t)dim);
+  if (!ierr) ierr = mls_set_spacing(dist->mls, local);
+  free(local);
+  return ierr;
+}
+
+/* ---- the ghost plan --------------------------------------------------------------------------------------- */
+
+/* Each ghost is asked of its owner by its position in the owner's block: the owners learn what to send. */
+static int ghost_plan(MicaDistribution *dist, const long *offsets) {
+  MicaGhostPlan *g = &dist->ghosts;
+  const int P = mica_parallel_size();
+  long *request = NULL;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL(MICA_CALLOC(g->send_counts, P + 1));
+  MICA_CALL(MICA_CALLOC(g->send_displs, P + 1));
+  MICA_CALL(MICA_CALLOC(g->recv_counts, P + 1));
+  MICA_CALL(MICA_CALLOC(g->recv_displs, P + 1));
+  MICA_CALL(MICA_CALLOC(g->scaled, 4L * P + 4));
+  MICA_CALL(MICA_MALLOC(g->recv_index, dist->nghost + 1));
+  MICA_CALL(MICA_MALLOC(request, dist->nghost + 1));
+  const int *part = dist->partition->part;
+  for (long i = dist->nowned; i < dist->nowned + dist->nghost; i++) g->recv_counts[part[i]]++;
+  for (int r = 0; r < P; r++) g->recv_displs[r + 1] = g->recv_displs[r] + g->recv_counts[r];
+  int *cursor = g->scaled; /* scratch, before its use per exchange */
+  for (int r = 0; r < P; r++) cursor[r] = g->recv_displs[r];
+  for (long i = dist->nowned; i < dist->nowned + dist->nghost; i++) {
+    const int k = cursor[part[i]]++;
+    g->recv_index[k] = i;
+    request[k] = dist->global_node[i] - offsets[part[i]];
+  }
+  MPI_Alltoall(g->recv_counts, 1, MPI_INT, g->send_counts, 1, MPI_INT, mica_parallel_comm());
+  for (int r = 0; r < P; r++) g->send_displs[r + 1] = g->send_displs[r] + g->send_counts[r];
+  ierr = MICA_MALLOC(g->send_index, (long)g->send_displs[P] + 1);
+  if (!ierr) {
+    MPI_Alltoallv(request, g->recv_counts, g->recv_displs, MPI_LONG, g->send_index, g->send_counts, g->send_displs,
+                  MPI_LONG, mica_parallel_comm());
+    for (int k = 0; k < g->send_displs[P]; k++)
+      if (g->send_index[k] < 0 || g->send_index[k] >= dist->nowned)
+        ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_ARGUMENT, "ghost plan: position %ld of %ld",
+                              g->send_index[k], dist->nowned);
+  }
+  free(request);
+  return ierr;
+}
+
+static void ghost_plan_free(MicaGhostPlan *g) {
+  free(g->send_counts), free(g->send_displs), free(g->recv_counts), free(g->recv_displs);
+  free(g->send_index), free(g->recv_index), free(g->scaled), free(g->send_buffer), free(g->recv_buffer);
+  memset(g, 0, sizeof *g);
+}
+
+/* counts and displacements × ncomp, and buffers large enough. */
+static int scale_plan(MicaGhostPlan *g, int ncomp, int **sc, int **sd, int **rc, int **rd) {
+  const int P = mica_parallel_size();
+  *sc = g->scaled, *sd = g->scaled + P, *rc = g->scaled + 2 * P, *rd = g->scaled + 3 * P;
+  for (int r = 0; r < P; r++) {
+    (*sc)[r] = g->send_counts[r] * ncomp, (*sd)[r] = g->send_displs[r] * ncomp;
+    (*rc)[r] = g->recv_counts[r] * ncomp, (*rd)[r] = g->recv_displs[r] * ncomp;
+  }
+  const long need = ((long)g->send_displs[P] > (long)g->recv_displs[P] ? g->send_displs[P] : g->recv_displs[P]) *
+                    (long)ncomp + 1;
+  if (need <= g->buffer_size) return MICA_SUCCESS;
+  free(g->send_buffer), free(g->recv_buffer);
+  g->send_buffer = g->recv_buffer = NULL;
+  g->buffer_size = 0;
+  MICA_CALL(MICA_MALLOC(g->send_buffer, need));
+  MICA_CALL(MICA_MALLOC(g->recv_buffer, need));
+  g->buffer_size = need;
+  return MICA_SUCCESS;
+}
+
+int mica_ghost_update(MicaDistribution *dist, double *v, int ncomp) {
+  MicaGhostPlan *g = &dist->ghosts;
+  const int P = mica_parallel_size();
+  int *sc, *sd, *rc, *rd;
+  MICA_CALL(mica_parallel_agree(scale_plan(g, ncomp, &sc, &sd, &rc, &rd)));
+  for (long k = 0; k < g->send_displs[P]; k++)
+    memcpy(g->send_buffer + k * ncomp, v + g->send_index[k] * ncomp, sizeof(double) * (size_t)ncomp);
+  MPI_Alltoallv(g->send_buffer, sc, sd, MPI_DOUBLE, g->recv_buffer, rc, rd, MPI_DOUBLE, mica_parallel_comm());
+  for (long k = 0; k < g->recv_displs[P]; k++)
+    memcpy(v + g->recv_index[k] * ncomp, g->recv_buffer + k * ncomp, sizeof(double) * (size_t)ncomp);
+  return MICA_SUCCESS;
+}
+
+int mica_ghost_sum(MicaDistribution *dist, int ierr, double *v, int ncomp) {
+  MicaGhostPlan *g = &dist->ghosts;
+  const int P = mica_parallel_size();
+  int *sc, *sd, *rc, *rd;
+  if (!ierr) ierr = scale_plan(g, ncomp, &sc, &sd, &rc, &rd);
+  MICA_CALL(mica_parallel_agree(ierr));
+  for (long k = 0; k < g->recv_displs[P]; k++)
+    memcpy(g->recv_buffer + k * ncomp, v + g->recv_index[k] * ncomp, sizeof(double) * (size_t)ncomp);
+  /* the reverse of the update: ghosts to owners, added in rank order (the same sums on every run) */
+  MPI_Alltoallv(g->recv_buffer, rc, rd, MPI_DOUBLE, g->send_buffer, sc, sd, MPI_DOUBLE, mica_parallel_comm());
+  for (long k = 0; k < g->send_displs[P]; k++)
+    for (int c = 0; c < ncomp; c++) v[g->send_index[k] * ncomp + c] += g->send_buffer[k * ncomp + c];
+  return mica_ghost_update(dist, v, ncomp);
+}
+
+int mica_owned_residual(MicaDistribution *dist, int ierr, double *R, int ncomp) {
+  if (!ierr) ierr = mica_parallel_inject("assemble");
+  return mica_ghost_sum(dist, ierr, R, ncomp);
+}
+
+int mica_owned_norm(const MicaDistribution *dist, const double *v, int ncomp, double *norm) {
+  double s = 0;
+  for (long i = 0; i < dist->nowned * ncomp; i++) s += v[i] * v[i];
+  MICA_CALL(mica_parallel_sum(MICA_SUCCESS, &s, 1));
+  *norm = sqrt(s);
+  return MICA_SUCCESS;
+}
+
+/* ---- public ----------------------------------------------------------------------------------------------- */
+
+static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                       const MlsOptions *mls_opt, MicaDistribution *dist) {
+  const int P = mica_parallel_size(), rank = mica_parallel_rank();
+  long n[3], m[3], per_cell, plo[3], phi[3], clo[3], chi[3], *offsets = NULL, *needed = NULL, nneeded = 0;
+  long *map = NULL;
+  Source src;
+  memset(&src, 0, sizeof src);
+  int ierr = MICA_SUCCESS;
+  MICA_CALL(mica_discretization_grid(shape, layout, cells, n, m, &per_cell));
+  MICA_CALL(mica_block_split(P, shape->dim, m, dist->procs));
+  for (int d = 0; d < shape->dim; d++)
+    MICA_CHECK(dist->procs[d] <= n[d], MICA_ERR_INPUT,
+               "parallel.data = \"distributed\": %d blocks along axis %d for %ld particles; use fewer ranks",
+               dist->procs[d], d, n[d]);
+  MICA_CALL(MICA_CALLOC(dist->partition, 1));
+  MicaPartition *p = dist->partition;
+  p->nparts = P;
+  MICA_CALL(MICA_CALLOC(p->part_size, P + 1));
+  MICA_CALL(MICA_CALLOC(offsets, P + 1));
+  for (int r = 0; r < P; r++) {
+    block_box(r, dist->procs, n, plo, phi);
+    p->part_size[r] = box_size(plo, phi);
+    offsets[r + 1] = offsets[r] + p->part_size[r];
+  }
+  for (int r = 0; r < P; r++)
+    if ((double)p->part_size[r] * P / (double)offsets[P] > p->imbalance)
+      p->imbalance = (double)p->part_size[r] * P / (double)offsets[P];
+  block_box(rank, dist->procs, n, plo, phi);
+  block_box(rank, dist->procs, m, clo, chi);
+  ierr = source_create(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, &src, &needed, &nneeded);
+  if (!ierr) ierr = MICA_CALLOC(dist->local, 1);
+  if (!ierr) take_points(&src, dist->local);
+  if (!ierr) ierr = local_particles(&src, dist, n, needed, nneeded, offsets, &map);
+  if (!ierr) ierr = local_mls(&src, mls_opt, map, dist);
+  /* every rank reaches the plan's collectives, or none */
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MICA_CALL_CLEANUP(ghost_plan(dist, offsets));
+cleanup:
+  source_free(&src);
+  free(offsets), free(needed), free(map);
+  return ierr;
+}
+
+int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                                   const MicaCellSpec *cells, const MlsOptions *mls_opt,
+                                   const MicaParallelOptions *opt, MicaDistribution **out) {
+  *out = NULL;
+  const double start = mica_wtime();
+  MicaDistribution *dist = NULL;
+  int ierr = MICA_CALLOC(dist, 1);
+  if (!ierr) {
+    dist->opt = *opt;
+    dist->owned = 1;
+    ierr = build_owned(shape, layout, cells, mls_opt, dist);
+    if (!ierr) dist->nsets = dist->local->nsets;
+  }
+  if (!ierr) ierr = mica_parallel_inject("build");
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  /* the body's volume, not the rank's part (the penalty's length scale L = volume^(1/dim) is the body's) */
+  MICA_CALL_CLEANUP(mica_parallel_sum(MICA_SUCCESS, &dist->local->volume, 1));
+  dist->nparticles = mica_parallel_sum_long(dist->nowned);
+  MicaParallelStats *st = &dist->stats;
+  st->owned_particles = dist->nowned;
+  st->ghost_particles = dist->nghost;
+  st->ghost_particles_max = mica_parallel_max_long(dist->nghost);
+  st->owned_points = dist->local->nquad;
+  MPI_Allreduce(&st->owned_points, &st->max_owned_points, 1, MPI_LONG, MPI_MAX, mica_parallel_comm());
+  MPI_Allreduce(&st->owned_points, &st->min_owned_points, 1, MPI_LONG, MPI_MIN, mica_parallel_comm());
+  st->time_partition = mica_wtime() - start;
+  *out = dist;
+  dist = NULL;
+cleanup:
+  mica_distribution_destroy(&dist);
+  return ierr;
+}
+
+void parallel_owned_free(MicaDistribution *dist) {
+  ghost_plan_free(&dist->ghosts);
+  free(dist->global_node);
+  dist->global_node = NULL;
+  mls_destroy(&dist->mls);
+}

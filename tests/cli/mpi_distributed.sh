@@ -1,0 +1,170 @@
+# parallel.data = "distributed" (issue 19 item 1): each rank owns a block of the particle and cell index grids and
+# holds only its block, its cells' points and the ghosts their supports reach. Checked against the serial run of
+# the default solver (CHOLMOD), which shares no code with the distributed path past the discretization:
+#   - parallel equals serial: for P = 1 (the one-block case, serially), 2, 3, 4 (oversubscribed), the particle
+#     VTU pieces hold every serial particle once with every field within 1e-10 of the serial value (relative to
+#     the field's largest magnitude; tests/cli/pvtu_compare.py) with MUMPS, within 1e-7 with GAMG (solver.linear_rtol
+#     1e-12 times the conditioning), and the relative L2 error norm within the same tolerances (absolute): Cook's membrane with
+#     Neo-Hooke (4 load steps), the 3-D cube in tension (linear) — both with Nitsche's method, the default —, the
+#     Cosserat manufactured solution with penalty and with Nitsche, the cube with penalty; and with MUMPS at P = 2, 3, 4 on a jittered and a graded layout;
+#   - no rank holds the whole problem: on a 12³ cube at P = 4, the ranks' owned particles, volume points and
+#     boundary points sum to the serial run's counts, the summed tangent has the serial nnz, and each rank holds
+#     (owned + ghosts) fewer than 0.6 of the particles;
+#   - what the distributed mode does not cover yet is refused: exit 2, the deck line named.
+# `timeout` only keeps a hang from blocking the suite: no check depends on time.
+source "$(dirname "$0")/common.bash"
+work="$(cd "$(dirname "$OUT_DIR")" 2>/dev/null && pwd)/$(basename "$OUT_DIR")/mpi_distributed"
+rm -rf "$work" && mkdir -p "$work/tmp"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm_rsh_agent=false
+export TMPDIR="$work/tmp"
+MPIRUN=(timeout 300 mpirun --oversubscribe)
+[ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
+mpi_leak_checks
+[ "${SAN:-}" = 1 ] && export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$PWD/tests/lsan.supp:print_suppressions=0}:fast_unwind_on_malloc=0"
+
+Q=(--set output.monitor=false --set output.mesh=false)
+D=(--set solver.linear=petsc --set parallel.data=distributed)
+
+# serial DIR DECK [--set ...]: the reference, CHOLMOD
+serial() {
+  local dir=$1 deck=$2; shift 2
+  "$MICA" run "$deck" -o "$dir" "${Q[@]}" "$@" > "$dir.log" 2>&1 || fail "serial $deck $*: $(tail -n 3 "$dir.log")"
+  [ "$(json_value linear_solver "$dir/summary.json")" = cholmod ] || fail "$dir: the reference is not CHOLMOD"
+}
+
+# distributed NP DIR DECK [--set ...] (NP = 1: serially)
+distributed() {
+  local np=$1 dir=$2 deck=$3; shift 3
+  local launch=("${MPIRUN[@]}" -np "$np"); [ "$np" = 1 ] && launch=()
+  "${launch[@]}" "$MICA" run "$deck" -o "$dir" "${Q[@]}" "${D[@]}" "$@" > "$dir.log" 2>&1 \
+    || fail "np $np: $deck $*: $(tail -n 5 "$dir.log")"
+  [ "$np" = 1 ] || [ "$(json_value parallel_data "$dir/summary.json")" = distributed ] || fail "$dir: not distributed"
+}
+
+# same SERIAL DIR NP TOL: the fields (VTU pieces or the serial file) and error_l2 within TOL of the serial run
+same() {
+  local ref=$1 dir=$2 np=$3 tol=$4
+  if [ "$np" = 1 ]; then
+    python3 - "$ref" "$dir" "$tol" <<'EOF' > "$dir.check" 2>&1 || fail "$dir: $(cat "$dir.check")"
+import sys, os
+sys.path.insert(0, "tests/cli")
+from vtu_readback import read_vtu
+ref, out, tol = sys.argv[1], sys.argv[2], float(sys.argv[3])
+for name in sorted(f for f in os.listdir(ref) if f.startswith("step_") and f.endswith(".vtu")):
+    a, b = read_vtu(os.path.join(ref, name)), read_vtu(os.path.join(out, name))
+    if a["points"] != b["points"]:
+        sys.exit(f"{name}: the particles differ")
+    for key, (_, _, va) in a["arrays"].items():
+        vb = b["arrays"][key][2]
+        # as pvtu_compare.py: the error (computed minus exact) against the displacement's magnitude
+        scale = max(abs(v) for v in (a["arrays"]["displacement"][2] if key == "error" else va)) or 1.0
+        worst = max(abs(x - y) for x, y in zip(va, vb)) / scale
+        if worst > tol:
+            sys.exit(f"{name}: {key} differs by {worst:.3g} > {tol}")
+EOF
+  else
+    python3 tests/cli/pvtu_compare.py "$ref" "$dir" "$np" --tol "$tol" > "$dir.check" 2>&1 || fail "$dir: $(tail -n 2 "$dir.check")"
+  fi
+  local a b
+  a=$(json_value error_l2 "$ref/summary.json"); b=$(json_value error_l2 "$dir/summary.json")
+  # error_l2 is |u_h − u| / |u|: two solutions within TOL of each other (relative) give error norms within TOL
+  [ -z "$a" ] || awk -v a="$a" -v b="$b" -v t="$tol" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= t) }' \
+    || fail "$dir: error_l2 $b, serial $a: not within $tol"
+  ok "$(basename "$dir"): fields${a:+ and error_l2} within $tol of the serial run"
+}
+
+# check_deck NAME TOL KTOL DECK [--set ...]: MUMPS within TOL, GAMG (|r| ≤ 1e-12 |b|) within KTOL
+check_deck() {
+  local name=$1 tol=$2 ktol=$3 deck=$4; shift 4
+  serial "$work/$name" "$deck" "$@"
+  for np in 1 2 3 4; do
+    distributed "$np" "$work/$name-$np-mumps" "$deck" "$@" --set solver.petsc=\"mumps\"
+    same "$work/$name" "$work/$name-$np-mumps" "$np" "$tol"
+    distributed "$np" "$work/$name-$np-gamg" "$deck" "$@" --set solver.petsc=\"gamg\" --set solver.linear_rtol=1e-12
+    same "$work/$name" "$work/$name-$np-gamg" "$np" "$ktol"
+  done
+}
+
+check_deck cook 1e-10 1e-7 tests/decks/parallel/cook.cfg --set "particles.count=[9,9]" --set solver.steps=4
+check_deck cube 1e-10 1e-7 tests/decks/parallel/cube.cfg --set "particles.count=[6,6,6]" --set quadrature.order=3
+# the penalty (β ∝ (L/h)/h for the quadratic basis) conditions the Cosserat tangent so that MUMPS and CHOLMOD differ
+# by 1.3e-10 in the couple stress on one process (with the replicated data too), and MUMPS on 1 and on 2 processes
+# by 2.3e-10: 1e-9 there, and GAMG 1e-6 (a wrong spacing or body volume on a rank's ghosts, both seen while this
+# was written, moved the fields by 1e-5)
+check_deck cosserat 1e-9 1e-6 tests/decks/cosserat/nitsche.cfg --set bc.method=\"penalty\"
+check_deck nitsche 1e-10 1e-7 tests/decks/cosserat/nitsche.cfg
+check_deck cube_penalty 1e-10 1e-7 tests/decks/parallel/cube.cfg --set "particles.count=[6,6,6]" --set quadrature.order=3 \
+  --set bc.method=\"penalty\"
+
+# a rank lays out its own block: jittered particles from their own draws of the counter-based stream, graded ones
+# with the whole layout's spacings and radii near the block's edge (MUMPS at P = 2, 3, 4)
+check_layout() {
+  local name=$1 deck=$2; shift 2
+  serial "$work/$name" "$deck" "$@"
+  for np in 2 3 4; do
+    distributed "$np" "$work/$name-$np" "$deck" "$@"
+    same "$work/$name" "$work/$name-$np" "$np" 1e-10
+  done
+}
+check_layout jittered tests/decks/parallel/cook.cfg --set "particles.count=[9,9]" --set solver.steps=2 \
+  --set particles.layout=\"jittered\" --set particles.seed=7
+check_layout graded tests/decks/parallel/cube.cfg --set "particles.count=[7,6,6]" --set quadrature.order=3 \
+  --set particles.layout=\"graded\" --set "particles.grading=[4.0]" --set mls.spacing=\"far\"
+
+# ---- no rank holds the whole problem -----------------------------------------------------------------------
+medium=(--set "particles.count=[12,12,12]" --set quadrature.order=2 --set output.vtu=false)
+serial "$work/medium" tests/decks/parallel/cube.cfg "${medium[@]}"
+distributed 4 "$work/medium-4" tests/decks/parallel/cube.cfg "${medium[@]}"
+python3 - "$work/medium/summary.json" "$work/medium-4/summary.json" <<'EOF' || fail "counts per rank: see above"
+import json, sys
+s, p = (json.load(open(f)) for f in sys.argv[1:3])
+def check(cond, what):
+    print(("ok: " if cond else "FAIL: ") + what)
+    if not cond: sys.exit(1)
+for key in ("particles", "quadrature_points", "boundary_points", "nnz", "dofs"):
+    check(p[key] == s[key], f"{key}: {p[key]} in the distributed run, {s[key]} serially")
+for key, total in (("rank_particles_owned", "particles"), ("rank_points", "quadrature_points"),
+                   ("rank_boundary_points", "boundary_points")):
+    check(sum(p[key]) == s[total], f"{key} {p[key]} sum to the serial {total} {s[total]}")
+    check(max(p[key]) < s[total], f"{key}: each rank below the whole {s[total]}")
+# the split of 4 ranks over 11³ cells: two axes halved has 2 · 121 interface faces, one axis in 4 has 3 · 121
+check(sorted(p["parallel_blocks"]) == [1, 2, 2], f"blocks {p['parallel_blocks']}: two axes halved")
+held = p["rank_particles_local"]
+check(len(held) == 4 and max(held) < 0.6 * s["particles"],
+      f"particles held per rank (owned + ghosts) {held}: each below 0.6 of {s['particles']}")
+EOF
+
+# ---- refusals ------------------------------------------------------------------------------------------------
+# variant NAME GROUPS...: the cook deck with the group lines appended (particles, quadrature, solver and output:
+# 9 x 9 particles, order 5, petsc over one step, no mesh, unless given); prints its path
+variant() {
+  local name=$1; shift
+  local deck="$work/$name.cfg" given="$*"
+  {
+    grep -v '^particles\|^quadrature\|^solver' tests/decks/parallel/cook.cfg
+    for group in 'particles = { count = [9, 9]; };' 'quadrature = { order = 5; };' \
+                 'solver = { linear = "petsc"; steps = 1; };' 'output = { mesh = false; };'; do
+      [[ " $given" == *" ${group%% *} = "* ]] || echo "$group"
+    done
+    printf '%s\n' "$@"
+  } > "$deck"
+  echo "$deck"
+}
+refuse() { # refuse NAME PATTERN LINES...: exit 2 at -np 2 naming the deck's last line
+  local name=$1 pattern=$2; shift 2
+  local deck; deck=$(variant "$name" "$@")
+  local line; line=$(wc -l < "$deck")
+  expect_failure 2 "$deck:$line: $pattern" -- "${MPIRUN[@]}" -np 2 "$MICA" run "$deck" -o "$work/$name" --set output.monitor=false
+}
+pd='parallel = { data = "distributed"; };'
+refuse auto 'solver.linear is not available with parallel.data = "distributed"' 'solver = { steps = 1; };' "$pd"
+refuse mesh 'output.mesh is not available' 'output = { vtu = false; };' "$pd"
+refuse probes 'output.probes is not available' "$pd" \
+  'output = { mesh = false; probes = ( { name = "tip"; point = [48.0, 60.0]; field = "uy"; } ); };'
+refuse lagrange 'bc.method is not available' "$pd" 'bc = { method = "lagrange"; };'
+refuse vci 'quadrature.vci is not available' "$pd" 'quadrature = { order = 5; vci = true; };'
+refuse irregular 'particles.layout is not available' "$pd" 'particles = { count = [9, 9]; layout = "irregular"; };'
+# serially too: a distributed deck means the same on one process
+deck=$(variant serial_mesh 'output = { vtu = false; };' "$pd")
+expect_failure 2 "$deck:$(wc -l < "$deck"): output.mesh is not available" -- "$MICA" run "$deck" -o "$work/serial_mesh"
+ok "parallel.data = distributed"
