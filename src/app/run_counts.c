@@ -49,6 +49,8 @@ static int add_counts(RunProblem *rp, const RunTotals *c, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "nnz", c->nnz));
   MICA_CALL(mica_json_int(summary, "support_max", c->max_support));
   MICA_CALL(mica_json_number(summary, "support_mean", (double)c->support_entries / (double)c->support_points));
+  /* how close the leanest support came to the mls.rcond_min limit (MLS only: the volume points' moment matrices) */
+  if (s->volume && s->volume->rcond_min > 0) MICA_CALL(mica_json_number(summary, "rcond_min", s->volume->rcond_min));
   MICA_CALL(mica_json_int(summary, "cache_bytes", c->cache_bytes));
   MICA_CALL(mica_json_int(summary, "matrix_bytes", (long)(c->nnz * 16 + (s->ndof + 1) * 8)));
   MICA_CALL(mica_json_number(summary, "volume", rp->disc->volume));
