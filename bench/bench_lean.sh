@@ -102,10 +102,14 @@ for entry in "${decks[@]}"; do
     [ "$IR" = 1 ] && printf ' %9s %9s %9s %9s' $(instructions "$bin" "$out/$name-$b-ir" "$deck" "${sets[@]}")
     echo
   done
-  # the same answer: every probe of the two builds' first runs
+  # the same answer: every probe and error norm of the two builds' first runs, all 17 digits of summary.json
   if [ -n "$BASE" ]; then
-    a=$(grep -h '^probe' "$out/$name-base-1.log"); c=$(grep -h '^probe' "$out/$name-new-1.log")
-    [ "$a" = "$c" ] && echo "            probes identical: $(echo "$a" | tr '\n' ' ')" || echo "            probes differ: base [$a] new [$c]"
+    keys="$(sed -n 's/^probe \([^ ]*\) = .*/\1/p' "$out/$name-new-1.log") error_l2 error_energy"
+    a="" c=""
+    for k in $keys; do
+      a="$a $k=$(v "$k" "$out/$name-base-1/summary.json")"; c="$c $k=$(v "$k" "$out/$name-new-1/summary.json")"
+    done
+    [ "$a" = "$c" ] && echo "            identical:$a" || echo "            differ: base [$a] new [$c]"
   fi
 done
 echo "(seconds: wall per phase from summary.json but cpu.c+p and cpu.asm (CPU); min of $REPEAT alternating runs;"
