@@ -2,8 +2,12 @@
 # Leaner supports and cheaper points (issue 20, item 2): per-phase cost of the peers problems, this build against
 # a baseline build, alternating, the minimum of LEAN_REPEAT (3) runs per phase; and, with valgrind, the
 # instructions of each phase (callgrind counts are the same under any load: same binary and input, same count).
-#   BASE_BIN=/path/to/baseline/bin/mica bash bench/bench_lean.sh        [LEAN_IR=0 skips callgrind]
-#   LEAN_ONLY="hole-q4fb block-lin" restricts the decks.
+#   BASE_DIR=/path/to/baseline/worktree bash bench/bench_lean.sh      (built there: bin/mica, lib/libmica.a)
+#   [LEAN_IR=0 skips callgrind; LEAN_ONLY="hole-q4fb block-lin" restricts the decks; LEAN_SHAPE=0 skips part 1]
+# Part 1: bench/bench_shape.c (MLS shape functions per point at the peers' bases and supports) built against this
+# library and the baseline's, alternating, the minimum of LEAN_REPEAT runs of CPU µs per point, with the
+# instructions per point under callgrind and a checksum of every N, ∇N, ∇∇N (equal: the same results).
+# Part 2: the peers decks.
 # Columns: pts/dof quadrature points per unknown, supp mean supporting particles per point, nnz/row of the tangent,
 # then seconds per phase from summary.json (wall; CPU for cache+pattern and assembly: cpu_*), and with LEAN_IR the
 # instructions (10^6) in the shape functions (mica_shape_cache_create: search, weights, basis, moment matrix; the
@@ -12,7 +16,9 @@
 set -u
 cd "$(dirname "$0")/.."
 NEW=${MICA_BIN:-bin/mica}
+BASE_DIR=${BASE_DIR:-}
 BASE=${BASE_BIN:-}
+[ -n "$BASE_DIR" ] && [ -z "$BASE" ] && BASE=$BASE_DIR/bin/mica
 REPEAT=${LEAN_REPEAT:-3}
 IR=${LEAN_IR:-1}
 out=${OUT_DIR:-build/bench-out}/lean
@@ -72,6 +78,47 @@ instructions() { # bin dir deck sets...
     END { printf "%.1f %.1f %.1f %.1f", shape / 1e6, pattern / 1e6, assemble / 1e6, total / 1e6 }'
 }
 
+# ---- part 1: shape functions per point ----
+shape_part() {
+  local new_shape=build/bench/bench_shape base_shape=$out/bench_shape_base npts=${LEAN_POINTS:-5000}
+  make -s build/bench/bench_shape > /dev/null || return
+  mpicc -Iinclude -I/usr/include/suitesparse -std=c11 -D_POSIX_C_SOURCE=200809L -O2 -g bench/bench_shape.c \
+    "$BASE_DIR/lib/libmica.a" $(pkg-config --libs PETSc) -lmetis -lconfig -lmatheval -lcholmod -lumfpack \
+    -lsuitesparseconfig -llapacke -llapack -lblas -lm -o "$base_shape" || return
+  for r in $(seq 1 "$REPEAT"); do
+    "$base_shape" "$npts" > "$out/shape-base-$r.txt"
+    "$new_shape" "$npts" > "$out/shape-new-$r.txt"
+  done
+  echo "MLS shape functions per point (bench/bench_shape.c, $npts random points, CPU us/pt: min of $REPEAT alternating runs)"
+  printf '%-26s %4s %-4s %-13s %13s %9s %9s %7s' case m supp dilation support us.base us.new ratio
+  [ "$IR" = 1 ] && printf ' %10s %10s %7s' Ir.base Ir.new ratio
+  printf ' %s\n' results
+  local ncases
+  ncases=$(wc -l < "$out/shape-new-1.txt")
+  for i in $(seq 0 $((ncases - 1))); do
+    local line b n
+    line=$(sed -n "$((i + 1))p" "$out/shape-new-1.txt")
+    b=$(for r in $(seq 1 "$REPEAT"); do sed -n "$((i + 1))p" "$out/shape-base-$r.txt"; done | sed 's/.* \([0-9.]*\) us\/pt.*/\1/' | sort -g | head -n 1)
+    n=$(for r in $(seq 1 "$REPEAT"); do sed -n "$((i + 1))p" "$out/shape-new-$r.txt"; done | sed 's/.* \([0-9.]*\) us\/pt.*/\1/' | sort -g | head -n 1)
+    printf '%s %9.3f %9.3f %7.2f' "$(echo "$line" | sed 's/ *[0-9.]* us\/pt.*//')" "$b" "$n" "$(awk -v b="$b" -v n="$n" 'BEGIN { print b / n }')"
+    if [ "$IR" = 1 ]; then
+      local ib in
+      ib=$(valgrind --tool=callgrind --toggle-collect=mls_eval --callgrind-out-file=/dev/null "$base_shape" 300 "$i" 2>&1 >/dev/null | sed -n 's/.*Collected : \([0-9]*\).*/\1/p')
+      in=$(valgrind --tool=callgrind --toggle-collect=mls_eval --callgrind-out-file=/dev/null "$new_shape" 300 "$i" 2>&1 >/dev/null | sed -n 's/.*Collected : \([0-9]*\).*/\1/p')
+      printf ' %10.0f %10.0f %7.2f' "$(awk -v x="$ib" 'BEGIN { print x / 900 }')" "$(awk -v x="$in" 'BEGIN { print x / 900 }')" \
+        "$(awk -v b="$ib" -v n="$in" 'BEGIN { print b / n }')"
+    fi
+    local cb cn
+    cb=$(sed -n "$((i + 1))p" "$out/shape-base-1.txt" | sed 's/.*checksum //'); cn=$(echo "$line" | sed 's/.*checksum //')
+    [ "$cb" = "$cn" ] && printf ' identical\n' || printf ' differ (%s, %s)\n' "$cb" "$cn"
+  done
+  echo "(Ir: instructions per point in mls_eval under callgrind, 300 points x 3 repeats; results: the checksum of"
+  echo " every N, dN (ddN) to 17 digits, base against new)"
+  echo
+}
+[ -n "$BASE_DIR" ] && [ "${LEAN_SHAPE:-1}" = 1 ] && shape_part
+
+# ---- part 2: the peers decks per phase ----
 printf '%-11s %-5s %7s %6s %7s %8s %8s %8s %8s %8s %8s %8s %8s %8s' deck build pts/dof supp nnz/row search shape \
   pattern assemble cpu.c+p cpu.asm analyze factor newton
 [ "$IR" = 1 ] && printf ' %9s %9s %9s %9s' Mi.shape Mi.patt Mi.asm Mi.solve
