@@ -33,6 +33,7 @@ typedef struct MicaShapeCache {
   double *dN_test; /* [nnz*dim] VCI-corrected gradients of the test functions (mica_vci_correct), else NULL:
                       the test functions are the trial functions */
   long max_support;
+  double rcond_min;   /* MLS: the smallest reciprocal condition estimate of a moment matrix (0 unless MLS) */
   double time_search; /* seconds of neighbor search while it was built (profiles; 0 unless MLS) */
   int shares;   /* holders beyond the first (0 when allocated): the solids of consecutive runs may share a
                    cache (mica_shape_cache_share) */

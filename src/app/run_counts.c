@@ -17,6 +17,17 @@ static size_t cache_bytes(const MicaSolid *s) {
   return bytes;
 }
 
+/* The smallest reciprocal condition estimate of a moment matrix over the solid's MLS caches, volume and boundary
+ * points (every one is held to mls.rcond_min); 0 when none is MLS. */
+static double rcond_min(const MicaSolid *s) {
+  double r = s->volume ? s->volume->rcond_min : 0;
+  for (int set = 0; set < s->disc->nsets; set++) {
+    const MicaShapeCache *b = s->boundary[set];
+    if (b && b->rcond_min > 0 && (r == 0 || b->rcond_min < r)) r = b->rcond_min;
+  }
+  return r;
+}
+
 /* The sizes of the problem; under MPI, totals over the ranks (run_parallel.c). */
 static int count_totals(const RunProblem *rp, RunTotals *c) {
   const MicaSolid *s = rp->solid;
@@ -52,6 +63,8 @@ static int add_counts(RunProblem *rp, const RunTotals *c, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "nnz", c->nnz));
   MICA_CALL(mica_json_int(summary, "support_max", c->max_support));
   MICA_CALL(mica_json_number(summary, "support_mean", (double)c->support_entries / (double)c->support_points));
+  /* how close the leanest support came to the mls.rcond_min limit (MLS only) */
+  if (rcond_min(s) > 0) MICA_CALL(mica_json_number(summary, "rcond_min", rcond_min(s)));
   MICA_CALL(mica_json_int(summary, "cache_bytes", c->cache_bytes));
   MICA_CALL(mica_json_int(summary, "matrix_bytes", (long)(c->nnz * 16 + (c->dofs + 1) * 8)));
   MICA_CALL(mica_json_number(summary, "volume", c->volume));

@@ -63,6 +63,20 @@ static int b_entries(const Layout *L, const MicaShapeCache *c, const double *dN,
   return n;
 }
 
+/* q = Σ_e B_e u_e of a plane or 3-D layout (values, gradients, nh Hessian entries), q zeroed before. */
+static inline __attribute__((always_inline)) void kinematics_direct(const MicaShapeCache *c, long p, const double *u,
+                                                                    double *q, int ncomp, int dim, int nh) {
+  double *grad = q + ncomp, *hess = grad + ncomp * dim;
+  for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) {
+    const double *ue = u + c->index[e] * ncomp, *dN = c->dN + e * dim;
+    for (int k = 0; k < ncomp; k++) {
+      q[k] += c->N[e] * ue[k];
+      for (int J = 0; J < dim; J++) grad[k * dim + J] += ue[k] * dN[J];
+      for (int h = 0; h < nh; h++) hess[k * nh + h] += ue[k] * c->ddN[e * nh + h];
+    }
+  }
+}
+
 void mica_solid_kinematics(const MicaSolid *s, const MicaShapeCache *c, long p, const double *u, double *q) {
   const Layout L = layout_of(s);
   memset(q, 0, sizeof(double) * (size_t)s->nq);
@@ -78,16 +92,14 @@ void mica_solid_kinematics(const MicaSolid *s, const MicaShapeCache *c, long p, 
       }
     return;
   }
-  double *grad = q + L.ncomp, *hess = grad + L.ncomp * L.dim;
-  for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) {
-    const double *ue = u + c->index[e] * L.ncomp, *dN = c->dN + e * L.dim;
-    for (int k = 0; k < L.ncomp; k++) {
-      q[k] += c->N[e] * ue[k];
-      for (int J = 0; J < L.dim; J++) grad[k * L.dim + J] += ue[k] * dN[J];
-      if (L.order >= 2)
-        for (int h = 0; h < L.nh; h++) hess[k * L.nh + h] += ue[k] * c->ddN[e * L.nh + h];
-    }
-  }
+  /* the classical models' counts as constants (their residual passes run this at every point), else generic */
+  const int nh = L.order >= 2 ? L.nh : 0;
+  if (L.ncomp == 2 && L.dim == 2 && !nh)
+    kinematics_direct(c, p, u, q, 2, 2, 0);
+  else if (L.ncomp == 3 && L.dim == 3 && !nh)
+    kinematics_direct(c, p, u, q, 3, 3, 0);
+  else
+    kinematics_direct(c, p, u, q, L.ncomp, L.dim, nh);
 }
 
 void mica_solid_deformation_gradient(const MicaSolid *s, const MicaShapeCache *c, long p, const double *u, double *F) {
@@ -105,8 +117,42 @@ void mica_solid_deformation_gradient(const MicaSolid *s, const MicaShapeCache *c
  * MLS gradients, which the trial functions always use (they keep the reproducing property). */
 static const double *test_gradients(const MicaShapeCache *c) { return c->dN_test ? c->dN_test : c->dN; }
 
-/* R_kc += w Σ_j s_j B_j(k,c). */
+/* R_kc += w Σ_j s_j B_j(k,c) for a plane or 3-D layout, reading the cache directly instead of through b_entries'
+ * slot lists (a third of a nonlinear assembly went there; docs/performance.md §leaner supports): the products in
+ * b_entries' order (value, gradient, Hessian), so the same sums. Inlined with the layout's counts as constants
+ * for the classical models (the residual passes of Newton), generic otherwise. */
+static inline __attribute__((always_inline)) void internal_force_direct(const MicaShapeCache *c, const double *dN,
+                                                                        long p, const double *sq, double w, double *R,
+                                                                        int ncomp, int dim, int values, int nh) {
+  for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) {
+    const double *de = dN + e * dim;
+    double *Re = R + c->index[e] * ncomp;
+    for (int comp = 0; comp < ncomp; comp++) {
+      const double *sg = sq + ncomp + comp * dim;
+      double f = 0;
+      if (values) f += sq[comp] * c->N[e];
+      for (int J = 0; J < dim; J++) f += sg[J] * de[J];
+      if (nh) {
+        const double *sh = sq + ncomp * (1 + dim) + comp * nh, *he = c->ddN + e * nh;
+        for (int h = 0; h < nh; h++) f += sh[h] * he[h];
+      }
+      Re[comp] += w * f;
+    }
+  }
+}
+
 static void add_internal_force(const Layout *L, const MicaShapeCache *c, long p, const double *sq, double w, double *R) {
+  if (!L->axisymmetric) {
+    const double *dN = test_gradients(c);
+    const int nh = L->order >= 2 ? L->nh : 0;
+    if (L->ncomp == 2 && L->dim == 2 && !L->values && !nh)
+      internal_force_direct(c, dN, p, sq, w, R, 2, 2, 0, 0);
+    else if (L->ncomp == 3 && L->dim == 3 && !L->values && !nh)
+      internal_force_direct(c, dN, p, sq, w, R, 3, 3, 0, 0);
+    else
+      internal_force_direct(c, dN, p, sq, w, R, L->ncomp, L->dim, L->values, nh);
+    return;
+  }
   int slot[16];
   double b[16];
   for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)

@@ -27,6 +27,7 @@ static int append_point(MicaShapeCache *c, const MlsShape *sh, long p, long *cap
   }
   c->ptr[p + 1] = need;
   if (sh->n > c->max_support) c->max_support = sh->n;
+  if (p == 0 || sh->rcond < c->rcond_min) c->rcond_min = sh->rcond;
   return MICA_SUCCESS;
 }
 

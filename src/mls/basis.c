@@ -104,7 +104,33 @@ static void monomials_1d(double s, double f[3][MAX_1D]) {
   f[2][0] = 0.0, f[2][1] = 0.0, f[2][2] = 2.0, f[2][3] = 6.0 * s;
 }
 
+/* Values only (the shape functions' q_k, once per supporting particle): the powers and the products of
+ * store_term_*d in the same order, so the same bits, without the derivative tables. */
+static void pascal_values(int dim, int order, const double *s, double *p) {
+  double pw[MLS_MAX_DIM][MAX_1D];
+  for (int d = 0; d < dim; d++) {
+    const double s2 = s[d] * s[d];
+    pw[d][0] = 1.0, pw[d][1] = s[d], pw[d][2] = s2, pw[d][3] = s2 * s[d];
+  }
+  const int m = pascal_size(dim, order);
+  switch (dim) {
+    case 1:
+      for (int a = 0; a < m; a++) p[a] = pw[0][pascal_exp1[a][0]];
+      break;
+    case 2:
+      for (int a = 0; a < m; a++) p[a] = pw[0][pascal_exp2[a][0]] * pw[1][pascal_exp2[a][1]];
+      break;
+    default:
+      for (int a = 0; a < m; a++)
+        p[a] = pw[0][pascal_exp3[a][0]] * (pw[1][pascal_exp3[a][1]] * pw[2][pascal_exp3[a][2]]);
+  }
+}
+
 static void pascal_eval(int dim, int order, const double *s, double *p, double *dp, double *ddp) {
+  if (!dp && !ddp) {
+    pascal_values(dim, order, s, p);
+    return;
+  }
   AxisFactors ax;
   for (int d = 0; d < dim; d++) monomials_1d(s[d], ax.f[d]);
   int m = pascal_size(dim, order);

@@ -21,6 +21,13 @@
 #include "mica/timer.h"
 #include "mls_private.h"
 
+/* Small bases get their own compiled copy of the evaluation (mls_eval below): with m and dim constants the
+ * loops over basis terms have fixed trip counts, which the compiler unrolls and keeps in registers. The
+ * arithmetic and its order are the same in every copy, so every copy gives the same bits. */
+#define MLS_INLINE static inline __attribute__((always_inline))
+#define MLS_UNROLL _Pragma("GCC unroll 10")
+enum { MLS_FIXED_MAX_TERMS = 10 };
+
 /* Per-point scratch, sized for m basis terms and `cap` supporting particles. */
 typedef struct {
   double *Q;                  /* [cap][m]: q_k */
@@ -221,27 +228,57 @@ static void eval_basis(const MlsApprox *mls, const double *x, const double *scal
 /* M = Σ Φ_k q_k q_kᵀ, equilibrated to D M D with D = diag(M_aa^(−1/2)) so that its condition estimate
  * measures the geometry of the supports, not the scaling of the basis. Returns the 1-norm of D M D, or
  * −1 if a diagonal entry vanishes (a basis term that no supporting particle sees). */
-static double assemble_moment(const ShapeWork *w, long n, int m) {
-  memset(w->M, 0, sizeof(double) * (size_t)(m * m));
-  for (long k = 0; k < n; k++) {
-    const double *q = w->Q + k * m, phi = w->phi[k];
-    for (int a = 0; a < m; a++) {
-      const double pa = phi * q[a];
-      for (int c = a; c < m; c++) w->M[a * m + c] += pa * q[c];
+MLS_INLINE double assemble_moment(const ShapeWork *w, long n, int m) {
+  double *M = w->M;
+  if (m <= MLS_FIXED_MAX_TERMS) {
+    /* The upper triangle packed row by row in a local array, which the compiler knows no q_k aliases, two
+     * particles per pass: each sum is loaded and stored once per pair and receives particle k's term, then
+     * k + 1's — the additions of the loop below in the same order, so the same bits. */
+    double acc[MLS_FIXED_MAX_TERMS * (MLS_FIXED_MAX_TERMS + 1) / 2] = {0};
+    long k = 0;
+    for (; k + 2 <= n; k += 2) {
+      const double *q0 = w->Q + k * m, *q1 = q0 + m, phi0 = w->phi[k], phi1 = w->phi[k + 1];
+      int e = 0;
+      MLS_UNROLL
+      for (int a = 0; a < m; a++) {
+        const double p0 = phi0 * q0[a], p1 = phi1 * q1[a];
+        MLS_UNROLL
+        for (int c = a; c < m; c++, e++) acc[e] = acc[e] + p0 * q0[c] + p1 * q1[c];
+      }
+    }
+    for (; k < n; k++) {
+      const double *q = w->Q + k * m, phi = w->phi[k];
+      int e = 0;
+      for (int a = 0; a < m; a++) {
+        const double pa = phi * q[a];
+        for (int c = a; c < m; c++, e++) acc[e] += pa * q[c];
+      }
+    }
+    int e = 0;
+    for (int a = 0; a < m; a++)
+      for (int c = a; c < m; c++) M[a * m + c] = acc[e++];
+  } else {
+    memset(M, 0, sizeof(double) * (size_t)(m * m));
+    for (long k = 0; k < n; k++) {
+      const double *q = w->Q + k * m, phi = w->phi[k];
+      for (int a = 0; a < m; a++) {
+        const double pa = phi * q[a];
+        for (int c = a; c < m; c++) M[a * m + c] += pa * q[c];
+      }
     }
   }
   for (int a = 0; a < m; a++) {
-    if (!(w->M[a * m + a] > 0)) return -1;
-    w->D[a] = 1.0 / sqrt(w->M[a * m + a]);
+    if (!(M[a * m + a] > 0)) return -1;
+    w->D[a] = 1.0 / sqrt(M[a * m + a]);
   }
   for (int a = 0; a < m; a++)
-    for (int c = a; c < m; c++) w->M[a * m + c] *= w->D[a] * w->D[c];
+    for (int c = a; c < m; c++) M[a * m + c] *= w->D[a] * w->D[c];
   for (int a = 0; a < m; a++)
-    for (int c = 0; c < a; c++) w->M[a * m + c] = w->M[c * m + a];
+    for (int c = 0; c < a; c++) M[a * m + c] = M[c * m + a];
   double norm = 0;
   for (int c = 0; c < m; c++) {
     double col = 0;
-    for (int a = 0; a < m; a++) col += fabs(w->M[a * m + c]);
+    for (int a = 0; a < m; a++) col += fabs(M[a * m + c]);
     norm = fmax(norm, col);
   }
   return norm;
@@ -274,7 +311,7 @@ static int report_singular(const MlsApprox *mls, const double *x, long n, double
  * for column-major upper factors, A = UᵀU, U[i + j m] (i ≤ j): results agree with LAPACK's to round-off. */
 
 /* Unblocked Cholesky (dpotf2's order). Returns 0, or j + 1 if the leading minor of order j + 1 is not positive. */
-static int cholesky_upper(int m, double *U) {
+MLS_INLINE int cholesky_upper(int m, double *U) {
   for (int j = 0; j < m; j++) {
     double *uj = U + j * m;
     for (int i = 0; i < j; i++) {
@@ -292,7 +329,7 @@ static int cholesky_upper(int m, double *U) {
 }
 
 /* x ← (UᵀU)⁻¹ x: Uᵀ y = x forward, then U x = y backward. */
-static void cholesky_solve(int m, const double *U, double *x) {
+MLS_INLINE void cholesky_solve(int m, const double *U, double *x) {
   for (int i = 0; i < m; i++) {
     const double *ui = U + i * m;
     double s = x[i];
@@ -306,14 +343,14 @@ static void cholesky_solve(int m, const double *U, double *x) {
   }
 }
 
-static int index_of_max_abs(int m, const double *x) {
+MLS_INLINE int index_of_max_abs(int m, const double *x) {
   int best = 0;
   for (int i = 1; i < m; i++)
     if (fabs(x[i]) > fabs(x[best])) best = i;
   return best;
 }
 
-static double sum_abs(int m, const double *x) {
+MLS_INLINE double sum_abs(int m, const double *x) {
   double s = 0;
   for (int i = 0; i < m; i++) s += fabs(x[i]);
   return s;
@@ -322,7 +359,7 @@ static double sum_abs(int m, const double *x) {
 /* ‖A⁻¹‖₁ estimated by Higham's method as LAPACK's dlacn2 runs it inside dpocon (A symmetric, so A⁻ᵀ = A⁻¹):
  * x = e/m; then alternate sign vectors and unit vectors, at most 5 iterations; finally the alternating vector
  * (1 + i/(m−1)) (−1)^i as a lower bound. */
-static double inverse_norm_estimate(int m, const double *U, double *x, int *sign) {
+MLS_INLINE double inverse_norm_estimate(int m, const double *U, double *x, int *sign) {
   for (int i = 0; i < m; i++) x[i] = 1.0 / m;
   cholesky_solve(m, U, x);
   if (m == 1) return fabs(x[0]);
@@ -353,9 +390,8 @@ static double inverse_norm_estimate(int m, const double *U, double *x, int *sign
 }
 
 /* Factors D M D (Cholesky, upper) and estimates its reciprocal condition number (as dpocon: 1/(‖A‖₁ est‖A⁻¹‖₁)). */
-static int factor_moment(const MlsApprox *mls, const double *x, MlsShape *sh) {
+MLS_INLINE int factor_moment(const MlsApprox *mls, int m, const double *x, MlsShape *sh) {
   ShapeWork *w = sh->work;
-  const int m = mls->m;
   const double norm = assemble_moment(w, sh->n, m);
   sh->rcond = 0;
   if (norm < 0) return report_singular(mls, x, sh->n, 0.0);
@@ -367,8 +403,7 @@ static int factor_moment(const MlsApprox *mls, const double *x, MlsShape *sh) {
 }
 
 /* Solves M X = B for nrhs columns of B (m each) with the equilibrated factor: X = D (D M D)⁻¹ D B. */
-static int solve_moment(const MlsApprox *mls, const ShapeWork *w, int nrhs, double *rhs) {
-  const int m = mls->m;
+MLS_INLINE int solve_moment(int m, const ShapeWork *w, int nrhs, double *rhs) {
   for (int r = 0; r < nrhs; r++) {
     double *b = rhs + r * m;
     for (int a = 0; a < m; a++) b[a] *= w->D[a];
@@ -382,11 +417,12 @@ static int solve_moment(const MlsApprox *mls, const ShapeWork *w, int nrhs, doub
 
 /* out[k] = q_k · v for every supporting particle, four at a time: their sums are independent, so they
  * advance together instead of each waiting on its own previous addition. */
-static void project_one(int m, long n, const double *Q, const double *v, double *out) {
+MLS_INLINE void project_one(int m, long n, const double *Q, const double *v, double *out) {
   long k = 0;
   for (; k + 4 <= n; k += 4) {
     const double *q0 = Q + k * m, *q1 = q0 + m, *q2 = q1 + m, *q3 = q2 + m;
     double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+    MLS_UNROLL
     for (int a = 0; a < m; a++) s0 += q0[a] * v[a], s1 += q1[a] * v[a], s2 += q2[a] * v[a], s3 += q3[a] * v[a];
     out[k] = s0, out[k + 1] = s1, out[k + 2] = s2, out[k + 3] = s3;
   }
@@ -398,10 +434,11 @@ static void project_one(int m, long n, const double *Q, const double *v, double 
 }
 
 /* out[k*nv + j] = q_k · v_j for nv ≤ MLS_MAX_HESS vectors v_j of length m, stored one after another. */
-static void project_many(int m, long n, const double *Q, int nv, const double *v, double *out) {
+MLS_INLINE void project_many(int m, long n, const double *Q, int nv, const double *v, double *out) {
   for (long k = 0; k < n; k++) {
     const double *q = Q + k * m;
     double acc[MLS_MAX_HESS] = {0};
+    MLS_UNROLL
     for (int a = 0; a < m; a++)
       for (int j = 0; j < nv; j++) acc[j] += q[a] * v[j * m + a];
     for (int j = 0; j < nv; j++) out[k * nv + j] = acc[j];
@@ -409,7 +446,20 @@ static void project_many(int m, long n, const double *Q, int nv, const double *v
 }
 
 /* rhs_j −= Σ_k coef[k*nv + j] q_k for nv right-hand sides of length m. */
-static void subtract_combination(int m, long n, const double *Q, int nv, const double *coef, double *rhs) {
+MLS_INLINE void subtract_combination(int m, long n, const double *Q, int nv, const double *coef, double *rhs) {
+  if (m <= MLS_FIXED_MAX_TERMS) { /* in a local copy, as the moment matrix: same operations, same bits */
+    double acc[MLS_MAX_HESS * MLS_FIXED_MAX_TERMS];
+    for (int a = 0; a < nv * m; a++) acc[a] = rhs[a];
+    for (long k = 0; k < n; k++) {
+      const double *q = Q + k * m, *c = coef + k * nv;
+      for (int j = 0; j < nv; j++) {
+        MLS_UNROLL
+        for (int a = 0; a < m; a++) acc[j * m + a] -= c[j] * q[a];
+      }
+    }
+    for (int a = 0; a < nv * m; a++) rhs[a] = acc[a];
+    return;
+  }
   for (long k = 0; k < n; k++) {
     const double *q = Q + k * m, *c = coef + k * nv;
     for (int j = 0; j < nv; j++)
@@ -419,23 +469,22 @@ static void subtract_combination(int m, long n, const double *Q, int nv, const d
 
 /* b,i from M b,i = p,i − M,i b, M,i b = Σ_k Φ_k,i g_k q_k; then c_kj = q_k·b,j. The coefficients Φ_k,i g_k
  * are staged in C, which the projection then overwrites. */
-static int solve_gradient(const MlsApprox *mls, const double *scale, MlsShape *sh) {
+MLS_INLINE int solve_gradient(const MlsApprox *mls, int m, int dim, const double *scale, MlsShape *sh) {
   ShapeWork *w = sh->work;
-  const int dim = mls->dim, m = mls->m;
   for (int i = 0; i < dim; i++)
     for (int a = 0; a < m; a++) w->bd[i * m + a] = mls->dp0[i * m + a] / scale[i];
   for (long k = 0; k < sh->n; k++)
     for (int i = 0; i < dim; i++) w->C[k * dim + i] = w->dphi[k * dim + i] * w->G[k];
   subtract_combination(m, sh->n, w->Q, dim, w->C, w->bd);
-  MICA_CALL(solve_moment(mls, w, dim, w->bd));
+  MICA_CALL(solve_moment(m, w, dim, w->bd));
   project_many(m, sh->n, w->Q, dim, w->bd, w->C);
   return MICA_SUCCESS;
 }
 
 /* b,ij from M b,ij = p,ij − Σ_k (Φ,ij g + Φ,i c_j + Φ,j c_i) q_k; then d_kh = q_k·b,h. */
-static int solve_hessian(const MlsApprox *mls, const double *scale, MlsShape *sh) {
+MLS_INLINE int solve_hessian(const MlsApprox *mls, int m, int dim, const double *scale, MlsShape *sh) {
   ShapeWork *w = sh->work;
-  const int dim = mls->dim, m = mls->m, nh = mls_num_hess(dim);
+  const int nh = mls_num_hess(dim);
   for (int i = 0; i < dim; i++)
     for (int j = i; j < dim; j++) {
       const int h = mls_hess_index(dim, i, j);
@@ -450,7 +499,7 @@ static int solve_hessian(const MlsApprox *mls, const double *scale, MlsShape *sh
       }
   }
   subtract_combination(m, sh->n, w->Q, nh, w->DD, w->bdd);
-  MICA_CALL(solve_moment(mls, w, nh, w->bdd));
+  MICA_CALL(solve_moment(m, w, nh, w->bdd));
   project_many(m, sh->n, w->Q, nh, w->bdd, w->DD);
   return MICA_SUCCESS;
 }
@@ -486,6 +535,41 @@ static int report_no_support(const MlsApprox *mls, const double *x) {
              where);
 }
 
+/* From the weights on: the moment matrix, its factor and the shape functions, with m basis terms in dim
+ * dimensions (constants in the fixed-size copies below). */
+MLS_INLINE int eval_supported(const MlsApprox *mls, const double *x, int nderiv, MlsShape *sh, int m, int dim) {
+  ShapeWork *w = sh->work;
+  double scale[MLS_MAX_DIM];
+  eval_weights(mls, x, nderiv, sh);
+  basis_scale(mls, x, sh, scale);
+  eval_basis(mls, x, scale, sh);
+  MICA_CALL(factor_moment(mls, m, x, sh));
+  memcpy(w->b, mls->p0, sizeof(double) * (size_t)m);
+  MICA_CALL(solve_moment(m, w, 1, w->b));
+  project_one(m, sh->n, w->Q, w->b, w->G);
+  if (nderiv >= 1) MICA_CALL(solve_gradient(mls, m, dim, scale, sh));
+  if (nderiv >= 2) MICA_CALL(solve_hessian(mls, m, dim, scale, sh));
+  assemble_shape(mls, nderiv, sh);
+  return MICA_SUCCESS;
+}
+
+/* The complete linear and quadratic bases in 2-D and 3-D (and any basis of as many terms), then any other. */
+static int eval_m3_d2(const MlsApprox *mls, const double *x, int nderiv, MlsShape *sh) {
+  return eval_supported(mls, x, nderiv, sh, 3, 2);
+}
+static int eval_m4_d3(const MlsApprox *mls, const double *x, int nderiv, MlsShape *sh) {
+  return eval_supported(mls, x, nderiv, sh, 4, 3);
+}
+static int eval_m6_d2(const MlsApprox *mls, const double *x, int nderiv, MlsShape *sh) {
+  return eval_supported(mls, x, nderiv, sh, 6, 2);
+}
+static int eval_m10_d3(const MlsApprox *mls, const double *x, int nderiv, MlsShape *sh) {
+  return eval_supported(mls, x, nderiv, sh, 10, 3);
+}
+static int eval_any(const MlsApprox *mls, const double *x, int nderiv, MlsShape *sh) {
+  return eval_supported(mls, x, nderiv, sh, mls->m, mls->dim);
+}
+
 int mls_eval(const MlsApprox *mls, const double *x, int nderiv, MlsShape *sh) {
   MICA_CHECK(nderiv >= MLS_VALUES && nderiv <= MLS_HESSIAN, MICA_ERR_ARGUMENT, "nderiv must be 0, 1 or 2, not %d",
              nderiv);
@@ -500,19 +584,12 @@ int mls_eval(const MlsApprox *mls, const double *x, int nderiv, MlsShape *sh) {
   sh->n = count;
   sh->nderiv = nderiv;
   if (count == 0) return report_no_support(mls, x);
-  ShapeWork *w = sh->work;
-  double scale[MLS_MAX_DIM];
-  eval_weights(mls, x, nderiv, sh);
-  basis_scale(mls, x, sh, scale);
-  eval_basis(mls, x, scale, sh);
-  MICA_CALL(factor_moment(mls, x, sh));
-  memcpy(w->b, mls->p0, sizeof(double) * (size_t)mls->m);
-  MICA_CALL(solve_moment(mls, w, 1, w->b));
-  project_one(mls->m, sh->n, w->Q, w->b, w->G);
-  if (nderiv >= 1) MICA_CALL(solve_gradient(mls, scale, sh));
-  if (nderiv >= 2) MICA_CALL(solve_hessian(mls, scale, sh));
-  assemble_shape(mls, nderiv, sh);
-  return MICA_SUCCESS;
+  const int m = mls->m, dim = mls->dim;
+  if (m == 3 && dim == 2) return eval_m3_d2(mls, x, nderiv, sh);
+  if (m == 4 && dim == 3) return eval_m4_d3(mls, x, nderiv, sh);
+  if (m == 6 && dim == 2) return eval_m6_d2(mls, x, nderiv, sh);
+  if (m == 10 && dim == 3) return eval_m10_d3(mls, x, nderiv, sh);
+  return eval_any(mls, x, nderiv, sh);
 }
 
 /* The 2-norm condition number of the equilibrated moment matrix D M D at x — the matrix mls_eval factors —
