@@ -68,9 +68,10 @@ const MicaDeckKey mica_run_schema[] = {
     {"quadrature.error_order", MICA_KEY_INT, "0", 0, 20, NULL, 0, 0,
      "Gauss points per direction in each background cell for the error norms only (0: the solve's points), so "
      "that the error measure does not change with quadrature.order"},
-    {"quadrature.vci", MICA_KEY_BOOL, "false", NOLIMIT, NULL, 0, 0,
+    {"quadrature.vci", MICA_KEY_BOOL, "\"auto\"", NOLIMIT, "auto", 0, 0,
      "variationally consistent integration: corrected test gradients pass the patch test of the basis order "
-     "(first-order models; unsymmetric tangent)"},
+     "(first-order models; unsymmetric tangent: UMFPACK). auto: on for jittered, irregular and Gmsh particles, "
+     "off on regular and graded grids and where VCI does not apply (the run says which and why)"},
     {.path = "quadrature.mode", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &run_integration_registry,
      .help = "gauss: Gauss points of the background cells; nodal: direct nodal integration at the particles, "
      "weighted by their nodal cells' volumes (fails the patch test, a low-energy mode on the free block; shown, not cured); scni: stabilized "
