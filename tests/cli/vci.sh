@@ -18,7 +18,8 @@ rm -rf "$work" && mkdir -p "$work"
 patch() {
   local name=$1 deck=$2; shift 2
   local d="$work/$name"
-  run_deck "$d-off" "$deck" "$@"
+  # explicit both ways: the default (auto) turns VCI on for the jittered, irregular and Gmsh layouts
+  run_deck "$d-off" "$deck" --set quadrature.vci=false "$@"
   run_deck "$d-on" "$deck" --set quadrature.vci=true "$@"
   local off on en
   off=$(json_value error_l2 "$d-off/summary.json")
