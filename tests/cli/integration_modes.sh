@@ -87,7 +87,11 @@ for n in 11 41; do
   run_deck "$work/manufactured_nodal_$n" input/manufactured.cfg --set quadrature.mode=nodal \
     --set particles.layout=jittered --set "particles.count=[$n,$n]"
 done
-at_least "$(err manufactured_nodal_41 error_l2)" 0.2 \
+# (supports sized on the grid before the jitter since issue 21: L2 0.17 → 0.092, energy 0.89 → 1.23; before, with
+# the jittered near-neighbour spacing, L2 0.45 → 0.40): the energy error grows, the L2 error stays far above Gauss's
+at_least "$(err manufactured_nodal_41 error_energy)" "$(err manufactured_nodal_11 error_energy)" \
+  "manufactured, direct nodal, jittered: no convergence, energy at 41² against 11²"
+at_least "$(err manufactured_nodal_41 error_l2)" 0.05 \
   "manufactured, direct nodal, jittered 41² (11²: $(err manufactured_nodal_11 error_l2)): no convergence, L2"
 
 # --- Timoshenko tip deflection at 33 × 9 ---
