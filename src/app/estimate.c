@@ -129,8 +129,8 @@ static int point_counts(const MicaDeck *deck, const MicaLayoutSpec *layout, cons
   return MICA_SUCCESS;
 }
 
-/* The linear solver solver.linear = "auto" picks: CHOLMOD unless Lagrange multipliers or VCI make the tangent
- * indefinite or unsymmetric. */
+/* The linear solver solver.linear = "auto" picks: CHOLMOD unless Lagrange multipliers make the tangent
+ * indefinite (UMFPACK) or VCI unsymmetric (cholmod-sym: CHOLMOD on the symmetric part; estimated as CHOLMOD). */
 static int read_solver(const MicaDeck *deck, RunEstimate *est) {
   const char *linear, *bc, *method_name;
   int fe, axisymmetric;
@@ -145,8 +145,8 @@ static int read_solver(const MicaDeck *deck, RunEstimate *est) {
   MICA_CALL(run_vci_choose(deck, &facts, &vci));
   const MicaType *method;
   MICA_CALL(mica_registry_get(&mica_bc_method_registry, bc, &method));
-  const int spd = mica_type_has(method, MICA_BC_SYMMETRIC_DEFINITE) && !vci.on;
-  est->solver = strcmp(linear, "auto") ? linear : spd ? "cholmod" : "umfpack";
+  const int spd = mica_type_has(method, MICA_BC_SYMMETRIC_DEFINITE);
+  est->solver = strcmp(linear, "auto") ? linear : spd && !vci.on ? "cholmod" : spd ? "cholmod-sym" : "umfpack";
   if (!strcmp(linear, "petsc")) { /* its own copy of the matrix; a factor only with a direct method */
     const char *method;
     MICA_CALL(mica_deck_string(deck, "solver.petsc", &method));

@@ -148,7 +148,8 @@ const MicaDeckKey mica_run_schema[] = {
     {"loads.ctheta", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric cosserat: body couple, θ"},
     {.path = "solver.linear", .type = MICA_KEY_CHOICE, .def = "\"auto\"", .min = 1.0, .max = 0.0, .choices = "auto",
      .registry = &mica_linear_solver_registry,
-     .help = "auto: CHOLMOD for symmetric positive definite tangents, UMFPACK otherwise; cg: preconditioned "
+     .help = "auto: CHOLMOD for symmetric positive definite tangents, cholmod-sym for VCI's (CHOLMOD on the "
+             "symmetric part, refined to solver.linear_rtol), UMFPACK otherwise; cg: preconditioned "
              "conjugate gradients (SPD tangents, no factorization: for problems whose factor does not fit; under "
              "solver.parallel = schwarz, CG is the outer iteration and CHOLMOD factors the subdomains); petsc: PETSc's "
              "solvers on the tangent distributed over the ranks (solver.petsc chooses the method)"},
@@ -156,8 +157,8 @@ const MicaDeckKey mica_run_schema[] = {
      "MPI runs: gather the tangent to rank 0 for CHOLMOD/UMFPACK, or additive Schwarz CG/GMRES (not with petsc)"},
     {"solver.overlap", MICA_KEY_INT, "2", 0, 100, NULL, 0, 0,
      "schwarz: layers of neighboring particles added to each rank's subdomain"},
-    {"solver.linear_rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "cg, schwarz, petsc: Krylov stops at |r| ≤ linear_rtol |b|"},
-    {"solver.linear_max_iterations", MICA_KEY_INT, "2000", 1, 1000000, NULL, 0, 0, "cg, schwarz, petsc: Krylov iterations per solve"},
+    {"solver.linear_rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "cg, schwarz, petsc, cholmod-sym: the iterations stop at |r| ≤ linear_rtol |b|"},
+    {"solver.linear_max_iterations", MICA_KEY_INT, "2000", 1, 1000000, NULL, 0, 0, "cg, schwarz, petsc, cholmod-sym: iterations per solve"},
     {"solver.steps", MICA_KEY_INT, "1", 1, 100000, NULL, 0, 0, "load steps; the load factor t goes from 1/steps to 1"},
     {"solver.max_iterations", MICA_KEY_INT, "25", 1, 1000, NULL, 0, 0, "Newton iterations per step"},
     {"solver.rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "converged when |R| ≤ rtol |R₀| of the step"},
