@@ -56,6 +56,9 @@ int mica_deck_int(const MicaDeck *deck, const char *path, long *value);
 int mica_deck_float(const MicaDeck *deck, const char *path, double *value);
 int mica_deck_bool(const MicaDeck *deck, const char *path, int *value);
 int mica_deck_string(const MicaDeck *deck, const char *path, const char **value);
+/* A boolean key that also takes the words of its `choices` ("auto"): *word is the word (and *value −1), or
+ * NULL and *value the boolean. */
+int mica_deck_bool_or_word(const MicaDeck *deck, const char *path, int *value, const char **word);
 /* Arrays: up to max values; *count is set to the number read. A scalar reads as one value. */
 int mica_deck_ints(const MicaDeck *deck, const char *path, long *values, int max, int *count);
 int mica_deck_floats(const MicaDeck *deck, const char *path, double *values, int max, int *count);

@@ -145,6 +145,8 @@ typedef struct MicaDiscretization {
   int dim;
   long nparticles;
   double *x;        /* [nparticles*dim] */
+  double *x_grid;   /* jittered layout: the same particles before the jitter, [nparticles*dim], on which the
+                       supports are sized (mls: spacing_points); else NULL */
   long ncells;      /* background integration cells */
   long nquad;
   double *qx;       /* [nquad*dim] volume quadrature points */

@@ -137,6 +137,8 @@ typedef struct MlsOptions {
   double rcond_min;           /* reciprocal condition of M below this is an error; default 1e-13 */
   MlsSearchKind search;       /* default kdtree */
   MlsSpacingRule spacing;     /* the local spacing a dilation multiplies; default near */
+  const double *spacing_points; /* NULL, or [n*dim] positions the local spacing is measured on instead of the
+                                   particles' (a jittered cloud's grid); read by mls_create only */
 } MlsOptions;
 
 /* The defaults of mls_keys (settings.c) and of the registries, which are where they live. */

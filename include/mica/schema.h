@@ -49,7 +49,8 @@ typedef struct MicaDeckKey {
   MicaKeyType type;
   const char *def;     /* default in libconfig syntax ("2", "\"pascal\"", "[1.0, 1.0]"), NULL: none */
   double min, max;     /* inclusive range for numbers and array elements (min > max: unchecked) */
-  const char *choices; /* MICA_KEY_CHOICE: the words; with a registry, words before its types' ("auto") */
+  const char *choices; /* MICA_KEY_CHOICE: the words; with a registry, words before its types' ("auto");
+                        MICA_KEY_BOOL: words it takes besides true and false ("auto" of quadrature.vci) */
   int len_min, len_max; /* values of INTS/FLOATS/LIST; for STRING len_max is the most bytes (0: MICA_DECK_TEXT_MAX) */
   const char *help;    /* one line for `mica help <command>` and docs/input.md */
   const struct MicaRegistry *registry; /* MICA_KEY_CHOICE: choose one of its types; MICA_KEY_FRAGMENT: all */

@@ -272,6 +272,9 @@ void mica_solid_conditions_free(MicaFunction **body, int ndirichlet, MicaDirichl
 /* 1 if the tangent is symmetric positive definite (CHOLMOD applies): the boundary method keeps it so and the
  * test functions are the trial functions (no VCI). */
 int mica_solid_symmetric_definite(const MicaSolid *s);
+/* The tangent is unsymmetric only by VCI's corrected test gradients and the boundary method is SPD: its
+ * symmetric part is (close to) the SPD Galerkin tangent, and cholmod-sym solves it (solid_newton.c). */
+int mica_solid_nearly_symmetric(const MicaSolid *s);
 
 /* 1 if the residual is affine in u, R(u) = K u − f, so that R(u + Δu) = R(u) + K Δu exactly (Newton takes the
  * residual after a solve from the tangent, mica_newton_solve): a model with linear kinematics and a quadratic

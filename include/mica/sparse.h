@@ -98,7 +98,9 @@ enum {
   MICA_LINEAR_ITERATIVE = 1u << 1, /* iterates to a tolerance instead of factoring (cg) */
   /* solves across the ranks itself from each rank's own contributions (petsc): under MPI it is given the ranks'
    * layout (mica_linear_solver_set_layout) instead of being wrapped in a gather or Schwarz solver */
-  MICA_LINEAR_DISTRIBUTED = 1u << 2
+  MICA_LINEAR_DISTRIBUTED = 1u << 2,
+  /* factors an approximation and refines to a tolerance (cholmod-sym): reports its iterations like cg */
+  MICA_LINEAR_REFINES = 1u << 3
 };
 
 /* Which rank owns the rows of each node, for a MICA_LINEAR_DISTRIBUTED solver (default: MPI_COMM_SELF, every
@@ -136,6 +138,9 @@ struct MicaLinearSolver {
 /* "cg": preconditioned conjugate gradients (linear_cg.c) for symmetric positive definite matrices, no
  * factorization: O(n) memory besides the matrix; MICA_ERR_NUMERIC when pᵀAp ≤ 0 or not converged. */
 extern const MicaLinearSolverOps mica_linear_cholmod, mica_linear_umfpack, mica_linear_cg;
+/* "cholmod-sym" (linear_cholmod_sym.c): CHOLMOD on the symmetric part (A + Aᵀ)/2 and refinement on A, for
+ * unsymmetric matrices close to SPD (VCI's tangent); MICA_ERR_NUMERIC when the refinement does not converge. */
+extern const MicaLinearSolverOps mica_linear_cholmod_sym;
 /* "petsc": PETSc's KSP on a distributed AIJ matrix (linear_petsc.c), serial or under MPI; solver.petsc and
  * solver.petsc_options choose the method (MUMPS, GAMG, hypre, ASM or block Jacobi with CHOLMOD/UMFPACK). */
 extern const MicaLinearSolverOps mica_linear_petsc;

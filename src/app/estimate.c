@@ -129,18 +129,24 @@ static int point_counts(const MicaDeck *deck, const MicaLayoutSpec *layout, cons
   return MICA_SUCCESS;
 }
 
-/* The linear solver solver.linear = "auto" picks: CHOLMOD unless Lagrange multipliers or VCI make the tangent
- * indefinite or unsymmetric. */
+/* The linear solver solver.linear = "auto" picks: CHOLMOD unless Lagrange multipliers make the tangent
+ * indefinite (UMFPACK) or VCI unsymmetric (cholmod-sym: CHOLMOD on the symmetric part; estimated as CHOLMOD). */
 static int read_solver(const MicaDeck *deck, RunEstimate *est) {
-  const char *linear, *bc;
-  int vci;
+  const char *linear, *bc, *method_name;
+  int fe, axisymmetric;
   MICA_CALL(mica_deck_string(deck, "solver.linear", &linear));
   MICA_CALL(mica_deck_string(deck, "bc.method", &bc));
-  MICA_CALL(mica_deck_bool(deck, "quadrature.vci", &vci));
+  MICA_CALL(mica_deck_string(deck, "problem.method", &method_name));
+  MICA_CALL(mica_deck_bool(deck, "geometry.axisymmetric", &axisymmetric));
+  fe = !strcmp(method_name, "fe");
+  /* before the model and the mesh are read: a first-order model and covering sets assumed */
+  const RunVciFacts facts = {.fe = fe, .axisymmetric = axisymmetric, .parallel = mica_parallel_active()};
+  RunVciChoice vci;
+  MICA_CALL(run_vci_choose(deck, &facts, &vci));
   const MicaType *method;
   MICA_CALL(mica_registry_get(&mica_bc_method_registry, bc, &method));
-  const int spd = mica_type_has(method, MICA_BC_SYMMETRIC_DEFINITE) && !vci;
-  est->solver = strcmp(linear, "auto") ? linear : spd ? "cholmod" : "umfpack";
+  const int spd = mica_type_has(method, MICA_BC_SYMMETRIC_DEFINITE);
+  est->solver = strcmp(linear, "auto") ? linear : spd && !vci.on ? "cholmod" : spd ? "cholmod-sym" : "umfpack";
   if (!strcmp(linear, "petsc")) { /* its own copy of the matrix; a factor only with a direct method */
     const char *method;
     MICA_CALL(mica_deck_string(deck, "solver.petsc", &method));

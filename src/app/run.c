@@ -33,10 +33,17 @@ static int check_nitsche_model(const MicaDeck *deck, const MicaSolidOptions *opt
              "\"penalty\"", where, opt->bc_method->type.name, opt->field.ops->type.name);
 }
 
-/* quadrature.vci: first-order models only, and boundary sets that cover the whole boundary once. */
-static int read_vci(const MicaDeck *deck, const MicaDiscretization *disc, MicaSolidOptions *opt) {
-  MICA_CALL(mica_deck_bool(deck, "quadrature.vci", &opt->vci));
-  if (!opt->vci) return MICA_SUCCESS;
+/* quadrature.vci as resolved (run_vci.c); an explicit true needs a first-order model, a plane or 3-D solid and
+ * boundary sets that cover the whole boundary once ("auto" turns off where these fail, and says why). */
+static int read_vci(const MicaDeck *deck, RunProblem *rp, MicaSolidOptions *opt) {
+  const MicaDiscretization *disc = rp->disc;
+  const RunVciFacts facts = {.fe = rp->fe != NULL, .model_order = opt->field.ops->order,
+                             .axisymmetric = opt->axisymmetric, .parallel = mica_parallel_active(),
+                             .symmetric_only = rp->symmetric_only, .boundary_uncovered = disc->boundary_uncovered};
+  MICA_CALL(run_vci_choose(deck, &facts, &rp->vci));
+  opt->vci = rp->vci.on;
+  MICA_CALL(run_vci_report(&rp->vci, opt));
+  if (!opt->vci || rp->vci.automatic) return MICA_SUCCESS;
   char where[256];
   mica_deck_where(deck, "quadrature.vci", where, sizeof where);
   MICA_CHECK(opt->field.ops->order == 1, MICA_ERR_INPUT,
@@ -89,7 +96,7 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   long order;
   MICA_CALL_CLEANUP(mica_deck_int(deck, "mls.order", &order));
   opt.basis_order = (int)order;
-  MICA_CALL_CLEANUP(read_vci(deck, rp->disc, &opt));
+  MICA_CALL_CLEANUP(read_vci(deck, rp, &opt));
   MICA_CALL_CLEANUP(run_read_scni(deck, rp, &opt));
   MICA_CALL_CLEANUP(run_read_pressure(deck, rp, &opt));
   MICA_CALL_CLEANUP(check_nitsche_model(deck, &opt));
@@ -196,9 +203,10 @@ static int take_or_build_geometry(const MicaDeck *deck, RunProblem *rp, RunReuse
 }
 
 
-int run_problem_build_reusing(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse) {
+static int build_problem(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse, int symmetric_only) {
   memset(rp, 0, sizeof *rp);
   rp->deck = deck;
+  rp->symmetric_only = symmetric_only;
   rp->reuse = reuse;
   MICA_CALL(run_guard_cost(deck, &rp->estimate));
   if (reuse) {
@@ -214,7 +222,13 @@ int run_problem_build_reusing(const MicaDeck *deck, RunProblem *rp, RunReuse *re
   return MICA_SUCCESS;
 }
 
-int run_problem_build(const MicaDeck *deck, RunProblem *rp) { return run_problem_build_reusing(deck, rp, NULL); }
+int run_problem_build_reusing(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse) {
+  return build_problem(deck, rp, reuse, 0);
+}
+
+int run_problem_build(const MicaDeck *deck, RunProblem *rp) { return build_problem(deck, rp, NULL, 0); }
+
+int run_problem_build_symmetric(const MicaDeck *deck, RunProblem *rp) { return build_problem(deck, rp, NULL, 1); }
 
 /* With reuse, the solid and the output cache pass to it (a run that built no solid leaves the kept one). Under
  * MPI the solid lives on this run's distribution, which goes now: the next run builds its own caches. */

@@ -40,6 +40,23 @@ double run_physical_memory(void); /* bytes (sysconf), 0 if unknown */
 /* A mesh file must be a regular file of at most limits.mesh_mb, checked before it is opened. */
 int run_mesh_file_check(const MicaDeck *deck, const char *path);
 
+/* quadrature.vci (run_vci.c): "auto" (the default) decides by the layout and by what the run combines it
+ * with, in one place; true and false are taken as given. */
+typedef struct RunVciFacts {
+  int fe, model_order, axisymmetric, parallel, symmetric_only; /* model_order 0: not known yet (1 assumed) */
+  long boundary_uncovered;
+} RunVciFacts;
+typedef struct RunVciChoice {
+  int on;           /* VCI applies */
+  int automatic;    /* quadrature.vci = "auto" */
+  char reason[128]; /* auto: why on or off */
+} RunVciChoice;
+int run_vci_choose(const MicaDeck *deck, const RunVciFacts *facts, RunVciChoice *c);
+/* auto: one line at the start of the run, what it chose, why and what it costs. */
+int run_vci_report(const RunVciChoice *c, const MicaSolidOptions *opt);
+/* vci_setting ("auto", "true", "false") and, for auto, vci_reason. */
+int run_vci_summary(const RunVciChoice *c, MicaJson *summary);
+
 /* Everything a run builds from its deck, and the times of the phases that built it. */
 typedef struct RunProblem {
   const MicaDeck *deck;
@@ -70,6 +87,8 @@ typedef struct RunProblem {
   double *near_null;            /* solver.linear = "petsc": the rigid motions, [count][ndof] (run_linear.c) */
   int owned_data;               /* parallel.data = "distributed" under MPI: disc and approx are this rank's block
                                    and ghosts (dist->local, dist->mls); the whole ones were freed */
+  RunVciChoice vci;             /* quadrature.vci as resolved (run_vci.c) */
+  int symmetric_only;           /* the analysis needs the symmetric Galerkin tangent (mica stability): auto VCI off */
 } RunProblem;
 
 /* The dimension of the model's kinematics (3 for an axisymmetric section) and the deck's name of unknown c
@@ -120,6 +139,7 @@ int run_check_fe_multipliers(const MicaDeck *deck, const RunProblem *rp, const M
 int run_read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
                          const MicaCellSpec *cells, RunProblem *rp);
 int run_read_scni(const MicaDeck *deck, RunProblem *rp, MicaSolidOptions *opt);
+
 int run_check_serial_only(const MicaDeck *deck, const RunProblem *rp);
 
 /* The deck's geometry (run_geometry.c): the shape (mesh: a buffer for a Gmsh mesh's path, beside the deck), the
@@ -136,6 +156,8 @@ int run_build_geometry(const MicaDeck *deck, RunProblem *rp);
 /* Builds discretization, MLS, model, conditions and the solid from the deck; with reuse, takes what the
  * previous run left there when it fits, and leaves this run's parts there in run_problem_free. */
 int run_problem_build(const MicaDeck *deck, RunProblem *rp);
+/* The same for an analysis of the symmetric Galerkin tangent (mica stability): quadrature.vci = "auto" is off. */
+int run_problem_build_symmetric(const MicaDeck *deck, RunProblem *rp);
 /* quadrature.error_order > 0: the deck's body, particles and cells with that many Gauss points per direction
  * (revolved if axisymmetric), whose volume points the error norms use; NULL when the key is 0. */
 int run_error_discretization(const RunProblem *rp, MicaDiscretization **disc);

@@ -45,7 +45,8 @@ int run_read_krylov(const MicaDeck *deck, RunProblem *rp, MicaNewtonOptions *opt
 /* cg's iterations (a Schwarz run reports its own in run_parallel_solver_stats). */
 int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson *summary) {
   const MicaLinearSolverOps *ops = mica_linear_solver_find(st->linear_name);
-  if (!ops || !(mica_linear_solver_iterative(ops) || mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED)))
+  if (!ops || !(mica_linear_solver_iterative(ops) || mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED) ||
+                mica_linear_solver_has(ops, MICA_LINEAR_REFINES)))
     return MICA_SUCCESS;
   if (rp->dist && rp->dist->opt.solver == MICA_PARALLEL_SCHWARZ) return MICA_SUCCESS;
   const MicaLinearSolverStats *ls = &st->linear;

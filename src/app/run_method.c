@@ -98,13 +98,14 @@ int run_check_fe_model(const MicaDeck *deck, const RunProblem *rp, const MicaSol
   if (!rp->fe) return MICA_SUCCESS;
   char where[256];
   int vci;
+  const char *word;
   mica_deck_where(deck, "material.model", where, sizeof where);
   MICA_CHECK(opt->field.ops->order <= rp->approx.ops->max_order, MICA_ERR_INPUT,
              "%s: model '%s' needs second derivatives of C1 shape functions; the finite elements of problem.method = "
              "\"fe\" are C0: use problem.method = \"efg\"", where, opt->field.ops->type.name);
-  MICA_CALL(mica_deck_bool(deck, "quadrature.vci", &vci));
+  MICA_CALL(mica_deck_bool_or_word(deck, "quadrature.vci", &vci, &word)); /* "auto" is off here (run_vci.c) */
   mica_deck_where(deck, "quadrature.vci", where, sizeof where);
-  MICA_CHECK(!vci, MICA_ERR_INPUT,
+  MICA_CHECK(vci != 1, MICA_ERR_INPUT,
              "%s: quadrature.vci corrects MLS gradients; finite elements pass the patch test without it: use "
              "quadrature.vci = false", where);
   return MICA_SUCCESS;

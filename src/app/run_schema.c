@@ -68,9 +68,10 @@ const MicaDeckKey mica_run_schema[] = {
     {"quadrature.error_order", MICA_KEY_INT, "0", 0, 20, NULL, 0, 0,
      "Gauss points per direction in each background cell for the error norms only (0: the solve's points), so "
      "that the error measure does not change with quadrature.order"},
-    {"quadrature.vci", MICA_KEY_BOOL, "false", NOLIMIT, NULL, 0, 0,
+    {"quadrature.vci", MICA_KEY_BOOL, "\"auto\"", NOLIMIT, "auto", 0, 0,
      "variationally consistent integration: corrected test gradients pass the patch test of the basis order "
-     "(first-order models; unsymmetric tangent)"},
+     "(first-order models; unsymmetric tangent: UMFPACK). auto: on for jittered, irregular and Gmsh particles, "
+     "off on regular and graded grids and where VCI does not apply (the run says which and why)"},
     {.path = "quadrature.mode", .type = MICA_KEY_CHOICE, .min = 1.0, .max = 0.0, .registry = &run_integration_registry,
      .help = "gauss: Gauss points of the background cells; nodal: direct nodal integration at the particles, "
      "weighted by their nodal cells' volumes (fails the patch test, a low-energy mode on the free block; shown, not cured); scni: stabilized "
@@ -151,7 +152,8 @@ const MicaDeckKey mica_run_schema[] = {
     {"loads.ctheta", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric cosserat: body couple, θ"},
     {.path = "solver.linear", .type = MICA_KEY_CHOICE, .def = "\"auto\"", .min = 1.0, .max = 0.0, .choices = "auto",
      .registry = &mica_linear_solver_registry,
-     .help = "auto: CHOLMOD for symmetric positive definite tangents, UMFPACK otherwise; cg: preconditioned "
+     .help = "auto: CHOLMOD for symmetric positive definite tangents, cholmod-sym for VCI's (CHOLMOD on the "
+             "symmetric part, refined to solver.linear_rtol), UMFPACK otherwise; cg: preconditioned "
              "conjugate gradients (SPD tangents, no factorization: for problems whose factor does not fit; under "
              "solver.parallel = schwarz, CG is the outer iteration and CHOLMOD factors the subdomains); petsc: PETSc's "
              "solvers on the tangent distributed over the ranks (solver.petsc chooses the method)"},
@@ -164,8 +166,8 @@ const MicaDeckKey mica_run_schema[] = {
      "background-cell quadrature, no probes, mesh output or VCI yet)"},
     {"solver.overlap", MICA_KEY_INT, "2", 0, 100, NULL, 0, 0,
      "schwarz: layers of neighboring particles added to each rank's subdomain"},
-    {"solver.linear_rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "cg, schwarz, petsc: Krylov stops at |r| ≤ linear_rtol |b|"},
-    {"solver.linear_max_iterations", MICA_KEY_INT, "2000", 1, 1000000, NULL, 0, 0, "cg, schwarz, petsc: Krylov iterations per solve"},
+    {"solver.linear_rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "cg, schwarz, petsc, cholmod-sym: the iterations stop at |r| ≤ linear_rtol |b|"},
+    {"solver.linear_max_iterations", MICA_KEY_INT, "2000", 1, 1000000, NULL, 0, 0, "cg, schwarz, petsc, cholmod-sym: iterations per solve"},
     {"solver.steps", MICA_KEY_INT, "1", 1, 100000, NULL, 0, 0, "load steps; the load factor t goes from 1/steps to 1"},
     {"solver.max_iterations", MICA_KEY_INT, "25", 1, 1000, NULL, 0, 0, "Newton iterations per step"},
     {"solver.rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "converged when |R| ≤ rtol |R₀| of the step"},

@@ -487,7 +487,7 @@ static int stability_run(const MicaDeck *deck, const char *outdir, MicaJson *sum
   }
   const int need_problem = o.eigen || o.patch || o.conditioning;
   if (need_problem) {
-    MICA_CALL_CLEANUP(run_problem_build(deck, &rp));
+    MICA_CALL_CLEANUP(run_problem_build_symmetric(deck, &rp));
     printf("%ld particles, %ld volume quadrature points, %ld unknowns (%s, bc.method %s)\n", rp.disc->nparticles,
            rp.disc->nquad, rp.solid->ndof, rp.solid->opt.field.classical ? rp.solid->opt.field.classical->type.name
                                                                           : rp.solid->opt.field.ops->type.name,

@@ -309,7 +309,7 @@ int stability_inf_sup(const StabilityOptions *o, const MicaDeck *deck, const cha
     memset(&rp, 0, sizeof rp);
     InfSupRow *row = &rows[nrows];
     ierr = refined_deck(deck, o->inf_sup_counts[i], row->count, &refined);
-    if (!ierr) ierr = run_problem_build(refined, &rp);
+    if (!ierr) ierr = run_problem_build_symmetric(refined, &rp);
     if (!ierr) ierr = inf_sup_one(o, &rp, row);
     const int cells = !ierr && mica_solid_pressure_cells(rp.solid);
     run_problem_free(&rp);

@@ -23,10 +23,11 @@ static int deck_is_reference(const StabilityOptions *o, const MicaDeck *deck, in
   unsigned mode;
   long order;
   int vci;
+  const char *word;
   MICA_CALL(run_integration_flags(deck, &mode));
   MICA_CALL(mica_deck_int(deck, "quadrature.order", &order));
-  MICA_CALL(mica_deck_bool(deck, "quadrature.vci", &vci));
-  *self = !(mode & RUN_INTEGRATION_NODAL) && order >= o->reference_order && !vci;
+  MICA_CALL(mica_deck_bool_or_word(deck, "quadrature.vci", &vci, &word)); /* "auto": off in mica stability */
+  *self = !(mode & RUN_INTEGRATION_NODAL) && order >= o->reference_order && vci != 1;
   return MICA_SUCCESS;
 }
 

@@ -279,6 +279,10 @@ int mica_solid_symmetric_definite(const MicaSolid *s) {
   return mica_bc_method_has(s->opt.bc_method, MICA_BC_SYMMETRIC_DEFINITE) && !s->volume->dN_test;
 }
 
+int mica_solid_nearly_symmetric(const MicaSolid *s) {
+  return mica_bc_method_has(s->opt.bc_method, MICA_BC_SYMMETRIC_DEFINITE) && s->volume->dN_test;
+}
+
 /* The volume cache: the donor's when it was built for the same discretization, approximation, derivative
  * order and test functions (VCI or not); otherwise built, and corrected for VCI. */
 static int volume_cache(MicaSolid *s, const MicaSolid *donor) {

@@ -40,8 +40,10 @@ static int solid_owned_norm(void *ctx, const double *v, double *norm) {
 }
 
 void mica_solid_nonlinear_problem(MicaSolid *s, MicaNonlinearProblem *problem) {
-  /* CHOLMOD refuses an indefinite tangent (it may become one under load): UMFPACK takes over then */
-  const int spd = mica_solid_symmetric_definite(s);
+  /* CHOLMOD refuses an indefinite tangent (it may become one under load): UMFPACK takes over then. VCI's
+   * tangent with an SPD boundary method: CHOLMOD on its symmetric part and refinement (cholmod-sym), UMFPACK if
+   * that part is not positive definite. */
+  const int spd = mica_solid_symmetric_definite(s), near = mica_solid_nearly_symmetric(s);
   *problem = (MicaNonlinearProblem){
       .n = s->ndof,
       .ctx = s,
@@ -49,9 +51,10 @@ void mica_solid_nonlinear_problem(MicaSolid *s, MicaNonlinearProblem *problem) {
       .K = s->K,
       .affine = mica_solid_linear(s),
       .linear_create = solid_linear_create,
-      .linear_preferred = spd ? &mica_linear_cholmod : &mica_linear_umfpack,
-      .linear_fallback = spd ? &mica_linear_umfpack : NULL,
-      .fallback_note = "the tangent is not positive definite; switching to UMFPACK",
+      .linear_preferred = spd ? &mica_linear_cholmod : near ? &mica_linear_cholmod_sym : &mica_linear_umfpack,
+      .linear_fallback = spd || near ? &mica_linear_umfpack : NULL,
+      .fallback_note = near ? "the symmetric part of the tangent is not positive definite; switching to UMFPACK"
+                            : "the tangent is not positive definite; switching to UMFPACK",
       .first_factor_failed = first_tangent_singular,
       .norm = s->opt.parallel && s->opt.parallel->owned ? solid_owned_norm : NULL,
   };

@@ -6,15 +6,14 @@
 
 #include "geom_private.h"
 
-/* Particles of a mapped shape: laid out in parameter space, then mapped by X. */
-static int mapped_particles(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes,
-                            MicaDiscretization *disc) {
+/* Particles of a mapped shape: laid out in parameter space, then mapped by X into *x. */
+static int layout_mapped(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes, long *n,
+                         double **x) {
   int ierr = MICA_SUCCESS;
   double *xi = NULL;
-  MICA_CALL(geom_layout_particles(map, layout, axes, &disc->nparticles, &xi));
-  MICA_CALL_CLEANUP(MICA_MALLOC(disc->x, disc->nparticles * map->dim));
-  for (long p = 0; p < disc->nparticles; p++)
-    geom_map_eval(map, &xi[p * map->dim], &disc->x[p * map->dim], NULL);
+  MICA_CALL(geom_layout_particles(map, layout, axes, n, &xi));
+  MICA_CALL_CLEANUP(MICA_MALLOC(*x, *n * map->dim));
+  for (long p = 0; p < *n; p++) geom_map_eval(map, &xi[p * map->dim], &(*x)[p * map->dim], NULL);
 cleanup:
   MICA_FREE(xi);
   return ierr;
@@ -30,6 +29,23 @@ static void set_grid(const GeomMap *map, const MicaLayoutSpec *layout, const Geo
     disc->grid_cells[d] = d < map->dim ? grid->n[d] : 1;
     if (d < map->dim) disc->grid_points_per_cell *= cells->order;
   }
+}
+
+/* The particles, and for a jittered layout the same grid before the jitter (x_grid, in the same order: the
+ * jitter moves particles in place). The supports are sized on x_grid: the nearer neighbor of a jittered
+ * particle can be as close as (1 − 2 jitter) spacings, which at jitter 0.3 and dilation 2 leaves points near
+ * the boundary covered by one row of particles only (a singular moment matrix; docs/theory.md §supports). */
+static int mapped_particles(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes,
+                            MicaDiscretization *disc) {
+  MICA_CALL(layout_mapped(map, layout, axes, &disc->nparticles, &disc->x));
+  if (layout->kind != MICA_LAYOUT_JITTERED) return MICA_SUCCESS;
+  MicaLayoutSpec grid = *layout;
+  long n;
+  grid.kind = MICA_LAYOUT_REGULAR;
+  MICA_CALL(layout_mapped(map, &grid, axes, &n, &disc->x_grid));
+  MICA_CHECK(n == disc->nparticles, MICA_ERR_ARGUMENT, "jittered layout: %ld particles, %ld on its grid",
+             disc->nparticles, n);
+  return MICA_SUCCESS;
 }
 
 static int boundary_order(const MicaCellSpec *cells) {
@@ -57,6 +73,29 @@ cleanup:
   return ierr;
 }
 
+/* A jittered block's particles before the jitter (x_grid, as mapped_particles keeps for the whole layout: the
+ * supports are sized on it), in the order of geom_layout_box's. */
+static int block_grid_particles(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes,
+                                const MicaGridBlock *block, MicaDiscretization *disc) {
+  int ierr = MICA_SUCCESS;
+  if (layout->kind != MICA_LAYOUT_JITTERED) return MICA_SUCCESS;
+  MicaLayoutSpec grid = *layout;
+  grid.kind = MICA_LAYOUT_REGULAR;
+  double *xi = NULL;
+  long n;
+  MICA_CALL(geom_layout_box(map, &grid, axes, block->particle_lo, block->particle_hi, &n, &xi));
+  if (n != disc->nparticles) {
+    ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_ARGUMENT, "jittered block: %ld particles, %ld on "
+                          "its grid", disc->nparticles, n);
+    goto cleanup;
+  }
+  MICA_CALL_CLEANUP(MICA_MALLOC(disc->x_grid, n * map->dim + 1));
+  for (long p = 0; p < n; p++) geom_map_eval(map, &xi[p * map->dim], &disc->x_grid[p * map->dim], NULL);
+cleanup:
+  MICA_FREE(xi);
+  return ierr;
+}
+
 static int create_block(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                         const MicaGridBlock *block, MicaDiscretization *disc) {
   int ierr = MICA_SUCCESS;
@@ -77,6 +116,7 @@ static int create_block(const MicaShapeSpec *shape, const MicaLayoutSpec *layout
   MICA_CALL_CLEANUP(geom_layout_box(&map, layout, &axes, block->particle_lo, block->particle_hi, &disc->nparticles, &xi));
   MICA_CALL_CLEANUP(MICA_MALLOC(disc->x, disc->nparticles * map.dim + 1));
   for (long p = 0; p < disc->nparticles; p++) geom_map_eval(&map, &xi[p * map.dim], &disc->x[p * map.dim], NULL);
+  MICA_CALL_CLEANUP(block_grid_particles(&map, layout, &axes, block, disc));
 cleanup:
   MICA_FREE(xi);
   geom_axes_destroy(&axes);
@@ -163,6 +203,7 @@ int mica_discretization_destroy(MicaDiscretization **disc) {
   for (int s = 0; s < d->nsets; s++) geom_set_free(&d->sets[s]);
   MICA_FREE(d->sets);
   MICA_FREE(d->x);
+  MICA_FREE(d->x_grid);
   MICA_FREE(d->qx);
   MICA_FREE(d->qw);
   MICA_FREE(d->qcell);

@@ -436,6 +436,8 @@ static void key_range(const MicaDeckKey *key, char *buf, size_t size) {
   buf[0] = '\0';
   if (key->type == MICA_KEY_CHOICE && key->choices) {
     snprintf(buf, size, "%s", key->choices);
+  } else if (key->type == MICA_KEY_BOOL && key->choices) {
+    snprintf(buf, size, "true|false|%s", key->choices);
   } else if (key->min <= key->max) {
     char low[32], high[32];
     deck_format_number(key->min, low, sizeof low);

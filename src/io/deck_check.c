@@ -192,6 +192,17 @@ static int check_choice(const CheckContext *context, const MicaDeckKey *key, con
   return DECK_FAIL(context->deck, setting, "%s = \"%s\" is not one of %s", path, word, choices);
 }
 
+/* true or false; a boolean key with `choices` also takes those words (quadrature.vci = "auto"). */
+static int check_bool(const CheckContext *context, const MicaDeckKey *key, const config_setting_t *setting) {
+  if (!key->choices || config_setting_type(setting) != CONFIG_TYPE_STRING)
+    return check_type(context, setting, CONFIG_TYPE_BOOL, "true or false");
+  char closest[128], path[DECK_PATH_MAX];
+  const char *word = config_setting_get_string(setting);
+  if (find_choice(key->choices, word, closest, sizeof closest)) return MICA_SUCCESS;
+  deck_setting_path(setting, path, sizeof path);
+  return DECK_FAIL(context->deck, setting, "%s = \"%s\" is not true, false or \"%s\"", path, word, key->choices);
+}
+
 /* Compiled now, with the parameters in force, so a bad name is reported with its line. */
 static int check_function(const CheckContext *context, const config_setting_t *setting) {
   if (deck_is_number(setting)) return MICA_SUCCESS;
@@ -309,7 +320,7 @@ static int check_setting(const CheckContext *context, const config_setting_t *se
   switch (key->type) {
   case MICA_KEY_INT: return check_number(context, key, setting, 1);
   case MICA_KEY_FLOAT: return check_number(context, key, setting, 0);
-  case MICA_KEY_BOOL: return check_type(context, setting, CONFIG_TYPE_BOOL, "true or false");
+  case MICA_KEY_BOOL: return check_bool(context, key, setting);
   case MICA_KEY_STRING: return check_string(context, key, setting);
   case MICA_KEY_CHOICE: return check_choice(context, key, setting);
   case MICA_KEY_INTS:

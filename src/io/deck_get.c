@@ -239,6 +239,18 @@ int mica_deck_bool(const MicaDeck *deck, const char *path, int *value) {
   return MICA_SUCCESS;
 }
 
+int mica_deck_bool_or_word(const MicaDeck *deck, const char *path, int *value, const char **word) {
+  const MicaDeckKey *key;
+  const config_setting_t *setting;
+  MICA_CALL(get_setting(deck, path, "mica_deck_bool_or_word", &key, &setting));
+  *word = NULL, *value = -1;
+  if (config_setting_type(setting) == CONFIG_TYPE_STRING) {
+    *word = config_setting_get_string(setting);
+    return MICA_SUCCESS;
+  }
+  return mica_deck_bool(deck, path, value);
+}
+
 int mica_deck_string(const MicaDeck *deck, const char *path, const char **value) {
   const MicaDeckKey *key;
   const config_setting_t *setting;
@@ -360,8 +372,9 @@ static int value_text(const MicaDeck *deck, const MicaDeckKey *key, char *buf, s
   buf[0] = '\0';
   switch (key->type) {
   case MICA_KEY_BOOL:
-    MICA_CALL(mica_deck_bool(deck, key->path, &flag));
-    snprintf(buf, size, "%d", flag);
+    MICA_CALL(mica_deck_bool_or_word(deck, key->path, &flag, &word));
+    if (word) snprintf(buf, size, "\"%s\"", word);
+    else snprintf(buf, size, "%d", flag);
     return MICA_SUCCESS;
   case MICA_KEY_STRING:
   case MICA_KEY_CHOICE:

@@ -95,6 +95,16 @@ static int set_weight_params(MlsApprox *mls) {
   return MICA_SUCCESS;
 }
 
+/* The local spacing by the rule, on the particles or on opt->spacing_points (a search of its own). */
+static int local_spacing(MlsApprox *mls, const MlsOptions *opt) {
+  if (!opt->spacing_points) return mls_search_local_spacing_rule(mls->search, opt->spacing, mls->spacing);
+  MlsSearch *grid = NULL;
+  MICA_CALL(mls_search_create(mls->dim, mls->n, opt->spacing_points, opt->search, &grid));
+  int ierr = mls_search_local_spacing_rule(grid, opt->spacing, mls->spacing);
+  mls_search_destroy(&grid);
+  return ierr;
+}
+
 int mls_create(int dim, long n, const double *x, const MlsOptions *opt, MlsApprox **out) {
   *out = NULL;
   MICA_CALL(check_options(dim, n, opt));
@@ -104,6 +114,7 @@ int mls_create(int dim, long n, const double *x, const MlsOptions *opt, MlsAppro
   mls->dim = dim;
   mls->n = n;
   mls->opt = *opt;
+  mls->opt.spacing_points = NULL; /* not kept: the caller's array */
   mls->m = opt->basis->size(dim, opt->order);
   MICA_CALL_CLEANUP(MICA_MALLOC(mls->x, n * dim));
   MICA_CALL_CLEANUP(MICA_CALLOC(mls->radii, n * dim));
@@ -113,7 +124,7 @@ int mls_create(int dim, long n, const double *x, const MlsOptions *opt, MlsAppro
   double zero[MLS_MAX_DIM] = {0};
   opt->basis->eval(dim, opt->order, zero, mls->p0, mls->dp0, mls->ddp0);
   MICA_CALL_CLEANUP(mls_search_create(dim, n, x, opt->search, &mls->search));
-  if (n >= 2) MICA_CALL_CLEANUP(mls_search_local_spacing_rule(mls->search, opt->spacing, mls->spacing));
+  if (n >= 2) MICA_CALL_CLEANUP(local_spacing(mls, opt));
   set_radii_from_options(mls);
   MICA_CALL_CLEANUP(mls_set_radii(mls, mls->radii));
   *out = mls;

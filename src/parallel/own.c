@@ -202,7 +202,9 @@ static int source_build(const MicaShapeSpec *shape, const MicaLayoutSpec *layout
     block.cell_hi[d] = block.boundary_hi[d] = chi[d];
   }
   MICA_CALL(mica_discretization_create_block(shape, layout, cells, &block, &src->disc));
-  return mls_create(src->disc->dim, src->disc->nparticles, src->disc->x, mls_opt, &src->mls);
+  MlsOptions opt = *mls_opt;
+  opt.spacing_points = src->disc->x_grid; /* a jittered layout's supports are sized on its grid, as run_geometry.c's */
+  return mls_create(src->disc->dim, src->disc->nparticles, src->disc->x, &opt, &src->mls);
 }
 
 /* ... and of the rank's own particles (the outputs evaluate the fields there). */

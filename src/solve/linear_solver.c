@@ -13,7 +13,8 @@
 #include "mica/timer.h"
 
 static const MicaType *const builtin_solvers[] = {&mica_linear_cholmod.type, &mica_linear_umfpack.type,
-                                                  &mica_linear_cg.type, &mica_linear_petsc.type, NULL};
+                                                  &mica_linear_cholmod_sym.type, &mica_linear_cg.type,
+                                                  &mica_linear_petsc.type, NULL};
 
 MicaRegistry mica_linear_solver_registry = {"linear solver", "cholmod", builtin_solvers, NULL, 0, NULL};
 

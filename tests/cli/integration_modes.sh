@@ -42,7 +42,8 @@ for layout in regular jittered; do
   less_than "$(err $name error_l2)" 1e-10 || fail "$name: L2 $(err $name error_l2) > 1e-10"
   ok "linear patch, nodal + VCI, $layout: L2 $(err $name error_l2)"
   name="gauss_$layout"
-  run_deck "$work/$name" input/patch_linear.cfg --set particles.layout=$layout
+  # the uncorrected Gauss rule is the comparison here: vci explicitly off (auto would turn it on when jittered)
+  run_deck "$work/$name" input/patch_linear.cfg --set particles.layout=$layout --set quadrature.vci=false
   less_than "$(err $name error_l2)" 2e-3 || fail "$name: L2 $(err $name error_l2) > 2e-3"
   ok "linear patch, Gauss (4 points), $layout: L2 $(err $name error_l2)"
 done
@@ -86,7 +87,11 @@ for n in 11 41; do
   run_deck "$work/manufactured_nodal_$n" input/manufactured.cfg --set quadrature.mode=nodal \
     --set particles.layout=jittered --set "particles.count=[$n,$n]"
 done
-at_least "$(err manufactured_nodal_41 error_l2)" 0.2 \
+# (supports sized on the grid before the jitter since issue 21: L2 0.17 → 0.092, energy 0.89 → 1.23; before, with
+# the jittered near-neighbour spacing, L2 0.45 → 0.40): the energy error grows, the L2 error stays far above Gauss's
+at_least "$(err manufactured_nodal_41 error_energy)" "$(err manufactured_nodal_11 error_energy)" \
+  "manufactured, direct nodal, jittered: no convergence, energy at 41² against 11²"
+at_least "$(err manufactured_nodal_41 error_l2)" 0.05 \
   "manufactured, direct nodal, jittered 41² (11²: $(err manufactured_nodal_11 error_l2)): no convergence, L2"
 
 # --- Timoshenko tip deflection at 33 × 9 ---

@@ -103,6 +103,20 @@ static double *random_vector(long n, uint64_t seed) {
   return v;
 }
 
+/* The grid's SPD values plus skew · k on every edge, (here, there) += skew k and (there, here) −= skew k: the
+ * symmetric part stays the SPD grid, the skew part W grows with skew. */
+static void grid_skew_values(MicaSparse *A, double skew) {
+  grid_values(A, 1.0, 0.01);
+  for (long i = 0; i < GRID; i++)
+    for (long j = 0; j < GRID; j++) {
+      long here = i * GRID + j;
+      if (j + 1 < GRID) {
+        double K[4] = {0.0, skew, -skew, 0.0};
+        assert_int_equal(mica_sparse_add_clique(A, 2, (long[]){here, here + 1}, K), MICA_SUCCESS);
+      }
+    }
+}
+
 /* ---- SPD systems and reuse ---------------------------------------------------------------------------- */
 
 static void factor_solve_check(MicaLinearSolver *solver, MicaSparse *A, const double *b, double *x) {
@@ -281,10 +295,45 @@ static void test_singular(void **state) {
 
 /* ---- Registry and contract ---------------------------------------------------------------------------- */
 
+/* cholmod-sym: a mildly unsymmetric matrix (skew 0.05 per edge) is solved to the residual of the direct solvers
+ * and agrees with UMFPACK; a strongly unsymmetric one (skew 5: ‖S⁻¹W‖ > 1) is refused with MICA_ERR_NUMERIC, as
+ * is one whose symmetric part is indefinite (a negative shift). */
+static void test_cholmod_sym(void **state) {
+  (void)state;
+  MicaSparse *A = grid_pattern(0);
+  double *b = random_vector(A->n, 11), *x = calloc((size_t)A->n, sizeof *x), *y = calloc((size_t)A->n, sizeof *y);
+  MicaLinearSolver *sym = NULL, *lu = NULL;
+  assert_int_equal(mica_linear_solver_create(&mica_linear_cholmod_sym, &sym), MICA_SUCCESS);
+  assert_int_equal(mica_linear_solver_create(&mica_linear_umfpack, &lu), MICA_SUCCESS);
+  grid_skew_values(A, 0.05);
+  assert_true(mica_sparse_asymmetry(A) > 1e-2);
+  factor_solve_check(sym, A, b, x);
+  factor_solve_check(lu, A, b, y);
+  double d = 0, n = 0;
+  for (long i = 0; i < A->n; i++) d = fmax(d, fabs(x[i] - y[i])), n = fmax(n, fabs(y[i]));
+  print_message("  cholmod-sym: %ld iterations, max |x - x_umfpack| / max |x| %.2e\n", sym->stats.krylov_iterations,
+                d / n);
+  assert_true(d <= 1e-8 * n);
+  assert_true(sym->stats.krylov_iterations >= 1 && sym->stats.krylov_residual <= 1e-10);
+  grid_skew_values(A, 5.0);
+  assert_int_equal(mica_linear_solver_factor(sym, A), MICA_SUCCESS);
+  assert_int_equal(mica_linear_solver_solve(sym, b, x), MICA_ERR_NUMERIC);
+  assert_non_null(strstr(mica_error_message(), "umfpack"));
+  mica_error_clear();
+  grid_values(A, 1.0, -0.5);
+  assert_int_equal(mica_linear_solver_factor(sym, A), MICA_ERR_NUMERIC);
+  mica_error_clear();
+  assert_int_equal(mica_linear_solver_destroy(&sym), MICA_SUCCESS);
+  assert_int_equal(mica_linear_solver_destroy(&lu), MICA_SUCCESS);
+  mica_sparse_destroy(&A);
+  free(b), free(x), free(y);
+}
+
 static void test_registry_and_arguments(void **state) {
   (void)state;
   assert_ptr_equal(mica_linear_solver_find("cholmod"), &mica_linear_cholmod);
   assert_ptr_equal(mica_linear_solver_find("umfpack"), &mica_linear_umfpack);
+  assert_ptr_equal(mica_linear_solver_find("cholmod-sym"), &mica_linear_cholmod_sym);
   assert_null(mica_linear_solver_find("mumps"));
   assert_null(mica_linear_solver_find(NULL));
   MicaLinearSolver *solver = NULL;
@@ -303,7 +352,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_cholmod_spd), cmocka_unit_test(test_umfpack_spd),
       cmocka_unit_test(test_random_blocks), cmocka_unit_test(test_indefinite), cmocka_unit_test(test_singular),
-      cmocka_unit_test(test_registry_and_arguments),
+      cmocka_unit_test(test_cholmod_sym), cmocka_unit_test(test_registry_and_arguments),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
