@@ -67,6 +67,9 @@ typedef struct MicaLinearSolverStats {
   long krylov_iterations, krylov_iterations_max;
   double krylov_residual;
   double krylov_cpu; /* thread CPU seconds of the iterations (mica_cputime), summed over solves */
+  /* petsc under MPI: the off-rank columns of this rank's rows (MatGetGhosts): the entries of x every matrix–vector
+   * product receives from other ranks, the halo of one Krylov iteration; 0 in one process */
+  long halo_dofs;
 } MicaLinearSolverStats;
 
 /* Settings of the iterative solvers (cg; zero members take the defaults). The preconditioners work on the

@@ -60,6 +60,10 @@ int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson
   MICA_CALL(mica_json_int(summary, "krylov_iterations_max", ls->krylov_iterations_max));
   MICA_CALL(mica_json_number(summary, "krylov_last_residual", ls->krylov_residual));
   MICA_CALL(mica_json_number(summary, "cpu_krylov", ls->krylov_cpu));
+  if (rp->dist && mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED)) { /* collective: every rank is here */
+    MICA_CALL(mica_json_int(summary, "halo_dofs_max", mica_parallel_max_long(ls->halo_dofs)));
+    MICA_CALL(mica_json_int(summary, "halo_dofs_sum", mica_parallel_sum_long(ls->halo_dofs)));
+  }
   printf("%s: %ld solves, %ld iterations (at most %ld), last |b - Ax| / |b| %.3e\n", st->linear_name, ls->solves,
          ls->krylov_iterations,
          ls->krylov_iterations_max, ls->krylov_residual);

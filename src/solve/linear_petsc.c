@@ -486,6 +486,12 @@ static int petsc_factor(MicaLinearSolver *solver, const MicaSparse *L) {
   MICA_CALL(add_contributions(ps, ps->A, L));
   PCALL(MatAssemblyBegin(ps->A, MAT_FINAL_ASSEMBLY));
   PCALL(MatAssemblyEnd(ps->A, MAT_FINAL_ASSEMBLY));
+  if (ps->size > 1) { /* the halo of a matrix–vector product, fixed by the pattern */
+    PetscInt nghosts;
+    const PetscInt *ghosts;
+    PCALL(MatGetGhosts(ps->A, &nghosts, &ghosts));
+    solver->stats.halo_dofs = (long)nghosts;
+  }
   PCALL(KSPSetUp(ps->ksp)); /* the preconditioner (factorization, multigrid hierarchy) for these values */
   ps->ready = 1;
   return MICA_SUCCESS;
