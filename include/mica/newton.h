@@ -17,7 +17,7 @@ typedef struct MicaNewtonOptions {
   const MicaLinearSolverOps *linear; /* NULL: auto — the problem's preferred solver, and its fallback if the
                                         preferred one's factorization fails numerically */
   int verbose;         /* one monitor line per iteration */
-  MicaKrylovOptions krylov; /* the iterative linear solvers' settings (solver.linear = "cg") */
+  MicaKrylovOptions krylov; /* the iterative linear solvers' settings (petsc, cholmod-sym) */
 } MicaNewtonOptions;
 
 typedef struct MicaNewtonStats {

@@ -9,11 +9,8 @@
  * the supports by construction. Vectors (u, R, Δu) are replicated: residual contributions are summed once
  * per assembly, by an MPI_Reduce to rank 0 and an MPI_Bcast of the sum (not MPI_Allreduce, whose sums may
  * differ in the last bit from rank to rank: every rank must take Newton's decisions on the same numbers).
- * Linear solves:
- *   gather  - the tangent's contributions are gathered to rank 0 (pattern once, values per factorization),
- *             factored there by CHOLMOD/UMFPACK with the symbolic analysis reused, the solution broadcast;
- *   schwarz - overlapping additive Schwarz preconditioned CG (SPD) or GMRES (otherwise): each rank factors
- *             the tangent restricted to its particles plus `overlap` layers of neighbors (CHOLMOD/UMFPACK).
+ * Linear solves are PETSc's (solver.linear = "petsc", src/solve/linear_petsc.c): the tangent a matrix whose rows
+ * are each rank's particles, its contributions to other ranks' rows moved by PETSc (ADD_VALUES).
  *
  * Errors: a failure on one rank reaches every rank at the next collective point (mica_parallel_agree);
  * all ranks unwind with the same error code and message, and rank 0 alone reports it. Rank 0 alone
@@ -136,21 +133,7 @@ int mica_partition_destroy(MicaPartition **partition);
 int mica_partition_ghosts(const MicaPartition *partition, int rank, long npoints, const long *ptr,
                           const long *index, const int *owner, long *nghost, long **ghosts);
 
-/* mask[n]: 1 for the particles of part `rank` and `layers` layers of graph neighbors around them. */
-int mica_partition_overlap(const MicaPartition *partition, int rank, int layers, char *mask);
-
 /* ---- Distribution of a problem ------------------------------------------------------------------------ */
-
-typedef enum { MICA_PARALLEL_GATHER = 0, MICA_PARALLEL_SCHWARZ = 1 } MicaParallelSolver;
-
-typedef struct MicaParallelOptions {
-  MicaParallelSolver solver;
-  int overlap;        /* Schwarz: layers of particles around each part */
-  double rtol;        /* Krylov: |r| ≤ rtol |b| */
-  int max_iterations; /* Krylov */
-  int restart;        /* GMRES */
-  int verbose;        /* one line per linear solve */
-} MicaParallelOptions;
 
 /* Statistics of the distributed solve (accumulated over the run). */
 typedef struct MicaParallelStats {
@@ -158,10 +141,6 @@ typedef struct MicaParallelStats {
   long ghost_particles_max;                            /* over ranks */
   long max_owned_points, min_owned_points;             /* over ranks */
   double time_partition;
-  double time_gather;     /* moving tangent values (and the pattern, once) */
-  long krylov_solves, krylov_iterations, krylov_max_iterations;
-  double krylov_last_residual;
-  long subdomain_dofs_max, subdomain_dofs_min;
 } MicaParallelStats;
 
 /* parallel.data = "distributed" (own.c): the plan of the ghost exchange. A rank's ghosts are owned elsewhere;
@@ -186,7 +165,6 @@ typedef struct MicaDistribution {
   int *volume_owner;       /* [nquad] */
   int **set_owner;         /* [nsets][n] */
   struct MicaDiscretization *local; /* this rank's points */
-  MicaParallelOptions opt;
   MicaParallelStats stats;
   long nparticles;
   int nsets;
@@ -206,8 +184,7 @@ typedef struct MicaDistribution {
  * boundary points, and its ghosts from the supports of those points (a box of the grid around its block, with
  * its own MLS search), and the MLS approximation of its particles (mls_opt) with the whole layout's radii. */
 int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
-                                   const MicaCellSpec *cells, const MlsOptions *mls_opt,
-                                   const MicaParallelOptions *opt, MicaDistribution **dist);
+                                   const MicaCellSpec *cells, const MlsOptions *mls_opt, MicaDistribution **dist);
 /* The blocks per axis the split of P ranks over a grid of cells[3] gives (procs[d] ≤ cells[d]); MICA_ERR_INPUT
  * if P does not fit the grid. */
 int mica_block_split(int P, int dim, const long cells[3], int procs[3]);
@@ -222,15 +199,14 @@ int mica_owned_residual(MicaDistribution *dist, int ierr, double *R, int ncomp);
 int mica_owned_norm(const MicaDistribution *dist, const double *v, int ncomp, double *norm);
 
 /* Collective. Partitions (on rank 0, broadcast) and builds this rank's share of disc. */
-int mica_distribution_create(const struct MicaDiscretization *disc, const MlsApprox *mls,
-                             const MicaParallelOptions *opt, MicaDistribution **dist);
+int mica_distribution_create(const struct MicaDiscretization *disc, const MlsApprox *mls, MicaDistribution **dist);
 int mica_distribution_destroy(MicaDistribution **dist);
 
-/* Collective. The solver of the distributed tangent: gather to rank 0 and `inner` there, or Schwarz with
- * `inner` for the subdomains (CG if inner is CHOLMOD, else GMRES). Fits Newton's linear-solver slot: factor
- * takes this rank's tangent contributions (full numbering), solve a replicated right-hand side and returns
- * the replicated solution. */
-int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOps *inner, MicaLinearSolver **solver);
+/* The solver of the distributed tangent (linear.c): ops, a solver that distributes the matrix itself
+ * (MICA_LINEAR_DISTRIBUTED: petsc), on the layout of the ranks' particles; MICA_ERR_INPUT for a one-process
+ * solver. Fits Newton's linear-solver slot: factor takes this rank's tangent contributions, solve this rank's
+ * right-hand side and returns its solution (replicated data: whole vectors; distributed: owned and ghosts). */
+int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOps *ops, MicaLinearSolver **solver);
 
 /* Collective: nnz of the sum over ranks of their matrices L (the pattern of the whole tangent). */
 int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz);

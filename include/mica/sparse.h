@@ -63,7 +63,7 @@ typedef struct MicaLinearSolverStats {
   double time_factor;
   double time_solve;
   long analyses, factorizations, solves;
-  /* iterative solvers (cg): iterations over all solves, the most in one solve, |b − A x| / |b| of the last */
+  /* iterative solvers (petsc's Krylov methods, cholmod-sym's refinement): iterations over all solves, the most in one solve, |b − A x| / |b| of the last */
   long krylov_iterations, krylov_iterations_max;
   double krylov_residual;
   double krylov_cpu; /* thread CPU seconds of the iterations (mica_cputime), summed over solves */
@@ -72,14 +72,10 @@ typedef struct MicaLinearSolverStats {
   long halo_dofs;
 } MicaLinearSolverStats;
 
-/* Settings of the iterative solvers (cg; zero members take the defaults). The preconditioners work on the
- * ndof × ndof diagonal blocks of the nodes: block Jacobi (D⁻¹), or symmetric block Gauss–Seidel
- * ((D + L) D⁻¹ (D + U), one forward and one backward sweep through the matrix). */
-typedef enum { MICA_PRECONDITIONER_JACOBI = 0, MICA_PRECONDITIONER_SGS = 1 } MicaPreconditioner;
+/* Settings of the iterative solvers (petsc, cholmod-sym; zero members take the defaults). */
 typedef struct MicaKrylovOptions {
   double rtol;        /* stop at |b − A x| ≤ rtol |b| (default 1e-10) */
   int max_iterations; /* per solve (default 10000) */
-  MicaPreconditioner preconditioner;
   int verbose;        /* one line per solve */
   /* petsc (linear_petsc.c): solver.petsc's preset and solver.petsc_options, applied over it */
   char petsc_preset[32];
@@ -94,15 +90,14 @@ typedef struct MicaKrylovOptions {
 
 typedef struct MicaLinearSolver MicaLinearSolver;
 
-/* Linear solvers: a registry of types (mica/registry.h), solver.linear. A solver's own settings (cg:
- * solver.preconditioner) are read by its type.from_settings into a MicaKrylovOptions. */
+/* Linear solvers: a registry of types (mica/registry.h), solver.linear. A solver's own settings (petsc:
+ * solver.petsc, solver.petsc_options) are read by its type.from_settings into a MicaKrylovOptions. */
 enum {
-  MICA_LINEAR_SPD_ONLY = 1u << 0, /* symmetric positive definite matrices only (cholmod, cg) */
-  MICA_LINEAR_ITERATIVE = 1u << 1, /* iterates to a tolerance instead of factoring (cg) */
+  MICA_LINEAR_SPD_ONLY = 1u << 0, /* symmetric positive definite matrices only (cholmod) */
   /* solves across the ranks itself from each rank's own contributions (petsc): under MPI it is given the ranks'
-   * layout (mica_linear_solver_set_layout) instead of being wrapped in a gather or Schwarz solver */
+   * layout (mica_linear_solver_set_layout); the only kind an MPI run takes */
   MICA_LINEAR_DISTRIBUTED = 1u << 2,
-  /* factors an approximation and refines to a tolerance (cholmod-sym): reports its iterations like cg */
+  /* factors an approximation and refines to a tolerance (cholmod-sym): reports its iterations like petsc's */
   MICA_LINEAR_REFINES = 1u << 3
 };
 
@@ -120,7 +115,7 @@ typedef struct MicaLinearLayout {
 } MicaLinearLayout;
 
 typedef struct MicaLinearSolverOps {
-  MicaType type; /* "cholmod" (supernodal Cholesky), "umfpack" (LU), "cg"; flags MICA_LINEAR_* */
+  MicaType type; /* "cholmod" (supernodal Cholesky), "umfpack" (LU), ...; flags MICA_LINEAR_* */
   int (*create)(MicaLinearSolver *solver);
   /* Numeric factorization of A; the symbolic analysis of the first call is reused while the pattern
    * (the same MicaSparse object) is unchanged. CHOLMOD returns MICA_ERR_NUMERIC, with a message saying so,
@@ -138,9 +133,7 @@ struct MicaLinearSolver {
   MicaLinearLayout layout;  /* read by the distributed solvers only */
 };
 
-/* "cg": preconditioned conjugate gradients (linear_cg.c) for symmetric positive definite matrices, no
- * factorization: O(n) memory besides the matrix; MICA_ERR_NUMERIC when pᵀAp ≤ 0 or not converged. */
-extern const MicaLinearSolverOps mica_linear_cholmod, mica_linear_umfpack, mica_linear_cg;
+extern const MicaLinearSolverOps mica_linear_cholmod, mica_linear_umfpack;
 /* "cholmod-sym" (linear_cholmod_sym.c): CHOLMOD on the symmetric part (A + Aᵀ)/2 and refinement on A, for
  * unsymmetric matrices close to SPD (VCI's tangent); MICA_ERR_NUMERIC when the refinement does not converge. */
 extern const MicaLinearSolverOps mica_linear_cholmod_sym;
@@ -152,7 +145,7 @@ extern const MicaLinearSolverOps mica_linear_petsc;
  * it never started). A serial run starts it when it first creates a petsc solver. */
 int mica_petsc_initialize(void);
 void mica_petsc_finalize(void);
-/* cholmod, umfpack, cg (linear_solver.c). The deck's solver.linear also offers "auto", its default: CHOLMOD
+/* cholmod, umfpack, cholmod-sym, petsc (linear_solver.c). The deck's solver.linear also offers "auto", its default: CHOLMOD
  * for symmetric positive definite tangents, UMFPACK otherwise (the registry's default is the former). */
 extern MicaRegistry mica_linear_solver_registry;
 const MicaLinearSolverOps *mica_linear_solver_find(const char *name);
@@ -168,7 +161,5 @@ int mica_linear_solver_destroy(MicaLinearSolver **solver);
 int mica_linear_solver_set_krylov(MicaLinearSolver *solver, const MicaKrylovOptions *opt);
 /* The ranks' layout for a distributed solver (copied; the owner array is borrowed). Before the first factor. */
 int mica_linear_solver_set_layout(MicaLinearSolver *solver, const MicaLinearLayout *layout);
-/* 1 for solvers that iterate to a tolerance instead of factoring (cg): the MICA_LINEAR_ITERATIVE flag. */
-int mica_linear_solver_iterative(const MicaLinearSolverOps *ops);
 
 #endif

@@ -166,7 +166,7 @@ static void estimate_cost(int dim, int ncomp, int second, double coupled, RunEst
   est->matrix_bytes = est->nnz * 16 + est->dofs * 8;
   const double n = est->dofs, per_row = est->nnz / fmax(n, 1);
   est->factor_entries = 0;
-  if (strcmp(est->solver, "cg") != 0 && strcmp(est->solver, "petsc-iterative") != 0)
+  if (strcmp(est->solver, "petsc-iterative") != 0)
     est->factor_entries = fmin(n * per_row * (dim == 3 ? FILL_3D * cbrt(n) : fmax(FILL_2D_SLOPE * log2(fmax(n, 2)) - FILL_2D_OFFSET, 1)), n * (n + 1) / 2);
   const double per_entry = !strcmp(est->solver, "umfpack") ? UMFPACK_BYTES : CHOLMOD_BYTES;
   /* PETSc's AIJ copy (8-byte values, 4-byte column indices) and, for multigrid, about half that again */

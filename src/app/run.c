@@ -265,6 +265,21 @@ void run_problem_free(RunProblem *rp) {
 
 /* ---- the commands --------------------------------------------------------------------------------------- */
 
+/* solver.linear: "auto" (NULL) lets Newton take the problem's preferred one-process solver (CHOLMOD, cholmod-sym,
+ * UMFPACK); under MPI (rp->dist) the tangent is distributed over the ranks, so "auto" is petsc (with its default
+ * method, MUMPS) and a one-process solver is a deck error. */
+static int choose_linear(const char *linear, const char *where, const RunProblem *rp, const MicaLinearSolverOps **ops) {
+  *ops = strcmp(linear, "auto") ? mica_linear_solver_find(linear) : NULL;
+  if (!rp->dist) return MICA_SUCCESS;
+  if (!*ops) *ops = &mica_linear_petsc;
+  MICA_CHECK(mica_linear_solver_has(*ops, MICA_LINEAR_DISTRIBUTED), MICA_ERR_INPUT,
+             "%s: solver.linear = \"%s\" solves in one process, but this run has %d ranks; use \"auto\" or "
+             "\"petsc\" (solver.petsc = \"mumps\" factors the distributed tangent, \"asm-cholmod\" gives each rank's "
+             "subdomain to CHOLMOD), or run without mpirun",
+             where, linear, mica_parallel_size());
+  return MICA_SUCCESS;
+}
+
 static int read_newton(const MicaDeck *deck, RunProblem *rp, MicaNewtonOptions *opt) {
   const MicaSolid *s = rp->solid;
   long steps, iterations, cuts;
@@ -279,15 +294,14 @@ static int read_newton(const MicaDeck *deck, RunProblem *rp, MicaNewtonOptions *
   MICA_CALL(mica_deck_bool(deck, "output.monitor", &opt->verbose));
   MICA_CALL(mica_deck_string(deck, "solver.linear", &linear));
   opt->steps = (int)steps, opt->max_iterations = (int)iterations, opt->max_cuts = (int)cuts;
-  opt->linear = strcmp(linear, "auto") ? mica_linear_solver_find(linear) : NULL;
   char where[256];
   mica_deck_where(deck, "solver.linear", where, sizeof where);
+  MICA_CALL(choose_linear(linear, where, rp, &opt->linear));
   const int spd_only = opt->linear && mica_linear_solver_has(opt->linear, MICA_LINEAR_SPD_ONLY);
   MICA_CHECK(!(spd_only && !mica_solid_symmetric_definite(s)), MICA_ERR_INPUT,
-             "%s: %s needs a symmetric positive definite tangent, which bc.method = \"%s\"%s does not give; "
-             "use \"umfpack\" or \"auto\"", where,
-             spd_only && mica_linear_solver_iterative(opt->linear) ? "cg" : "CHOLMOD",
-             s->opt.bc_method->type.name, s->opt.vci ? " with quadrature.vci (unsymmetric: Petrov–Galerkin)" : "");
+             "%s: CHOLMOD needs a symmetric positive definite tangent, which bc.method = \"%s\"%s does not give; "
+             "use \"umfpack\" or \"auto\"", where, s->opt.bc_method->type.name,
+             s->opt.vci ? " with quadrature.vci (unsymmetric: Petrov–Galerkin)" : "");
   return run_read_krylov(deck, rp, opt);
 }
 
@@ -339,7 +353,6 @@ static int add_solve_stats(const RunProblem *rp, const RunTotals *totals, const 
   MICA_CALL(add_memory_per_dof(totals, stats, summary));
   MICA_CALL(run_krylov_summary(rp, stats, summary));
   MICA_CALL(run_parallel_ranks(rp, stats, summary));
-  MICA_CALL(run_parallel_solver_stats(rp, summary));
   MICA_CALL(run_parallel_memory(rp, summary));
   return MICA_SUCCESS;
 }

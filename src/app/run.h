@@ -24,7 +24,7 @@ typedef struct RunEstimate {
   double particles, points, boundary_points, support, dofs, nnz, factor_entries;
   double cache_bytes, matrix_bytes, factor_bytes, bytes; /* bytes: the peak of a run, with a safety factor */
   double seconds;              /* rough: shape functions, one assembly and one factorization */
-  const char *solver;          /* "cholmod", "umfpack" or "cg" (what solver.linear = "auto" would take), "petsc"
+  const char *solver;          /* "cholmod", "cholmod-sym" or "umfpack" (what solver.linear = "auto" takes in one process), "petsc"
                                   (a direct method: MUMPS's factor estimated like CHOLMOD's) or "petsc-iterative" */
   int petsc_copy;              /* solver.linear = "petsc": PETSc's copy of the matrix */
 } RunEstimate;
@@ -168,9 +168,8 @@ void run_problem_free(RunProblem *rp);
 
 /* `mica run` on a checked deck, reusing what the previous run left in reuse (NULL: nothing). */
 int run_solve_reusing(const MicaDeck *deck, const char *outdir, MicaJson *summary, RunReuse *reuse);
-/* MPI (run_parallel.c): the distribution from solver.parallel, .overlap, .linear_rtol,
- * .linear_max_iterations; its partition and per-rank counts, and the distributed solver's statistics, in
- * the summary and the log (nothing in a serial run). */
+/* MPI (run_parallel.c): the distribution from parallel.data (METIS's partition of the replicated particles, or each
+ * rank's block); its partition and per-rank counts in the summary and the log (nothing in a serial run). */
 typedef struct RunTotals {
   long nnz;                 /* of the (whole) tangent */
   long support_entries, support_points, max_support; /* volume points' supports */
@@ -190,7 +189,6 @@ int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp, const M
 int run_parallel_totals(const RunProblem *rp, RunTotals *totals);
 int run_parallel_counts(const RunProblem *rp, MicaJson *summary);
 int run_parallel_memory(const RunProblem *rp, MicaJson *summary);
-int run_parallel_solver_stats(const RunProblem *rp, MicaJson *summary);
 /* Collective: each rank's points, matrix entries and the wall and CPU time of its distributed work (cache and
  * pattern, assemblies, and the assemblies' wait for the residual sum), printed per rank and in the summary
  * ("cpu_assemble", "cpu_cache_and_pattern" of this process also in a serial run). */
@@ -203,8 +201,9 @@ struct MicaOutputRun;
 int run_problem_prepare(const MicaDeck *deck, RunProblem *rp, RunReuse *reuse, const char *outdir, struct MicaOutputRun *out,
                         RunTotals *totals, MicaJson *summary);
 
-/* The iterative linear solver (run_linear.c): solver.linear_rtol, .linear_max_iterations, .preconditioner
- * into opt->krylov; cg's iterations in the summary; the process's peak memory ("peak_memory", bytes). */
+/* The iterative linear solvers' settings (run_linear.c): solver.linear_rtol, .linear_max_iterations and the chosen
+ * solver's own (petsc: solver.petsc, .petsc_options) into opt->krylov; their iterations (and under MPI the halo)
+ * in the summary; the process's peak memory ("peak_memory", bytes). */
 int run_read_krylov(const MicaDeck *deck, RunProblem *rp, MicaNewtonOptions *opt);
 int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson *summary);
 int run_peak_memory(MicaJson *summary);

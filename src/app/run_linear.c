@@ -1,5 +1,5 @@
-/* `mica run`: the iterative linear solver's settings (solver.linear = "cg") and its figures, and the peak
- * memory of the process, in the summary. */
+/* `mica run`: the iterative linear solvers' settings (petsc, cholmod-sym) and their figures, and the peak memory
+ * of the process, in the summary. */
 #include <stdio.h>
 #include <string.h>
 
@@ -29,7 +29,7 @@ int run_read_krylov(const MicaDeck *deck, RunProblem *rp, MicaNewtonOptions *opt
   /* what a solver that chooses its method by the matrix (petsc) must know of it */
   opt->krylov.spd = mica_solid_symmetric_definite(s);
   opt->krylov.saddle = s->nmultiplier_nodes > 0;
-  /* the chosen solver's own settings (cg: solver.preconditioner); "auto" (NULL) chooses a direct solver */
+  /* the chosen solver's own settings (petsc: solver.petsc); "auto" (NULL) chooses a direct solver */
   const MicaType *type = opt->linear ? &opt->linear->type : NULL;
   if (type && type->from_settings) {
     MicaSettings settings;
@@ -42,13 +42,11 @@ int run_read_krylov(const MicaDeck *deck, RunProblem *rp, MicaNewtonOptions *opt
   return MICA_SUCCESS;
 }
 
-/* cg's iterations (a Schwarz run reports its own in run_parallel_solver_stats). */
+/* The iterative solvers' iterations (petsc's Krylov methods, cholmod-sym's refinement). */
 int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson *summary) {
   const MicaLinearSolverOps *ops = mica_linear_solver_find(st->linear_name);
-  if (!ops || !(mica_linear_solver_iterative(ops) || mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED) ||
-                mica_linear_solver_has(ops, MICA_LINEAR_REFINES)))
+  if (!ops || !(mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED) || mica_linear_solver_has(ops, MICA_LINEAR_REFINES)))
     return MICA_SUCCESS;
-  if (rp->dist && rp->dist->opt.solver == MICA_PARALLEL_SCHWARZ) return MICA_SUCCESS;
   const MicaLinearSolverStats *ls = &st->linear;
   if (mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED)) {
     const char *method;

@@ -1,5 +1,5 @@
-/* `mica run` and `mica check` under MPI (src/parallel): the deck's parallel settings, and the partition's
- * and the distributed solver's numbers in the summary and the log. Nothing here runs in a serial run. */
+/* `mica run` and `mica check` under MPI (src/parallel): the deck's parallel settings, and the partition's and the
+ * ranks' numbers in the summary and the log. Nothing here runs in a serial run. */
 #include <limits.h>
 #include <mpi.h>
 #include <stdio.h>
@@ -8,24 +8,6 @@
 
 #include "run.h"
 #include "study_common.h"
-
-/* A solver that distributes the matrix itself (petsc) is neither gathered nor wrapped in Schwarz: the keys that
- * choose those would have no effect. */
-static int check_distributed_solver(const MicaDeck *deck) {
-  const char *linear;
-  MICA_CALL(mica_deck_string(deck, "solver.linear", &linear));
-  const MicaLinearSolverOps *ops = mica_linear_solver_find(linear);
-  if (!ops || !mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED)) return MICA_SUCCESS;
-  const char *keys[] = {"solver.parallel", "solver.overlap"};
-  for (int k = 0; k < 2; k++) {
-    if (!mica_deck_given(deck, keys[k])) continue;
-    char where[256];
-    mica_deck_where(deck, keys[k], where, sizeof where);
-    MICA_ERROR(MICA_ERR_INPUT, "%s: %s has no effect with solver.linear = \"%s\", which distributes the matrix over "
-               "the ranks itself (solver.petsc chooses its method); remove it", where, keys[k], linear);
-  }
-  return MICA_SUCCESS;
-}
 
 /* parallel.data = "distributed": what it does not cover yet is refused, naming the setting (no silent replication). */
 static int refuse_owned(const MicaDeck *deck, const char *path, const char *what) {
@@ -40,9 +22,9 @@ int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp, const M
   int flag;
   long order;
   MICA_CALL(mica_deck_string(deck, "solver.linear", &linear));
-  const MicaLinearSolverOps *ops = mica_linear_solver_find(linear);
-  if (!ops || !mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED))
-    return refuse_owned(deck, "solver.linear", "set solver.linear = \"petsc\" (the distributed matrix)");
+  const MicaLinearSolverOps *ops = mica_linear_solver_find(linear); /* NULL: "auto", petsc under MPI */
+  if (ops && !mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED))
+    return refuse_owned(deck, "solver.linear", "set solver.linear = \"petsc\" or \"auto\" (the distributed matrix)");
   if (rp->disc->grid_points_per_cell <= 0) {
     MICA_CALL(mica_deck_string(deck, "particles.layout", &layout));
     return refuse_owned(deck, strcmp(layout, "irregular") ? "geometry.shape" : "particles.layout",
@@ -70,19 +52,6 @@ int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp, const M
 }
 
 int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
-  MicaParallelOptions opt;
-  const char *kind;
-  long overlap, iterations;
-  memset(&opt, 0, sizeof opt);
-  MICA_CALL(mica_deck_string(deck, "solver.parallel", &kind));
-  MICA_CALL(mica_deck_int(deck, "solver.overlap", &overlap));
-  MICA_CALL(mica_deck_float(deck, "solver.linear_rtol", &opt.rtol));
-  MICA_CALL(mica_deck_int(deck, "solver.linear_max_iterations", &iterations));
-  MICA_CALL(mica_deck_bool(deck, "output.monitor", &opt.verbose));
-  MICA_CALL(check_distributed_solver(deck));
-  opt.solver = strcmp(kind, "schwarz") ? MICA_PARALLEL_GATHER : MICA_PARALLEL_SCHWARZ;
-  opt.overlap = (int)overlap;
-  opt.max_iterations = (int)iterations;
   if (rp->owned_data) {
     MlsOptions mls_opt;
     MicaShapeSpec shape;
@@ -92,7 +61,7 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
     MICA_CALL(run_read_shape(deck, &shape, mesh, sizeof mesh));
     MICA_CALL(run_read_layout(deck, shape.dim, 0, &layout, &cells));
     MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
-    MICA_CALL(mica_distribution_create_owned(&shape, &layout, &cells, &mls_opt, &opt, &rp->dist));
+    MICA_CALL(mica_distribution_create_owned(&shape, &layout, &cells, &mls_opt, &rp->dist));
     const MicaDistribution *d = rp->dist;
     printf("MPI: %d ranks, parallel.data = distributed: blocks %d × %d × %d of the index grids, particles per rank "
            "%ld (+ up to %ld ghosts), quadrature points per rank %ld to %ld (%.3g s)\n",
@@ -101,7 +70,7 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
     fflush(stdout);
     return MICA_SUCCESS;
   }
-  MICA_CALL(mica_distribution_create(rp->disc, rp->mls, &opt, &rp->dist));
+  MICA_CALL(mica_distribution_create(rp->disc, rp->mls, &rp->dist));
   const MicaDistribution *d = rp->dist;
   printf("MPI: %d ranks, METIS edge cut %ld, imbalance %.3f; quadrature points per rank %ld to %ld, ghost particles "
          "up to %ld (partition %.3g s)\n",
@@ -136,12 +105,6 @@ int run_parallel_totals(const RunProblem *rp, RunTotals *c) {
 int run_parallel_counts(const RunProblem *rp, MicaJson *summary) {
   const MicaDistribution *d = rp->dist;
   if (!d) return MICA_SUCCESS;
-  const char *linear;
-  MICA_CALL(mica_deck_string(rp->deck, "solver.linear", &linear));
-  const MicaLinearSolverOps *ops = mica_linear_solver_find(linear);
-  const int distributed = ops && mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED);
-  MICA_CALL(mica_json_string(summary, "parallel_solver",
-                             distributed ? linear : d->opt.solver == MICA_PARALLEL_SCHWARZ ? "schwarz" : "gather"));
   MICA_CALL(mica_json_string(summary, "parallel_data", d->owned ? "distributed" : "replicated"));
   if (d->owned) {
     MICA_CALL(mica_json_open_array(summary, "parallel_blocks"));
@@ -166,26 +129,6 @@ int run_parallel_memory(const RunProblem *rp, MicaJson *summary) {
   const long peak = mica_parallel_peak_memory(), largest = mica_parallel_max_long(peak);
   MICA_CALL(mica_json_int(summary, "peak_memory_rank0", peak));
   MICA_CALL(mica_json_int(summary, "peak_memory_rank_max", largest));
-  return MICA_SUCCESS;
-}
-
-int run_parallel_solver_stats(const RunProblem *rp, MicaJson *summary) {
-  const MicaDistribution *d = rp->dist;
-  if (!d) return MICA_SUCCESS;
-  const MicaParallelStats *st = &d->stats;
-  MICA_CALL(mica_json_number(summary, "time_gather", st->time_gather));
-  if (d->opt.solver != MICA_PARALLEL_SCHWARZ) return MICA_SUCCESS;
-  MICA_CALL(mica_json_int(summary, "overlap", d->opt.overlap));
-  MICA_CALL(mica_json_number(summary, "linear_rtol", d->opt.rtol));
-  MICA_CALL(mica_json_int(summary, "krylov_solves", st->krylov_solves));
-  MICA_CALL(mica_json_int(summary, "krylov_iterations", st->krylov_iterations));
-  MICA_CALL(mica_json_int(summary, "krylov_iterations_max", st->krylov_max_iterations));
-  MICA_CALL(mica_json_number(summary, "krylov_last_residual", st->krylov_last_residual));
-  MICA_CALL(mica_json_int(summary, "subdomain_dofs_min", st->subdomain_dofs_min));
-  MICA_CALL(mica_json_int(summary, "subdomain_dofs_max", st->subdomain_dofs_max));
-  printf("Schwarz: %ld Krylov solves, %ld iterations (at most %ld), subdomains of %ld to %ld dofs\n",
-         st->krylov_solves, st->krylov_iterations, st->krylov_max_iterations, st->subdomain_dofs_min,
-         st->subdomain_dofs_max);
   return MICA_SUCCESS;
 }
 

@@ -152,22 +152,18 @@ const MicaDeckKey mica_run_schema[] = {
     {"loads.ctheta", MICA_KEY_FUNCTION, NULL, NOLIMIT, NULL, 0, 0, "axisymmetric cosserat: body couple, θ"},
     {.path = "solver.linear", .type = MICA_KEY_CHOICE, .def = "\"auto\"", .min = 1.0, .max = 0.0, .choices = "auto",
      .registry = &mica_linear_solver_registry,
-     .help = "auto: CHOLMOD for symmetric positive definite tangents, cholmod-sym for VCI's (CHOLMOD on the "
-             "symmetric part, refined to solver.linear_rtol), UMFPACK otherwise; cg: preconditioned "
-             "conjugate gradients (SPD tangents, no factorization: for problems whose factor does not fit; under "
-             "solver.parallel = schwarz, CG is the outer iteration and CHOLMOD factors the subdomains); petsc: PETSc's "
-             "solvers on the tangent distributed over the ranks (solver.petsc chooses the method)"},
-    {"solver.parallel", MICA_KEY_CHOICE, "\"gather\"", NOLIMIT, "gather|schwarz", 0, 0,
-     "MPI runs: gather the tangent to rank 0 for CHOLMOD/UMFPACK, or additive Schwarz CG/GMRES (not with petsc)"},
+     .help = "auto: in one process CHOLMOD for symmetric positive definite tangents, cholmod-sym for VCI's "
+             "(CHOLMOD on the symmetric part, refined to solver.linear_rtol), UMFPACK otherwise; under mpirun petsc "
+             "with its default method (MUMPS); petsc: PETSc's solvers on the tangent distributed over the ranks, "
+             "also in one process (solver.petsc chooses the method: MUMPS, GAMG, hypre, or Schwarz / block Jacobi "
+             "with CHOLMOD or UMFPACK subdomains; iterative ones for problems whose factor does not fit)"},
     {"parallel.data", MICA_KEY_CHOICE, "\"replicated\"", NOLIMIT, "replicated|distributed", 0, 0,
      "MPI runs: replicated — every rank builds all particles, the partition is METIS's and vectors are whole on "
      "every rank; distributed — each rank owns a block of a built-in shape's particle and cell index grids and "
      "holds only those, its points and a ghost layer (solver.linear = \"petsc\"; penalty or Nitsche, "
      "background-cell quadrature, no probes, mesh output or VCI yet)"},
-    {"solver.overlap", MICA_KEY_INT, "2", 0, 100, NULL, 0, 0,
-     "schwarz: layers of neighboring particles added to each rank's subdomain"},
-    {"solver.linear_rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "cg, schwarz, petsc, cholmod-sym: the iterations stop at |r| ≤ linear_rtol |b|"},
-    {"solver.linear_max_iterations", MICA_KEY_INT, "2000", 1, 1000000, NULL, 0, 0, "cg, schwarz, petsc, cholmod-sym: iterations per solve"},
+    {"solver.linear_rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "petsc (its Krylov methods), cholmod-sym: the iterations stop at |r| ≤ linear_rtol |b|"},
+    {"solver.linear_max_iterations", MICA_KEY_INT, "2000", 1, 1000000, NULL, 0, 0, "petsc (its Krylov methods), cholmod-sym: iterations per solve"},
     {"solver.steps", MICA_KEY_INT, "1", 1, 100000, NULL, 0, 0, "load steps; the load factor t goes from 1/steps to 1"},
     {"solver.max_iterations", MICA_KEY_INT, "25", 1, 1000, NULL, 0, 0, "Newton iterations per step"},
     {"solver.rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "converged when |R| ≤ rtol |R₀| of the step"},

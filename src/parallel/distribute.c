@@ -207,8 +207,7 @@ cleanup:
 
 /* ---- public -------------------------------------------------------------------------------------------- */
 
-int mica_distribution_create(const MicaDiscretization *disc, const MlsApprox *mls, const MicaParallelOptions *opt,
-                             MicaDistribution **out) {
+int mica_distribution_create(const MicaDiscretization *disc, const MlsApprox *mls, MicaDistribution **out) {
   *out = NULL;
   const int rank = mica_parallel_rank(), nparts = mica_parallel_size(), root = rank == 0;
   const double start = mica_wtime();
@@ -216,7 +215,6 @@ int mica_distribution_create(const MicaDiscretization *disc, const MlsApprox *ml
   long *ghost_counts = NULL;
   int ierr = MICA_CALLOC(dist, 1);
   if (!ierr) {
-    dist->opt = *opt;
     dist->nparticles = disc->nparticles;
     dist->nsets = disc->nsets;
     ierr = MICA_MALLOC(dist->volume_owner, disc->nquad + 1);

@@ -476,14 +476,12 @@ cleanup:
 }
 
 int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
-                                   const MicaCellSpec *cells, const MlsOptions *mls_opt,
-                                   const MicaParallelOptions *opt, MicaDistribution **out) {
+                                   const MicaCellSpec *cells, const MlsOptions *mls_opt, MicaDistribution **out) {
   *out = NULL;
   const double start = mica_wtime();
   MicaDistribution *dist = NULL;
   int ierr = MICA_CALLOC(dist, 1);
   if (!ierr) {
-    dist->opt = *opt;
     dist->owned = 1;
     ierr = build_owned(shape, layout, cells, mls_opt, dist);
     if (!ierr) dist->nsets = dist->local->nsets;

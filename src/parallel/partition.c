@@ -1,4 +1,4 @@
-/* The particle graph, its METIS partition, owners of points, ghosts and overlaps (parallel.h).
+/* The particle graph, its METIS partition, owners of points and ghosts (parallel.h).
  *
  * The graph is the scalar sparsity pattern of the cliques (mica_sparse_create with one unknown per node)
  * without its diagonal: particles are adjacent when they support a common point. METIS_PartGraphKway
@@ -193,29 +193,5 @@ int mica_partition_ghosts(const MicaPartition *p, int rank, long npoints, const 
 cleanup:
   free(mark);
   free(list);
-  return ierr;
-}
-
-int mica_partition_overlap(const MicaPartition *p, int rank, int layers, char *mask) {
-  long *front = NULL, *next = NULL, nfront = 0;
-  int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(MICA_MALLOC(front, p->n));
-  MICA_CALL_CLEANUP(MICA_MALLOC(next, p->n));
-  for (long i = 0; i < p->n; i++) {
-    mask[i] = p->part[i] == rank;
-    if (mask[i]) front[nfront++] = i;
-  }
-  for (int layer = 0; layer < layers && nfront > 0; layer++) {
-    long nnext = 0;
-    for (long k = 0; k < nfront; k++)
-      for (long q = p->xadj[front[k]]; q < p->xadj[front[k] + 1]; q++)
-        if (!mask[p->adjncy[q]]) mask[p->adjncy[q]] = 1, next[nnext++] = p->adjncy[q];
-    long *swap = front;
-    front = next, next = swap;
-    nfront = nnext;
-  }
-cleanup:
-  free(front);
-  free(next);
   return ierr;
 }

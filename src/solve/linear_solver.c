@@ -13,8 +13,8 @@
 #include "mica/timer.h"
 
 static const MicaType *const builtin_solvers[] = {&mica_linear_cholmod.type, &mica_linear_umfpack.type,
-                                                  &mica_linear_cholmod_sym.type, &mica_linear_cg.type,
-                                                  &mica_linear_petsc.type, NULL};
+                                                  &mica_linear_cholmod_sym.type, &mica_linear_petsc.type,
+                                                  NULL};
 
 MicaRegistry mica_linear_solver_registry = {"linear solver", "cholmod", builtin_solvers, NULL, 0, NULL};
 
@@ -78,10 +78,6 @@ int mica_linear_solver_set_layout(MicaLinearSolver *solver, const MicaLinearLayo
   MICA_CHECK(solver && layout, MICA_ERR_ARGUMENT, "mica_linear_solver_set_layout: NULL argument");
   solver->layout = *layout;
   return MICA_SUCCESS;
-}
-
-int mica_linear_solver_iterative(const MicaLinearSolverOps *ops) {
-  return mica_linear_solver_has(ops, MICA_LINEAR_ITERATIVE);
 }
 
 /* ---- Pattern keys (linear_private.h) ------------------------------------------------------------------ */

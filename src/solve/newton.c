@@ -97,8 +97,7 @@ static int solve_linear(Newton *nw) {
     ierr = mica_linear_solver_factor(nw->linear, nw->p->K);
   }
   nw->stats->time_factor += mica_wtime() - start;
-  if (ierr == MICA_ERR_NUMERIC && !nw->factored && !mica_linear_solver_iterative(nw->linear->ops) &&
-      nw->p->first_factor_failed)
+  if (ierr == MICA_ERR_NUMERIC && !nw->factored && nw->p->first_factor_failed)
     return nw->p->first_factor_failed(nw->p->ctx);
   MICA_CALL(ierr);
   nw->factored = 1;

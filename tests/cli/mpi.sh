@@ -1,10 +1,12 @@
-# Parallel runs (issue 6): `mpirun -np 2` and `-np 3` give the serial probes and error norms — to 1e-10
-# relative with solver.parallel = gather, to the Krylov tolerance with schwarz — on the Timoshenko beam
-# (CHOLMOD / CG), Cook's membrane with Neo-Hooke (Newton over load steps) and the Cosserat glide layer
-# (Lagrange multipliers: UMFPACK / GMRES). summary.json carries the partition's edge cut and imbalance;
-# files are written once (the fields in pieces, one per rank: mpi_output.sh); a failure injected on rank 1 (MICA_INJECT_FAILURE) or a deck error
-# ends every rank with the right exit status, reported once. `timeout` only keeps a hang from blocking
-# the suite: no check here depends on time.
+# Parallel runs (issues 6 and 19): `mpirun -np 2` and `-np 3` with the defaults (solver.linear = "auto", which under
+# mpirun is PETSc with MUMPS on the tangent distributed by the ranks' particles) give the serial probes and error
+# norms to 1e-10 relative — on the Timoshenko beam (CHOLMOD serially), Cook's membrane with Neo-Hooke (Newton over
+# load steps) and the Cosserat glide layer (Lagrange multipliers: UMFPACK serially, MUMPS's LU here); additive
+# Schwarz with CHOLMOD subdomains (solver.petsc = "asm-cholmod", CG) to the Krylov tolerance. A one-process solver
+# (cholmod, umfpack) under mpirun is a deck error with the remedy. summary.json carries the partition's edge cut and
+# imbalance; files are written once (the fields in pieces, one per rank: mpi_output.sh); a failure injected on
+# rank 1 (MICA_INJECT_FAILURE) or a deck error ends every rank with the right exit status, reported once.
+# `timeout` only keeps a hang from blocking the suite: no check here depends on time.
 source "$(dirname "$0")/common.bash"
 work="$(cd "$(dirname "$OUT_DIR")" 2>/dev/null && pwd)/$(basename "$OUT_DIR")/mpi" # absolute: mpirun's TMPDIR
 rm -rf "$work" && mkdir -p "$work/tmp"
@@ -68,29 +70,30 @@ for np in 2 3; do
     || fail "-np $np: nnz of the whole tangent differs from the serial one"
   ok "-np $np: partition in summary.json, nnz as serial"
 
-  # Schwarz: CG (SPD) and GMRES (Lagrange multipliers), to the Krylov tolerance 1e-10 (results to ~1e-8)
-  prun $np "$work/timo_schwarz_$np" input/timoshenko.cfg --set solver.parallel=schwarz --set solver.overlap=1
-  compare "$work/timo" "$work/timo_schwarz_$np" 1e-7 tip_uy
-  at_least "$(json_value krylov_iterations "$work/timo_schwarz_$np/summary.json")" 2 "-np $np: CG iterations"
-  prun $np "$work/cook_schwarz_$np" input/cook_neohooke.cfg "${cook[@]}" --set solver.parallel=schwarz
-  compare "$work/cook" "$work/cook_schwarz_$np" 1e-7 tip_uy
-  prun $np "$work/glide_schwarz_$np" input/cosserat_glide.cfg --set solver.parallel=schwarz --set solver.overlap=1
-  compare "$work/glide" "$work/glide_schwarz_$np" 1e-7 phi_top ux_top phi_mid ux_mid
-  at_least "$(json_value krylov_iterations "$work/glide_schwarz_$np/summary.json")" 2 "-np $np: GMRES iterations"
+  [ "$(json_value linear_solver "$work/timo_$np/summary.json")" = petsc ] || fail "-np $np: the default is not petsc"
+  [ "$(json_value petsc_method "$work/glide_$np/summary.json")" = mumps ] || fail "-np $np: the default is not MUMPS"
+
+  # CHOLMOD under MPI domain decomposition: CG with additive Schwarz, CHOLMOD factoring each rank's subdomain,
+  # to the Krylov tolerance 1e-10 (results to ~1e-8)
+  prun $np "$work/timo_asm_$np" input/timoshenko.cfg --set solver.linear=petsc --set solver.petsc=asm-cholmod
+  compare "$work/timo" "$work/timo_asm_$np" 1e-7 tip_uy
+  at_least "$(json_value krylov_iterations "$work/timo_asm_$np/summary.json")" 2 "-np $np: CG iterations"
+  prun $np "$work/cook_asm_$np" input/cook_neohooke.cfg "${cook[@]}" --set solver.linear=petsc --set solver.petsc=asm-cholmod
+  compare "$work/cook" "$work/cook_asm_$np" 1e-7 tip_uy
 done
 
-# solver.linear = cg under MPI: gather runs CG on rank 0 (the serial answer to the Krylov tolerance, iterations
-# in the summary); schwarz is itself CG and factors its subdomains (CHOLMOD) when cg is asked for
-run_deck "$work/cube_cg" input/cube3d.cfg --set "particles.count=[7,7,7]" --set quadrature.order=2 --set solver.linear='"cg"'
-prun 2 "$work/cube_cg_2" input/cube3d.cfg --set "particles.count=[7,7,7]" --set quadrature.order=2 --set solver.linear='"cg"'
-compare "$work/cube_cg" "$work/cube_cg_2" 1e-8 corner_ux error_l2
-[ "$(json_value krylov_iterations "$work/cube_cg_2/summary.json")" = "$(json_value krylov_iterations "$work/cube_cg/summary.json")" ] \
-  || fail "-np 2 gather + cg: iterations differ from the serial cg run"
-prun 2 "$work/cube_cg_schwarz" input/cube3d.cfg --set "particles.count=[7,7,7]" --set quadrature.order=2 \
-  --set solver.linear='"cg"' --set solver.parallel='"schwarz"' --set solver.overlap=1
-compare "$work/cube_cg" "$work/cube_cg_schwarz" 1e-7 corner_ux
-[ -n "$(json_value rank_cpu_assemble "$work/cube_cg_2/summary.json")" ] || fail "-np 2: no per-rank CPU times"
-ok "-np 2: cg with gather and schwarz as serial; per-rank figures in the summary"
+# a one-process solver under mpirun: refused with the line and the remedy, by every rank, reported once
+for linear in cholmod umfpack; do
+  "${MPIRUN[@]}" -np 2 "$MICA" run input/timoshenko.cfg -o "$work/one_process" --set solver.linear=$linear \
+    > /dev/null 2> "$work/one_process.err"
+  rc=$?
+  [ $rc -eq 2 ] || fail "solver.linear = $linear under mpirun: exit $rc, expected 2: $(cat "$work/one_process.err")"
+  [ "$(grep -c -- "--set solver.linear=$linear: solver.linear = \"$linear\" solves in one process, but this run has 2 ranks; use \"auto\" or \"petsc\"" "$work/one_process.err")" -eq 1 ] \
+    || fail "solver.linear = $linear under mpirun: no single clear message: $(cat "$work/one_process.err")"
+  [ ! -e "$work/one_process" ] || fail "a refused run wrote its directory"
+done
+[ -n "$(json_value rank_cpu_assemble "$work/timo_2/summary.json")" ] || fail "-np 2: no per-rank CPU times"
+ok "one-process solvers under mpirun: exit 2 with the remedy; per-rank figures in the summary"
 
 # -np 1 under mpirun takes the serial path (no partition); only the BLAS under CHOLMOD may run with another
 # thread count when mpirun binds the process to a core, which changes the last bits

@@ -1,6 +1,6 @@
 # Every command under mpirun (issue 6, item 4): `mica mls`, `mica sweep` and `mica study` with -np 2 give the
 # serial numbers — MLS errors to 1e-12 relative (each rank evaluates, rank 0 writes), sweep probes and study
-# error norms to 1e-9 relative (with ranks_per_point = 2 every point is a distributed run with the gather solver,
+# error norms to 1e-9 relative (with ranks_per_point = 2 every point is a distributed run with MUMPS,
 # which matches the serial factorization to 1e-10; groups of one rank per point: tests/cli/mpi_groups.sh) — and write their files once: the same set of files as the serial run,
 # the closing line printed once, no rank's scratch directory left behind. `timeout` only keeps a hang from
 # blocking the suite.

@@ -159,7 +159,8 @@ refuse() { # refuse NAME PATTERN LINES...: exit 2 at -np 2 naming the deck's las
   expect_failure 2 "$deck:$line: $pattern" -- "${MPIRUN[@]}" -np 2 "$MICA" run "$deck" -o "$work/$name" --set output.monitor=false
 }
 pd='parallel = { data = "distributed"; };'
-refuse auto 'solver.linear is not available with parallel.data = "distributed"' 'solver = { steps = 1; };' "$pd"
+refuse umfpack 'solver.linear is not available with parallel.data = "distributed"' "$pd" \
+  'solver = { linear = "umfpack"; steps = 1; };'
 refuse mesh 'output.mesh is not available' 'output = { vtu = false; };' "$pd"
 refuse probes 'output.probes is not available' "$pd" \
   'output = { mesh = false; probes = ( { name = "tip"; point = [48.0, 60.0]; field = "uy"; } ); };'

@@ -7,7 +7,7 @@
 #    group: its summary names group (i-1) mod G + 1, the summary counts the points per group, the log has one
 #    line per point naming that group; the same files as the serial run, the closing line once;
 #  - ranks_per_point = 2 with -np 2: every point distributed (its summary has the partition's edge cut), the
-#    serial probes to 1e-9 relative (the gather solver matches the serial factorization to 1e-10);
+#    serial probes to 1e-9 relative (MUMPS matches the serial factorization to 1e-10);
 #  - a failing point (dilation 0.5: a singular moment matrix) is recorded as an error with its message, as
 #    serially, and the other groups' points succeed; a failure injected in the points of rank 1 fails exactly
 #    those points; a crash of rank 1 (exit without MPI_Finalize) ends the job with a non-zero status, before

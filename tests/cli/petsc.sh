@@ -6,8 +6,8 @@
 # cube in tension, the Cosserat glide layer with Lagrange multipliers (a saddle point: MUMPS's LU), the Cosserat
 # manufactured solution with Nitsche's method (GAMG with the rigid motions incl. the micro-rotation as near-null
 # space) and the linear patch test with VCI (unsymmetric: MUMPS's LU, GMRES with GAMG). The iterative presets
-# refuse the saddle point, the Cholesky ones an unsymmetric tangent, PETSc options it did not use and
-# solver.parallel beside petsc: input errors (exit 2) with the remedy. `timeout` only keeps a hang from
+# refuse the saddle point, the Cholesky ones an unsymmetric tangent, and PETSc options it did not use: input
+# errors (exit 2) with the remedy. `timeout` only keeps a hang from
 # blocking the suite: no check here depends on time.
 source "$(dirname "$0")/common.bash"
 work="$(cd "$(dirname "$OUT_DIR")" 2>/dev/null && pwd)/$(basename "$OUT_DIR")/petsc" # absolute: mpirun's TMPDIR
@@ -110,8 +110,6 @@ expect_failure 2 'solver.petsc = "none" takes the method from solver.petsc_optio
 expect_failure 2 'solver.petsc is a setting of solver.linear = "petsc" only' -- \
   "$MICA" run input/cube3d.cfg -o "$work/bad" --set solver.petsc=gamg
 [ ! -e "$work/bad" ] || fail "a refused run wrote $work/bad"
-expect_failure 2 "solver.parallel has no effect with solver.linear = \"petsc\"" -- \
-  "${MPIRUN[@]}" -np 2 "$MICA" run input/cube3d.cfg -o "$work/bad" "${P[@]}" --set solver.parallel=schwarz
 # solver.petsc = none: the method from the options alone (here CG with block Jacobi/ICC, to the tolerance)
 prun 2 "$work/cube_none_2" input/cube3d.cfg "${cube[@]}" "${P[@]}" --set solver.petsc=none \
   --set 'solver.petsc_options="-ksp_type cg -pc_type bjacobi -sub_pc_type icc"'

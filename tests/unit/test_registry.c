@@ -146,9 +146,9 @@ static void test_families(void **state) {
   assert_false(mica_bc_method_has(&mica_bc_collocation, MICA_BC_SYMMETRIC_DEFINITE | MICA_BC_MULTIPLIERS));
   assert_ptr_equal(mica_bc_method_find("penalty"), &mica_bc_penalty);
   assert_null(mica_bc_method_find("nitsch"));
-  assert_true(mica_linear_solver_has(&mica_linear_cg, MICA_LINEAR_SPD_ONLY | MICA_LINEAR_ITERATIVE));
   assert_true(mica_linear_solver_has(&mica_linear_cholmod, MICA_LINEAR_SPD_ONLY));
-  assert_false(mica_linear_solver_iterative(&mica_linear_cholmod));
+  assert_false(mica_linear_solver_has(&mica_linear_cholmod, MICA_LINEAR_DISTRIBUTED));
+  assert_true(mica_linear_solver_has(&mica_linear_petsc, MICA_LINEAR_DISTRIBUTED));
   assert_false(mica_linear_solver_has(&mica_linear_umfpack, MICA_LINEAR_SPD_ONLY));
   assert_true(mica_approx_has(&mica_approx_mls, MICA_APPROX_MLS));
   assert_false(mica_approx_has(&mica_approx_mls, MICA_APPROX_INTERPOLATING));
