@@ -5,7 +5,8 @@
 # Schwarz with CHOLMOD subdomains (solver.petsc = "asm-cholmod", CG) to the Krylov tolerance. A one-process solver
 # (cholmod, umfpack) under mpirun is a deck error with the remedy. summary.json carries the partition's edge cut and
 # imbalance; files are written once (the fields in pieces, one per rank: mpi_output.sh); a failure injected on
-# rank 1 (MICA_INJECT_FAILURE) or a deck error ends every rank with the right exit status, reported once.
+# rank 1 (MICA_INJECT_FAILURE) at any phase or a deck error ends every rank with the right exit status, reported
+# once, with nothing published and no scratch directory left — with replicated and with distributed data.
 # `timeout` only keeps a hang from blocking the suite: no check here depends on time.
 source "$(dirname "$0")/common.bash"
 work="$(cd "$(dirname "$OUT_DIR")" 2>/dev/null && pwd)/$(basename "$OUT_DIR")/mpi" # absolute: mpirun's TMPDIR
@@ -113,18 +114,28 @@ prun 3 "$work/files" input/timoshenko.cfg --set output.vtu=true
 [ "$(grep -c '^probe tip_uy' "$work/files.log")" -eq 1 ] || fail "probes printed more than once"
 ok "-np 3: files and log lines written once"
 
-# a failure on rank 1 ends every rank: an error at a phase, and a crash (exit without MPI_Finalize)
-for phase in deck build assemble solve output assemble:exit; do
-  d="$work/inject_$(tr : _ <<<"$phase")"
-  MICA_INJECT_FAILURE=1:$phase "${MPIRUN[@]}" -np 3 "$MICA" run input/timoshenko.cfg -o "$d" \
-    --set output.vtu=false > "$d.out" 2> "$d.err"
-  rc=$?
-  [ $rc -ne 0 ] || fail "injected failure at $phase: exit status 0"
-  [ $rc -ne 124 ] || fail "injected failure at $phase: the run hung (killed by timeout)"
-  [ "$(grep -c "rank 1: .*MICA_INJECT_FAILURE=1:$phase" "$d.err")" -eq 1 ] \
-    || fail "injected failure at $phase: not reported once: $(cat "$d.err")"
-  [ ! -f "$d/summary.json" ] || fail "injected failure at $phase: results were published"
-  ok "failure injected on rank 1 at $phase: every rank stopped (exit $rc), reported once"
+# a failure on rank 1 ends every rank: an error at a phase, and a crash (exit without MPI_Finalize); with replicated
+# data (the beam) and with distributed data (the cube: each rank its own block, its ghost exchange and PETSc's rows)
+distributed=(tests/decks/parallel/cube.cfg --set "particles.count=[6,6,6]" --set quadrature.order=3
+             --set 'parallel.data="distributed"' --set output.mesh=false)
+for data in replicated distributed; do
+  for phase in deck build assemble solve output assemble:exit; do
+    d="$work/inject_${data}_$(tr : _ <<<"$phase")"
+    rm -rf "$work/tmp" && mkdir -p "$work/tmp"
+    if [ $data = replicated ]; then args=(input/timoshenko.cfg); else args=("${distributed[@]}"); fi
+    MICA_INJECT_FAILURE=1:$phase "${MPIRUN[@]}" -np 3 "$MICA" run "${args[@]}" -o "$d" \
+      --set output.vtu=true > "$d.out" 2> "$d.err"
+    rc=$?
+    [ $rc -ne 0 ] || fail "$data: injected failure at $phase: exit status 0"
+    [ $rc -ne 124 ] || fail "$data: injected failure at $phase: the run hung (killed by timeout)"
+    [ "$(grep -c "rank 1: .*MICA_INJECT_FAILURE=1:$phase" "$d.err")" -eq 1 ] \
+      || fail "$data: injected failure at $phase: not reported once: $(cat "$d.err")"
+    [ ! -e "$d" ] || fail "$data: injected failure at $phase: the results directory was published: $(ls "$d")"
+    # an error unwinds every rank, which remove their scratch directories (a crashed rank cannot)
+    [ "$phase" = assemble:exit ] || [ -z "$(ls -A "$work/tmp" | grep mica-rank)" ] \
+      || fail "$data: injected failure at $phase: scratch directories left in TMPDIR: $(ls "$work/tmp")"
+    ok "$data: failure injected on rank 1 at $phase: every rank stopped (exit $rc), reported once, nothing left"
+  done
 done
 
 # a deck error: every rank exits 2, the message once
@@ -132,7 +143,13 @@ done
 rc=$?
 [ $rc -eq 2 ] || fail "deck error under mpirun: exit $rc, expected 2: $(cat "$work/bad.err")"
 [ "$(grep -c 'mls.order must be an integer' "$work/bad.err")" -eq 1 ] || fail "deck error not reported once: $(cat "$work/bad.err")"
-ok "deck error under mpirun: exit 2, reported once"
+"${MPIRUN[@]}" -np 3 "$MICA" run "${distributed[@]}" -o "$work/bad" --set mls.order=x > "$work/bad.out" 2> "$work/bad.err"
+rc=$?
+[ $rc -eq 2 ] || fail "deck error under mpirun, distributed data: exit $rc, expected 2: $(cat "$work/bad.err")"
+[ "$(grep -c 'mls.order must be an integer' "$work/bad.err")" -eq 1 ] \
+  || fail "deck error under mpirun, distributed data: not reported once: $(cat "$work/bad.err")"
+[ ! -e "$work/bad" ] || fail "a deck error wrote $work/bad"
+ok "deck error under mpirun: exit 2, reported once (replicated and distributed data)"
 
 # the measuring sticks of issue 5 (FE baseline, nodal integration) run on one process: refused with the line
 for set in problem.method=fe quadrature.mode=scni; do
