@@ -198,6 +198,14 @@ typedef struct MicaDistribution {
                              (the offsets of the lower ranks' blocks + the position in its owner's block) */
   MlsApprox *mls;         /* the MLS approximation on the local particles, with the global run's radii */
   MicaGhostPlan ghosts;
+  /* extra nodes (Lagrange multipliers, mica_owned_add_nodes): local nodes nowned + nghost + k, k < nextra. With
+   * them the rows of each rank are its particles then its extra nodes, and global_node numbers both */
+  long nextra;
+  int *extra_owner;       /* [nextra] the rank owning each */
+  long nowned_nodes;      /* nowned + the extra nodes this rank owns */
+  long *owned_node;       /* [nowned_nodes] the local nodes this rank owns, in the order of their numbers */
+  long nglobal_nodes;     /* the nodes over all ranks (nparticles without extra nodes) */
+  MicaGhostPlan node_ghosts; /* the plan over ghost particles and ghost extra nodes */
 } MicaDistribution;
 
 /* Collective. parallel.data = "distributed": the particle and cell index grids of a built-in shape's regular,
@@ -216,8 +224,18 @@ int mica_ghost_update(MicaDistribution *dist, double *v, int ncomp);
 /* Collective, after agreeing on ierr: each ghost's entries added into its owner's, then the owners' sums copied
  * back into the ghosts (v complete everywhere: the sum over ranks of their contributions). */
 int mica_ghost_sum(MicaDistribution *dist, int ierr, double *v, int ncomp);
+/* Collective, after agreeing on ierr: each ghost's entries added into its owner's (the ghosts keep theirs: the owners
+ * hold the sums, e.g. to solve there and mica_ghost_update the results). */
+int mica_ghost_reduce(MicaDistribution *dist, int ierr, double *v, int ncomp);
 /* Collective: mica_ghost_sum of a residual, after agreeing on ierr (the failure injection point "assemble"). */
 int mica_owned_residual(MicaDistribution *dist, int ierr, double *R, int ncomp);
+/* Collective: n extra local nodes (Lagrange multipliers) after the particles, node k named id[k] alike on every
+ * rank that holds it. Each is owned by the lowest rank holding it (decided at rank id mod P, which hears from all
+ * of them); the plan of the residual's exchange covers them (mica_owned_residual), and the numbering of the rows
+ * (global_node, owned_node, nglobal_nodes) puts each rank's owned extra nodes after its particles. */
+int mica_owned_add_nodes(MicaDistribution *dist, long n, const long *id);
+/* Whether this rank owns local node k (a particle or an extra node). */
+int mica_owned_node(const MicaDistribution *dist, long k);
 /* Collective: the 2-norm over the ranks of the owned entries of v (bitwise the same on every rank). */
 int mica_owned_norm(const MicaDistribution *dist, const double *v, int ncomp, double *norm);
 

@@ -51,9 +51,8 @@ int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp, const M
   if (rp->axisymmetric) return refuse_owned(deck, "geometry.axisymmetric", "run a plane or 3-D solid");
   if (rp->fe) return refuse_owned(deck, "problem.method", "use problem.method = \"efg\"");
   if (rp->disc->nodal) return refuse_owned(deck, "quadrature.mode", "use quadrature.mode = \"gauss\"");
-  if (mica_bc_method_has(opt->bc_method, MICA_BC_MULTIPLIERS) ||
-      mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION))
-    return refuse_owned(deck, "bc.method", "use bc.method = \"penalty\" or \"nitsche\"");
+  if (mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION))
+    return refuse_owned(deck, "bc.method", "use bc.method = \"penalty\", \"nitsche\" or \"lagrange\"");
   if (opt->vci) return refuse_owned(deck, "quadrature.vci", "set quadrature.vci = false");
   MlsOptions mls_opt;
   MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
@@ -114,9 +113,9 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
 /* parallel.data = "distributed": the whole problem's counts are the sums of the ranks' owned parts. */
 static int owned_totals(const RunProblem *rp, RunTotals *c) {
   const MicaDistribution *d = rp->dist;
-  MICA_CALL(mica_parallel_matrix_nnz_mapped(rp->solid->K, d->global_node, d->nparticles, &c->nnz));
+  MICA_CALL(mica_parallel_matrix_nnz_mapped(rp->solid->K, d->global_node, d->nglobal_nodes, &c->nnz));
   c->particles = d->nparticles;
-  c->dofs = d->nparticles * rp->solid->ncomp;
+  c->dofs = d->nglobal_nodes * rp->solid->ncomp; /* with the multiplier nodes, as serially */
   c->cells = mica_parallel_sum_long(c->cells);
   c->quadrature_points = mica_parallel_sum_long(c->quadrature_points);
   c->boundary_points = mica_parallel_sum_long(c->boundary_points);

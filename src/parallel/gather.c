@@ -91,9 +91,12 @@ const MicaLinearSolverOps mica_linear_gather = {
 
 int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOps *inner, MicaLinearSolver **solver) {
   if (mica_linear_solver_has(inner, MICA_LINEAR_DISTRIBUTED)) { /* petsc: each rank's rows, those of its particles */
-    MicaLinearLayout layout = {mica_parallel_comm(), dist->partition->n, dist->partition->part, NULL, 0, 0};
-    if (dist->owned) /* parallel.data = "distributed": local numbering, owned particles first */
-      layout.node_global = dist->global_node, layout.nowned = dist->nowned, layout.nglobal = dist->nparticles;
+    MicaLinearLayout layout = {mica_parallel_comm(), dist->partition->n, dist->partition->part, NULL, 0, 0, NULL};
+    if (dist->owned) { /* parallel.data = "distributed": local numbering, owned particles first (then multipliers) */
+      layout.nnodes = dist->nowned + dist->nghost + dist->nextra;
+      layout.node_global = dist->global_node, layout.nowned = dist->nowned_nodes, layout.nglobal = dist->nglobal_nodes;
+      layout.owned_node = dist->owned_node;
+    }
     MICA_CALL(mica_linear_solver_create(inner, solver));
     return mica_linear_solver_set_layout(*solver, &layout);
   }
