@@ -53,7 +53,6 @@ int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp, const M
   if (rp->disc->nodal) return refuse_owned(deck, "quadrature.mode", "use quadrature.mode = \"gauss\"");
   if (mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION))
     return refuse_owned(deck, "bc.method", "use bc.method = \"penalty\", \"nitsche\" or \"lagrange\"");
-  if (opt->vci) return refuse_owned(deck, "quadrature.vci", "set quadrature.vci = false");
   MlsOptions mls_opt;
   MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
   if (mls_opt.weight && mica_type_has(&mls_opt.weight->type, MLS_WEIGHT_ADAPTIVE))

@@ -255,9 +255,9 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
   MICA_CHECK(!opt->scni || (opt->field.ops->order == 1 && !opt->axisymmetric), MICA_ERR_INPUT,
              "SCNI smooths first derivatives of plane or 3-D fields only; model '%s'%s", opt->field.ops->type.name,
              opt->axisymmetric ? " is axisymmetric" : " uses second derivatives");
-  MICA_CHECK(!opt->vci || !opt->parallel, MICA_ERR_INPUT,
-             "quadrature.vci is not available in parallel runs yet (its correction sums over every particle's "
-             "support); run on one process");
+  MICA_CHECK(!opt->vci || !opt->parallel || opt->parallel->owned, MICA_ERR_INPUT,
+             "quadrature.vci is not available in parallel runs with parallel.data = \"replicated\" (its correction "
+             "sums over every particle's support); use parallel.data = \"distributed\", or run on one process");
   MICA_CHECK(!opt->parallel || !mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION), MICA_ERR_INPUT,
              "bc.method = \"%s\" replaces equations of the assembled system, which a parallel run sums over the "
              "ranks; run on one process, or use another bc.method", opt->bc_method->type.name);
@@ -268,10 +268,13 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
   return MICA_SUCCESS;
 }
 
-/* VCI: corrected test gradients in the volume cache (vci.c), timed for the summary. */
+/* VCI: corrected test gradients in the volume cache (vci.c), timed for the summary; over the ranks with
+ * distributed data (collective: at the end of the solid's creation, owned_collectives). */
 static int apply_vci(MicaSolid *s) {
   const double start = mica_wtime();
-  MICA_CALL(mica_vci_correct(s->disc, s->mls, s->opt.basis_order, s->volume));
+  MicaDistribution *dist = s->opt.parallel;
+  if (dist && dist->owned) MICA_CALL(mica_vci_correct_owned(s->disc, s->mls, s->opt.basis_order, s->volume, dist));
+  else MICA_CALL(mica_vci_correct(s->disc, s->mls, s->opt.basis_order, s->volume));
   s->time_vci = mica_wtime() - start;
   return MICA_SUCCESS;
 }
@@ -305,7 +308,7 @@ static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
   s->time_shape += mica_wtime() - start;
   s->time_search += s->volume->time_search;
   s->caches_built++;
-  if (opt->vci) MICA_CALL(apply_vci(s));
+  if (opt->vci && !(opt->parallel && opt->parallel->owned)) MICA_CALL(apply_vci(s));
   return MICA_SUCCESS;
 }
 
@@ -354,7 +357,7 @@ cleanup:
 /* Whether the solid's creation ends in collectives over distributed data (every rank reaches them, or agrees on
  * the failure that stopped it). */
 static int owned_collectives(const MicaSolidOptions *opt) {
-  return opt->parallel && opt->parallel->owned && mica_bc_method_has(opt->bc_method, MICA_BC_MULTIPLIERS);
+  return opt->parallel && opt->parallel->owned && (opt->vci || mica_bc_method_has(opt->bc_method, MICA_BC_MULTIPLIERS));
 }
 
 int mica_solid_create(const MicaDiscretization *disc, const MicaApprox *approx, const MicaSolidOptions *opt,
@@ -403,6 +406,7 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
   if (owned_collectives(opt)) {
     agreed = 1;
     MICA_CALL_CLEANUP(mica_parallel_agree(MICA_SUCCESS));
+    if (opt->vci) MICA_CALL_CLEANUP(apply_vci(s));
     if (mica_bc_method_has(opt->bc_method, MICA_BC_MULTIPLIERS)) MICA_CALL_CLEANUP(owned_multipliers(s));
   }
   *out = s;

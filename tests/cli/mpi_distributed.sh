@@ -7,6 +7,8 @@
 #     1e-12 times the conditioning), and the relative L2 error norm within the same tolerances (absolute): Cook's membrane with
 #     Neo-Hooke (4 load steps), the 3-D cube in tension (linear) — both with Nitsche's method, the default —, the
 #     Cosserat manufactured solution with penalty and with Nitsche, the cube with penalty; and with MUMPS at P = 2, 3, 4 on a jittered and a graded layout;
+#   - VCI (auto: on for jittered particles): Cook's membrane jittered at P = 1-4 with MUMPS (LU) within 1e-10 of the
+#     serial cholmod-sym run, with GAMG (GMRES) at P = 2, 4 within 1e-7, the jittered 3-D cube at P = 2, 4 (MUMPS);
 #   - Lagrange multipliers: the Cosserat glide layer at P = 1-4 with MUMPS (LU) within 1e-10 of the serial UMFPACK
 #     run, with the serial dofs and nnz; GAMG refused;
 #   - no rank holds the whole problem: on a 12³ cube at P = 4, the ranks' owned particles, volume points and
@@ -126,10 +128,33 @@ check_layout() {
     same "$work/$name" "$work/$name-$np" "$np" 1e-10
   done
 }
-# (quadrature.vci = false: auto would turn VCI on for the serial jittered reference, and the distributed mode
-# has no VCI yet, so both solve the uncorrected Gauss rule; the supports of both are sized on the grid)
+# (the supports of both are sized on the grid; quadrature.vci = false: the uncorrected Gauss rule)
 check_layout jittered tests/decks/parallel/cook.cfg --set "particles.count=[9,9]" --set solver.steps=2 \
   --set particles.layout=\"jittered\" --set particles.seed=7 --set quadrature.vci=false
+
+# VCI (quadrature.vci = auto: on for jittered particles, serially and distributed): each particle's Gram matrix and
+# right-hand sides summed at its owner over the ranks its support reaches, solved there, ξ sent to the ghosts. The
+# tangent is unsymmetric: MUMPS's LU at P = 1-4 within 1e-10 of the serial cholmod-sym run (refined to round-off),
+# GMRES with GAMG within 1e-7; and the 3-D jittered cube (boundary faces' sums) with MUMPS at P = 2, 4
+check_vci() {
+  local name=$1 ranks=$2 deck=$3; shift 3
+  REFERENCE=cholmod-sym serial "$work/$name" "$deck" "$@"
+  [ "$(json_value vci "$work/$name/summary.json")" = true ] || fail "$name: VCI is not on serially"
+  for np in $ranks; do
+    distributed "$np" "$work/$name-$np" "$deck" "$@" --set solver.petsc=\"mumps\"
+    [ "$(json_value vci "$work/$name-$np/summary.json")" = true ] || fail "$name-$np: VCI is not on"
+    same "$work/$name" "$work/$name-$np" "$np" 1e-10
+  done
+}
+jittered=(--set "particles.count=[9,9]" --set solver.steps=2 --set particles.layout=\"jittered\" --set particles.seed=7)
+check_vci vci "1 2 3 4" tests/decks/parallel/cook.cfg "${jittered[@]}"
+for np in 2 4; do
+  distributed "$np" "$work/vci-$np-gamg" tests/decks/parallel/cook.cfg "${jittered[@]}" --set solver.petsc=\"gamg\" \
+    --set solver.linear_rtol=1e-12
+  same "$work/vci" "$work/vci-$np-gamg" "$np" 1e-7
+done
+check_vci vci_cube "2 4" tests/decks/parallel/cube.cfg --set "particles.count=[6,6,6]" --set quadrature.order=3 \
+  --set particles.layout=\"jittered\" --set particles.seed=3
 check_layout graded tests/decks/parallel/cube.cfg --set "particles.count=[7,6,6]" --set quadrature.order=3 \
   --set particles.layout=\"graded\" --set "particles.grading=[4.0]" --set mls.spacing=\"far\"
 
@@ -184,7 +209,6 @@ refuse mesh 'output.mesh is not available' 'output = { vtu = false; };' "$pd"
 refuse probes 'output.probes is not available' "$pd" \
   'output = { mesh = false; probes = ( { name = "tip"; point = [48.0, 60.0]; field = "uy"; } ); };'
 refuse collocation 'bc.method is not available' "$pd" 'bc = { method = "collocation"; };'
-refuse vci 'quadrature.vci is not available' "$pd" 'quadrature = { order = 5; vci = true; };'
 refuse irregular 'particles.layout is not available' "$pd" 'particles = { count = [9, 9]; layout = "irregular"; };'
 # serially too: a distributed deck means the same on one process
 deck=$(variant serial_mesh 'output = { vtu = false; };' "$pd")
