@@ -150,6 +150,8 @@ typedef struct MicaParallelOptions {
   int max_iterations; /* Krylov */
   int restart;        /* GMRES */
   int verbose;        /* one line per linear solve */
+  int error_order;    /* parallel.data = "distributed": the error norms' Gauss points per direction in a cell
+                         (quadrature.error_order; 0: none), whose supports each rank holds for its cells */
 } MicaParallelOptions;
 
 /* Statistics of the distributed solve (accumulated over the run). */
@@ -193,6 +195,7 @@ typedef struct MicaDistribution {
   /* parallel.data = "distributed" only (0 / NULL otherwise) */
   int owned;
   int procs[3];           /* the block split of the particle and cell grids: blocks per axis */
+  long cell_lo[3], cell_hi[3]; /* this rank's block of the cell grid */
   long nowned, nghost;    /* local particles: owned ones first, then ghosts */
   long *global_node;      /* [nowned + nghost] each local particle's number in the ranks' contiguous numbering
                              (the offsets of the lower ranks' blocks + the position in its owner's block) */
@@ -216,6 +219,10 @@ typedef struct MicaDistribution {
 int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
                                    const MicaCellSpec *cells, const MlsOptions *mls_opt,
                                    const MicaParallelOptions *opt, MicaDistribution **dist);
+/* The volume points of order `order` per direction in this rank's cells (quadrature.error_order's points: a
+ * discretization without particles or boundary points). */
+int mica_owned_cell_points(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                           const MicaDistribution *dist, int order, MicaDiscretization **disc);
 /* The blocks per axis the split of P ranks over a grid of cells[3] gives (procs[d] ≤ cells[d]); MICA_ERR_INPUT
  * if P does not fit the grid. */
 int mica_block_split(int P, int dim, const long cells[3], int procs[3]);
@@ -234,6 +241,11 @@ int mica_owned_residual(MicaDistribution *dist, int ierr, double *R, int ncomp);
  * of them); the plan of the residual's exchange covers them (mica_owned_residual), and the numbering of the rows
  * (global_node, owned_node, nglobal_nodes) puts each rank's owned extra nodes after its particles. */
 int mica_owned_add_nodes(MicaDistribution *dist, long n, const long *id);
+/* Collective: the rank that evaluates a field at point x (the same x on every rank): the lowest one whose local
+ * particles hold x's whole support — each rank counts its owned particles covering x, whose sum is the support's
+ * size, and its local ones. Its value is then the serial one (round-off apart). MICA_ERR_INPUT if no particle
+ * covers x. */
+int mica_owned_point_rank(const MicaDistribution *dist, const double *x, int *root);
 /* Whether this rank owns local node k (a particle or an extra node). */
 int mica_owned_node(const MicaDistribution *dist, long k);
 /* Collective: the 2-norm over the ranks of the owned entries of v (bitwise the same on every rank). */

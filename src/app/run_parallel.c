@@ -38,7 +38,6 @@ static int refuse_owned(const MicaDeck *deck, const char *path, const char *what
 int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt) {
   const char *linear, *layout;
   int flag;
-  long order;
   MICA_CALL(mica_deck_string(deck, "solver.linear", &linear));
   const MicaLinearSolverOps *ops = mica_linear_solver_find(linear);
   if (!ops || !mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED))
@@ -57,9 +56,6 @@ int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp, const M
   MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
   if (mls_opt.weight && mica_type_has(&mls_opt.weight->type, MLS_WEIGHT_ADAPTIVE))
     return refuse_owned(deck, "mls.weight", "use a weight without a per-particle shape parameter");
-  MICA_CALL(mica_deck_int(deck, "quadrature.error_order", &order));
-  if (order > 0) return refuse_owned(deck, "quadrature.error_order", "leave it 0 (the error norms on the solve's points)");
-  if (mica_deck_has(deck, "output.probes")) return refuse_owned(deck, "output.probes", "remove the probes");
   MICA_CALL(mica_deck_bool(deck, "output.mesh", &flag));
   if (flag) return refuse_owned(deck, "output.mesh", "set output.mesh = false (the particle VTU pieces are written)");
   MICA_CALL(mica_deck_bool(deck, "output.quadrature_fields", &flag));
@@ -70,13 +66,15 @@ int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp, const M
 int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
   MicaParallelOptions opt;
   const char *kind;
-  long overlap, iterations;
+  long overlap, iterations, error_order;
   memset(&opt, 0, sizeof opt);
   MICA_CALL(mica_deck_string(deck, "solver.parallel", &kind));
   MICA_CALL(mica_deck_int(deck, "solver.overlap", &overlap));
   MICA_CALL(mica_deck_float(deck, "solver.linear_rtol", &opt.rtol));
   MICA_CALL(mica_deck_int(deck, "solver.linear_max_iterations", &iterations));
   MICA_CALL(mica_deck_bool(deck, "output.monitor", &opt.verbose));
+  MICA_CALL(mica_deck_int(deck, "quadrature.error_order", &error_order));
+  opt.error_order = (int)error_order;
   MICA_CALL(check_distributed_solver(deck));
   opt.solver = strcmp(kind, "schwarz") ? MICA_PARALLEL_GATHER : MICA_PARALLEL_SCHWARZ;
   opt.overlap = (int)overlap;

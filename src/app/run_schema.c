@@ -163,7 +163,7 @@ const MicaDeckKey mica_run_schema[] = {
      "MPI runs: replicated — every rank builds all particles, the partition is METIS's and vectors are whole on "
      "every rank; distributed — each rank owns a block of a built-in shape's particle and cell index grids and "
      "holds only those, its points and a ghost layer (solver.linear = \"petsc\"; penalty, Nitsche or Lagrange "
-     "multipliers, background-cell quadrature with or without VCI; no probes or mesh output yet)"},
+     "multipliers, background-cell quadrature with or without VCI, probes, error norms; no mesh output yet)"},
     {"solver.overlap", MICA_KEY_INT, "2", 0, 100, NULL, 0, 0,
      "schwarz: layers of neighboring particles added to each rank's subdomain"},
     {"solver.linear_rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "cg, schwarz, petsc, cholmod-sym: the iterations stop at |r| ≤ linear_rtol |b|"},

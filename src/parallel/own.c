@@ -224,11 +224,34 @@ static int add_owned_supports(const Source *src, const long plo[3], const long p
   return ierr;
 }
 
+int mica_owned_cell_points(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                           const MicaDistribution *dist, int order, MicaDiscretization **disc) {
+  MicaGridBlock block;
+  MicaCellSpec c = *cells;
+  memset(&block, 0, sizeof block);
+  memcpy(block.cell_lo, dist->cell_lo, sizeof block.cell_lo);
+  memcpy(block.cell_hi, dist->cell_hi, sizeof block.cell_hi);
+  c.order = order;
+  return mica_discretization_create_block(shape, layout, &c, &block, disc);
+}
+
+/* ... and of the error norms' own points in the rank's cells (quadrature.error_order). */
+static int add_error_supports(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                              const MicaDistribution *dist, const Source *src, long **needed, long *nneeded) {
+  if (dist->opt.error_order <= 0) return MICA_SUCCESS;
+  MicaDiscretization *e = NULL;
+  MICA_CALL(mica_owned_cell_points(shape, layout, cells, dist, dist->opt.error_order, &e));
+  const int ierr = add_supports(src->mls, e->nquad, e->qx, needed, nneeded);
+  mica_discretization_destroy(&e);
+  return ierr;
+}
+
 /* The source's particles in the supports of its points: grown until they lie MARGIN layers inside it. */
 static int source_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                          const MlsOptions *mls_opt, const long n[3], const long m[3], const long plo[3],
-                         const long phi[3], const long clo[3], const long chi[3], Source *src, long **needed,
+                         const long phi[3], const MicaDistribution *dist, Source *src, long **needed,
                          long *nneeded) {
+  const long *clo = dist->cell_lo, *chi = dist->cell_hi;
   long layers = (long)ceil(mls_opt->dilation > 0 ? mls_opt->dilation : 1.0) + MARGIN;
   for (;;) {
     MICA_CALL(source_build(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, layers, src));
@@ -237,6 +260,7 @@ static int source_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layou
     MICA_CALL(add_supports(src->mls, d->nquad, d->qx, needed, nneeded));
     for (int s = 0; s < d->nsets; s++) MICA_CALL(add_supports(src->mls, d->sets[s].n, d->sets[s].x, needed, nneeded));
     MICA_CALL(add_owned_supports(src, plo, phi, needed, nneeded)); /* the fields are written at them */
+    MICA_CALL(add_error_supports(shape, layout, cells, dist, src, needed, nneeded));
     if (source_deep_enough(src, n, *needed, *nneeded)) return MICA_SUCCESS;
     source_free(src);
     free(*needed);
@@ -629,12 +653,37 @@ int mica_owned_node(const MicaDistribution *dist, long k) {
   return k < nlocal ? k < dist->nowned : dist->extra_owner[k - nlocal] == mica_parallel_rank();
 }
 
+/* ---- points evaluated by one rank ------------------------------------------------------------------------ */
+
+int mica_owned_point_rank(const MicaDistribution *dist, const double *x, int *root) {
+  const int P = mica_parallel_size(), rank = mica_parallel_rank();
+  long *ptr = NULL, *index = NULL;
+  int ierr = mica_point_supports(dist->mls, 1, x, &ptr, &index, NULL);
+  long counts[2] = {0, 0}; /* the owned particles covering x (summed: its whole support), the local ones */
+  if (!ierr) {
+    counts[1] = ptr[1];
+    for (long e = 0; e < ptr[1]; e++) counts[0] += index[e] < dist->nowned;
+  }
+  free(ptr), free(index);
+  MICA_CALL(mica_parallel_agree(ierr));
+  long total = 0;
+  MPI_Allreduce(&counts[0], &total, 1, MPI_LONG, MPI_SUM, mica_parallel_comm());
+  int mine = total > 0 && counts[1] == total ? rank : P;
+  MPI_Allreduce(&mine, root, 1, MPI_INT, MPI_MIN, mica_parallel_comm());
+  MICA_CHECK(total > 0, MICA_ERR_INPUT, "no particle's support covers the point (%g, %g, %g)", x[0],
+             mls_dim(dist->mls) > 1 ? x[1] : 0.0, mls_dim(dist->mls) > 2 ? x[2] : 0.0);
+  MICA_CHECK(*root < P, MICA_ERR_ARGUMENT,
+             "no rank holds all %ld particles whose supports cover the point (%g, %g, %g)", total, x[0],
+             mls_dim(dist->mls) > 1 ? x[1] : 0.0, mls_dim(dist->mls) > 2 ? x[2] : 0.0);
+  return MICA_SUCCESS;
+}
+
 /* ---- public ----------------------------------------------------------------------------------------------- */
 
 static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                        const MlsOptions *mls_opt, MicaDistribution *dist) {
   const int P = mica_parallel_size(), rank = mica_parallel_rank();
-  long n[3], m[3], per_cell, plo[3], phi[3], clo[3], chi[3], *offsets = NULL, *needed = NULL, nneeded = 0;
+  long n[3], m[3], per_cell, plo[3], phi[3], *offsets = NULL, *needed = NULL, nneeded = 0;
   long *map = NULL;
   Source src;
   memset(&src, 0, sizeof src);
@@ -659,8 +708,8 @@ static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
     if ((double)p->part_size[r] * P / (double)offsets[P] > p->imbalance)
       p->imbalance = (double)p->part_size[r] * P / (double)offsets[P];
   block_box(rank, dist->procs, n, plo, phi);
-  block_box(rank, dist->procs, m, clo, chi);
-  ierr = source_create(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, &src, &needed, &nneeded);
+  block_box(rank, dist->procs, m, dist->cell_lo, dist->cell_hi);
+  ierr = source_create(shape, layout, cells, mls_opt, n, m, plo, phi, dist, &src, &needed, &nneeded);
   if (!ierr) ierr = MICA_CALLOC(dist->local, 1);
   if (!ierr) take_points(&src, dist->local);
   if (!ierr) ierr = local_particles(&src, dist, n, needed, nneeded, offsets, &map);

@@ -9,6 +9,10 @@
 #     Cosserat manufactured solution with penalty and with Nitsche, the cube with penalty; and with MUMPS at P = 2, 3, 4 on a jittered and a graded layout;
 #   - VCI (auto: on for jittered particles): Cook's membrane jittered at P = 1-4 with MUMPS (LU) within 1e-10 of the
 #     serial cholmod-sym run, with GAMG (GMRES) at P = 2, 4 within 1e-7, the jittered 3-D cube at P = 2, 4 (MUMPS);
+#   - probes (each evaluated by the lowest rank holding the point's whole support): Cook's tip, a stress and the
+#     strain energy, the cube's corner and centre, the glide layer's four, a jittered VCI run's, at P = 2-4 within
+#     1e-10 (relative) of the serial run;
+#   - the error norms on quadrature.error_order's points (each rank's cells) within 1e-10 at P = 2, 4;
 #   - Lagrange multipliers: the Cosserat glide layer at P = 1-4 with MUMPS (LU) within 1e-10 of the serial UMFPACK
 #     run, with the serial dofs and nnz; GAMG refused;
 #   - no rank holds the whole problem: on a 12³ cube at P = 4, the ranks' owned particles, volume points and
@@ -158,6 +162,60 @@ check_vci vci_cube "2 4" tests/decks/parallel/cube.cfg --set "particles.count=[6
 check_layout graded tests/decks/parallel/cube.cfg --set "particles.count=[7,6,6]" --set quadrature.order=3 \
   --set particles.layout=\"graded\" --set "particles.grading=[4.0]" --set mls.spacing=\"far\"
 
+# ---- probes: evaluated by the lowest rank holding the point's whole support, broadcast ----------------------------
+# probe_same SERIAL OTHER KEY...: each probe of OTHER's summary within 1e-10 (relative) of SERIAL's
+probe_same() {
+  local ref=$1 dir=$2; shift 2
+  for key in "$@"; do
+    local a b
+    a=$(json_value "$key" "$ref/summary.json"); b=$(json_value "$key" "$dir/summary.json")
+    [ -n "$a" ] && [ -n "$b" ] || fail "probe $key missing in $ref or $dir"
+    awk -v a="$a" -v b="$b" 'BEGIN { d = a - b; if (d < 0) d = -d; s = a < 0 ? -a : a; exit !(d <= 1e-10 * s) }' \
+      || fail "$dir: probe $key = $b, serial $a: not within 1e-10"
+  done
+  ok "$(basename "$dir"): probes $* within 1e-10 of the serial run"
+}
+# check_probes NAME RANKS DECK KEYS [--set ...]
+check_probes() {
+  local name=$1 ranks=$2 deck=$3 keys=$4; shift 4
+  serial "$work/$name" "$deck" "$@"
+  for np in $ranks; do
+    distributed "$np" "$work/$name-$np" "$deck" "$@" --set solver.petsc=\"mumps\"
+    probe_same "$work/$name" "$work/$name-$np" $keys
+  done
+}
+# Cook's tip (a corner of the body), a stress inside, the strain energy (a sum over the ranks' points)
+check_probes probe_cook "2 3 4" input/cook_neohooke.cfg "tip_uy mid_sxx energy" --set "particles.count=[9,9]" \
+  --set solver.steps=4 --set output.vtu=false --set 'output.probes=({ name = "tip_uy"; point = [48.0, 60.0]; field = "uy"; },
+  { name = "mid_sxx"; point = [30.0, 40.0]; field = "sxx"; }, { name = "energy"; field = "energy"; })'
+# the cube's corner and its centre (on the interfaces of the 2 × 2 blocks at P = 4)
+check_probes probe_cube "2 4" input/cube3d.cfg "corner_ux centre_uy" --set "particles.count=[6,6,6]" \
+  --set quadrature.order=3 --set output.vtu=false --set 'output.probes=({ name = "corner_ux"; point = [1.0, 1.0, 1.0];
+  field = "ux"; }, { name = "centre_uy"; point = [0.5, 0.5, 0.5]; field = "uy"; })'
+# the glide layer's own probes (blocks along y: the top and the middle on different ranks; multipliers on rank 0)
+REFERENCE=umfpack check_probes probe_glide "2 3 4" input/cosserat_glide.cfg "phi_top ux_top phi_mid ux_mid" \
+  --set output.vtu=false
+# with VCI (jittered)
+REFERENCE=cholmod-sym check_probes probe_vci "2 4" tests/decks/parallel/cook.cfg "p_ux" "${jittered[@]}" --set output.vtu=false \
+  --set 'output.probes=({ name = "p_ux"; point = [24.0, 50.0]; field = "ux"; })'
+
+# ---- error norms on quadrature.error_order's own points: each rank's in its cells (their supports in its ghosts) --
+serial "$work/error_order" tests/decks/cosserat/nitsche.cfg --set quadrature.error_order=8
+for np in 2 4; do
+  distributed "$np" "$work/error_order-$np" tests/decks/cosserat/nitsche.cfg --set quadrature.error_order=8 \
+    --set solver.petsc=\"mumps\"
+  same "$work/error_order" "$work/error_order-$np" "$np" 1e-10
+  for key in error_points multiplier_nodes; do
+    [ "$(json_value $key "$work/error_order-$np/summary.json")" = "$(json_value $key "$work/error_order/summary.json")" ] \
+      || fail "error_order-$np: $key differs from the serial run's"
+  done
+  for key in error_h1 error_energy; do
+    awk -v a="$(json_value $key "$work/error_order/summary.json")" -v b="$(json_value $key "$work/error_order-$np/summary.json")" \
+      'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-10) }' || fail "error_order-$np: $key not within 1e-10"
+  done
+done
+ok "error norms with quadrature.error_order = 8 as serially at P = 2, 4"
+
 # ---- no rank holds the whole problem -----------------------------------------------------------------------
 medium=(--set "particles.count=[12,12,12]" --set quadrature.order=2 --set output.vtu=false)
 serial "$work/medium" tests/decks/parallel/cube.cfg "${medium[@]}"
@@ -206,8 +264,6 @@ refuse() { # refuse NAME PATTERN LINES...: exit 2 at -np 2 naming the deck's las
 pd='parallel = { data = "distributed"; };'
 refuse auto 'solver.linear is not available with parallel.data = "distributed"' 'solver = { steps = 1; };' "$pd"
 refuse mesh 'output.mesh is not available' 'output = { vtu = false; };' "$pd"
-refuse probes 'output.probes is not available' "$pd" \
-  'output = { mesh = false; probes = ( { name = "tip"; point = [48.0, 60.0]; field = "uy"; } ); };'
 refuse collocation 'bc.method is not available' "$pd" 'bc = { method = "collocation"; };'
 refuse irregular 'particles.layout is not available' "$pd" 'particles = { count = [9, 9]; layout = "irregular"; };'
 # serially too: a distributed deck means the same on one process
