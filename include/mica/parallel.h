@@ -170,12 +170,23 @@ typedef struct MicaDistribution {
   int nsets;
   /* parallel.data = "distributed" only (0 / NULL otherwise) */
   int owned;
+  int error_order;        /* the error norms' Gauss points per direction in a cell (quadrature.error_order; 0: none),
+                             whose supports each rank holds for its cells */
   int procs[3];           /* the block split of the particle and cell grids: blocks per axis */
+  long cell_lo[3], cell_hi[3]; /* this rank's block of the cell grid */
   long nowned, nghost;    /* local particles: owned ones first, then ghosts */
   long *global_node;      /* [nowned + nghost] each local particle's number in the ranks' contiguous numbering
                              (the offsets of the lower ranks' blocks + the position in its owner's block) */
   MlsApprox *mls;         /* the MLS approximation on the local particles, with the global run's radii */
   MicaGhostPlan ghosts;
+  /* extra nodes (Lagrange multipliers, mica_owned_add_nodes): local nodes nowned + nghost + k, k < nextra. With
+   * them the rows of each rank are its particles then its extra nodes, and global_node numbers both */
+  long nextra;
+  int *extra_owner;       /* [nextra] the rank owning each */
+  long nowned_nodes;      /* nowned + the extra nodes this rank owns */
+  long *owned_node;       /* [nowned_nodes] the local nodes this rank owns, in the order of their numbers */
+  long nglobal_nodes;     /* the nodes over all ranks (nparticles without extra nodes) */
+  MicaGhostPlan node_ghosts; /* the plan over ghost particles and ghost extra nodes */
 } MicaDistribution;
 
 /* Collective. parallel.data = "distributed": the particle and cell index grids of a built-in shape's regular,
@@ -184,7 +195,12 @@ typedef struct MicaDistribution {
  * boundary points, and its ghosts from the supports of those points (a box of the grid around its block, with
  * its own MLS search), and the MLS approximation of its particles (mls_opt) with the whole layout's radii. */
 int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
-                                   const MicaCellSpec *cells, const MlsOptions *mls_opt, MicaDistribution **dist);
+                                   const MicaCellSpec *cells, const MlsOptions *mls_opt, int error_order,
+                                   MicaDistribution **dist);
+/* The volume points of order `order` per direction in this rank's cells (quadrature.error_order's points: a
+ * discretization without particles or boundary points). */
+int mica_owned_cell_points(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                           const MicaDistribution *dist, int order, MicaDiscretization **disc);
 /* The blocks per axis the split of P ranks over a grid of cells[3] gives (procs[d] ≤ cells[d]); MICA_ERR_INPUT
  * if P does not fit the grid. */
 int mica_block_split(int P, int dim, const long cells[3], int procs[3]);
@@ -193,8 +209,23 @@ int mica_ghost_update(MicaDistribution *dist, double *v, int ncomp);
 /* Collective, after agreeing on ierr: each ghost's entries added into its owner's, then the owners' sums copied
  * back into the ghosts (v complete everywhere: the sum over ranks of their contributions). */
 int mica_ghost_sum(MicaDistribution *dist, int ierr, double *v, int ncomp);
+/* Collective, after agreeing on ierr: each ghost's entries added into its owner's (the ghosts keep theirs: the owners
+ * hold the sums, e.g. to solve there and mica_ghost_update the results). */
+int mica_ghost_reduce(MicaDistribution *dist, int ierr, double *v, int ncomp);
 /* Collective: mica_ghost_sum of a residual, after agreeing on ierr (the failure injection point "assemble"). */
 int mica_owned_residual(MicaDistribution *dist, int ierr, double *R, int ncomp);
+/* Collective: n extra local nodes (Lagrange multipliers) after the particles, node k named id[k] alike on every
+ * rank that holds it. Each is owned by the lowest rank holding it (decided at rank id mod P, which hears from all
+ * of them); the plan of the residual's exchange covers them (mica_owned_residual), and the numbering of the rows
+ * (global_node, owned_node, nglobal_nodes) puts each rank's owned extra nodes after its particles. */
+int mica_owned_add_nodes(MicaDistribution *dist, long n, const long *id);
+/* Collective: the rank that evaluates a field at point x (the same x on every rank): the lowest one whose local
+ * particles hold x's whole support — each rank counts its owned particles covering x, whose sum is the support's
+ * size, and its local ones. Its value is then the serial one (round-off apart). MICA_ERR_INPUT if no particle
+ * covers x. */
+int mica_owned_point_rank(const MicaDistribution *dist, const double *x, int *root);
+/* Whether this rank owns local node k (a particle or an extra node). */
+int mica_owned_node(const MicaDistribution *dist, long k);
 /* Collective: the 2-norm over the ranks of the owned entries of v (bitwise the same on every rank). */
 int mica_owned_norm(const MicaDistribution *dist, const double *v, int ncomp, double *norm);
 

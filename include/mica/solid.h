@@ -95,6 +95,12 @@ size_t mica_shape_cache_bytes(const MicaShapeCache *cache);
  * keeps its Hessians uncorrected). A particle whose support holds too few volume points to fix ξ is a
  * MICA_ERR_NUMERIC error naming it. */
 int mica_vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume);
+struct MicaDistribution;
+/* Collective. The same on a rank's share of distributed data (parallel.data = "distributed": disc, mls and volume
+ * the rank's, its particles owned first): each particle's sums are added at its owner (the ghost plan's reverse
+ * exchange), solved there, and ξ copied into the ghosts before the rank's points are corrected. */
+int mica_vci_correct_owned(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
+                           struct MicaDistribution *dist);
 
 /* Stabilized conforming nodal integration (docs/theory.md §nodal integration; Chen, Wu, Yoon & You 2001): a
  * cache of order 1 at the particles (disc's volume points after mica_discretization_nodal) whose dN is the

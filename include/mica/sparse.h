@@ -109,9 +109,11 @@ typedef struct MicaLinearLayout {
   const int *node_owner; /* [nnodes] ranks of comm; NULL: all on rank 0 */
   /* Local numbering (parallel.data = "distributed"): the matrices and vectors hold this rank's nodes only, the
    * nowned it owns first, then ghosts; node k is node_global[k] of the nglobal nodes, whose numbers are
-   * contiguous per rank in rank order. NULL: the matrices are in the global numbering. */
+   * contiguous per rank in rank order. NULL: the matrices are in the global numbering. owned_node[nowned]: the
+   * owned nodes in the order of their numbers when they are not the first nowned (multipliers after the ghosts). */
   const long *node_global;
   long nowned, nglobal;
+  const long *owned_node;
 } MicaLinearLayout;
 
 typedef struct MicaLinearSolverOps {

@@ -140,7 +140,8 @@ static int read_solver(const MicaDeck *deck, RunEstimate *est) {
   MICA_CALL(mica_deck_bool(deck, "geometry.axisymmetric", &axisymmetric));
   fe = !strcmp(method_name, "fe");
   /* before the model and the mesh are read: a first-order model and covering sets assumed */
-  const RunVciFacts facts = {.fe = fe, .axisymmetric = axisymmetric, .parallel = mica_parallel_active()};
+  RunVciFacts facts = {.fe = fe, .axisymmetric = axisymmetric};
+  MICA_CALL(run_vci_replicated_parallel(deck, &facts.parallel));
   RunVciChoice vci;
   MICA_CALL(run_vci_choose(deck, &facts, &vci));
   const MicaType *method;

@@ -1,6 +1,7 @@
 /* output.probes: values of the final solution reported in summary.json (and printed), each a field at a point
  * or the strain energy of the whole body. Checked before the solve (the point in the body, or extrapolate =
- * true). Every rank computes them (the energy sums over the ranks' points). */
+ * true). Every rank computes them (the energy sums over the ranks' points); with parallel.data = "distributed" a
+ * point probe is evaluated by the lowest rank holding its whole support (mica_owned_point_rank) and broadcast. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -95,6 +96,25 @@ static int probe_point(const RunProblem *rp, int i, const char *name, double poi
   return MICA_SUCCESS;
 }
 
+/* The field at a point from the shape functions there: a cache of one point, from the approximation (it finds the
+ * element). */
+static int probe_value(const RunProblem *rp, const char *name, const char *field, const double *point,
+                       const char *where, const double *u, double *raw) {
+  const MicaSolid *s = rp->solid;
+  MicaShapeCache *c = NULL;
+  int ierr = rp->approx.ops->points(rp->approx.ctx, 1, point, NULL, s->opt.field.ops->order, "probe", &c);
+  if (ierr) {
+    mica_error_prefix("%s: probe '%s'", where, name);
+    return mica_error_trace(__FILE__, __LINE__, __func__, ierr == MICA_ERR_NUMERIC ? MICA_ERR_INPUT : ierr);
+  }
+  double q[128] = {0}, sigma[9], couple[9] = {0}, strain[9];
+  mica_solid_kinematics(s, c, 0, u, q);
+  mica_shape_cache_destroy(&c);
+  MICA_CALL(run_stresses(rp, q, sigma, couple, strain));
+  *raw = probe_field(rp, field, q, strain, sigma, couple);
+  return MICA_SUCCESS;
+}
+
 /* The raw value of a point probe: the field at the deck's point. */
 static int probe_at_point(RunProblem *rp, int i, const char *name, const char *field, const double *u, double *raw) {
   const MicaSolid *s = rp->solid;
@@ -109,19 +129,16 @@ static int probe_at_point(RunProblem *rp, int i, const char *name, const char *f
              "%s: probe '%s': strains are reported for classical models only", where, name);
   MICA_CHECK(!rp->axisymmetric || point[0] > 0, MICA_ERR_INPUT,
              "%s: probe '%s': an axisymmetric probe needs r > 0 (the hoop terms divide by r)", where, name);
-  /* the shape functions at the point: a cache of one point, from the approximation (it finds the element) */
-  MicaShapeCache *c = NULL;
-  int ierr = rp->approx.ops->points(rp->approx.ctx, 1, point, NULL, s->opt.field.ops->order, "probe", &c);
+  if (!rp->owned_data) return probe_value(rp, name, field, point, where, u, raw);
+  /* parallel.data = "distributed": the lowest rank holding the point's whole support answers */
+  int root;
+  int ierr = mica_owned_point_rank(rp->dist, point, &root);
   if (ierr) {
     mica_error_prefix("%s: probe '%s'", where, name);
-    return mica_error_trace(__FILE__, __LINE__, __func__, ierr == MICA_ERR_NUMERIC ? MICA_ERR_INPUT : ierr);
+    return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
   }
-  double q[128] = {0}, sigma[9], couple[9] = {0}, strain[9];
-  mica_solid_kinematics(s, c, 0, u, q);
-  mica_shape_cache_destroy(&c);
-  MICA_CALL(run_stresses(rp, q, sigma, couple, strain));
-  *raw = probe_field(rp, field, q, strain, sigma, couple);
-  return MICA_SUCCESS;
+  ierr = mica_parallel_rank() == root ? probe_value(rp, name, field, point, where, u, raw) : MICA_SUCCESS;
+  return mica_parallel_broadcast(ierr, raw, 1, root);
 }
 
 static int probe_one(RunProblem *rp, int i, const double *u, MicaJson *summary) {

@@ -37,9 +37,10 @@ static int check_nitsche_model(const MicaDeck *deck, const MicaSolidOptions *opt
  * boundary sets that cover the whole boundary once ("auto" turns off where these fail, and says why). */
 static int read_vci(const MicaDeck *deck, RunProblem *rp, MicaSolidOptions *opt) {
   const MicaDiscretization *disc = rp->disc;
-  const RunVciFacts facts = {.fe = rp->fe != NULL, .model_order = opt->field.ops->order,
-                             .axisymmetric = opt->axisymmetric, .parallel = mica_parallel_active(),
-                             .symmetric_only = rp->symmetric_only, .boundary_uncovered = disc->boundary_uncovered};
+  RunVciFacts facts = {.fe = rp->fe != NULL, .model_order = opt->field.ops->order,
+                       .axisymmetric = opt->axisymmetric, .symmetric_only = rp->symmetric_only,
+                       .boundary_uncovered = disc->boundary_uncovered};
+  MICA_CALL(run_vci_replicated_parallel(deck, &facts.parallel));
   MICA_CALL(run_vci_choose(deck, &facts, &rp->vci));
   opt->vci = rp->vci.on;
   MICA_CALL(run_vci_report(&rp->vci, opt));

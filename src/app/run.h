@@ -43,7 +43,8 @@ int run_mesh_file_check(const MicaDeck *deck, const char *path);
 /* quadrature.vci (run_vci.c): "auto" (the default) decides by the layout and by what the run combines it
  * with, in one place; true and false are taken as given. */
 typedef struct RunVciFacts {
-  int fe, model_order, axisymmetric, parallel, symmetric_only; /* model_order 0: not known yet (1 assumed) */
+  int fe, model_order, axisymmetric, symmetric_only; /* model_order 0: not known yet (1 assumed) */
+  int parallel; /* under MPI with replicated data (distributed data has VCI) */
   long boundary_uncovered;
 } RunVciFacts;
 typedef struct RunVciChoice {
@@ -52,6 +53,8 @@ typedef struct RunVciChoice {
   char reason[128]; /* auto: why on or off */
 } RunVciChoice;
 int run_vci_choose(const MicaDeck *deck, const RunVciFacts *facts, RunVciChoice *c);
+/* Whether this is an MPI run with parallel.data = "replicated" (RunVciFacts.parallel). */
+int run_vci_replicated_parallel(const MicaDeck *deck, int *replicated);
 /* auto: one line at the start of the run, what it chose, why and what it costs. */
 int run_vci_report(const RunVciChoice *c, const MicaSolidOptions *opt);
 /* vci_setting ("auto", "true", "false") and, for auto, vci_reason. */

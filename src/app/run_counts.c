@@ -54,12 +54,15 @@ static int add_counts(RunProblem *rp, const RunTotals *c, MicaJson *summary) {
   MICA_CALL(mica_json_int(summary, "quadrature_points", c->quadrature_points));
   /* the error norms' points: quadrature.error_order's own, else the solve's (the Gauss points of the nodal cells
    * for the nodal modes) */
-  const long error_points = rp->error_disc ? rp->error_disc->nquad : rp->disc->nodal ? rp->disc->ngauss
-                                                                                      : c->quadrature_points;
+  long error_points = rp->error_disc ? rp->error_disc->nquad : rp->disc->nodal ? rp->disc->ngauss
+                                                                                : c->quadrature_points;
+  if (rp->owned_data && rp->error_disc) error_points = mica_parallel_sum_long(error_points); /* the ranks' cells' */
   MICA_CALL(mica_json_int(summary, "error_points", error_points));
   MICA_CALL(mica_json_int(summary, "boundary_points", c->boundary_points));
   MICA_CALL(mica_json_int(summary, "dofs", c->dofs));
-  MICA_CALL(mica_json_int(summary, "multiplier_nodes", s->nmultiplier_nodes));
+  /* distributed data: the ranks' own ones (a node on two ranks' faces once) */
+  const long multipliers = rp->owned_data ? rp->dist->nglobal_nodes - rp->dist->nparticles : s->nmultiplier_nodes;
+  MICA_CALL(mica_json_int(summary, "multiplier_nodes", multipliers));
   MICA_CALL(mica_json_int(summary, "nnz", c->nnz));
   MICA_CALL(mica_json_int(summary, "support_max", c->max_support));
   MICA_CALL(mica_json_number(summary, "support_mean", (double)c->support_entries / (double)c->support_points));

@@ -272,6 +272,8 @@ int run_error_discretization(const RunProblem *rp, MicaDiscretization **disc) {
   char mesh[PATH_MAX];
   MICA_CALL(run_read_shape(rp->deck, &shape, mesh, sizeof mesh));
   MICA_CALL(run_read_layout(rp->deck, shape.dim, shape.kind == MICA_SHAPE_GMSH, &layout, &cells));
+  if (rp->owned_data) /* the points in this rank's cells (the distribution holds their supports) */
+    return mica_owned_cell_points(&shape, &layout, &cells, rp->dist, (int)order, disc);
   cells.order = (int)order;
   MICA_CALL(mica_discretization_create(&shape, &layout, &cells, disc));
   const int ierr = rp->axisymmetric ? mica_discretization_revolve(*disc) : MICA_SUCCESS;

@@ -473,12 +473,13 @@ int run_error_points(RunProblem *rp, const MicaShapeCache **c, const double **x,
   const MicaDiscretization *disc = rp->solid->disc; /* under MPI, this rank's points (nodal modes are serial) */
   *whole = 0;
   if (!rp->error_disc) MICA_CALL(run_error_discretization(rp, &rp->error_disc));
-  if (rp->error_disc) { /* quadrature.error_order: every point on every rank (u is whole on each) */
+  if (rp->error_disc) { /* quadrature.error_order: every point on every rank (u is whole on each; with distributed
+                           data, the points of the rank's cells) */
     const MicaDiscretization *e = rp->error_disc;
     if (!rp->at_gauss)
       MICA_CALL(rp->approx.ops->points(rp->approx.ctx, e->nquad, e->qx, NULL, rp->solid->opt.field.ops->order,
                                        "error-norm Gauss", &rp->at_gauss));
-    *c = rp->at_gauss, *x = e->qx, *w = e->qw, *whole = 1;
+    *c = rp->at_gauss, *x = e->qx, *w = e->qw, *whole = !rp->owned_data; /* distributed: this rank's cells' */
     return MICA_SUCCESS;
   }
   *c = rp->solid->volume, *x = disc->qx, *w = disc->qw;

@@ -20,7 +20,6 @@ static int refuse_owned(const MicaDeck *deck, const char *path, const char *what
 int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt) {
   const char *linear, *layout;
   int flag;
-  long order;
   MICA_CALL(mica_deck_string(deck, "solver.linear", &linear));
   const MicaLinearSolverOps *ops = mica_linear_solver_find(linear); /* NULL: "auto", petsc under MPI */
   if (ops && !mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED))
@@ -33,17 +32,12 @@ int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp, const M
   if (rp->axisymmetric) return refuse_owned(deck, "geometry.axisymmetric", "run a plane or 3-D solid");
   if (rp->fe) return refuse_owned(deck, "problem.method", "use problem.method = \"efg\"");
   if (rp->disc->nodal) return refuse_owned(deck, "quadrature.mode", "use quadrature.mode = \"gauss\"");
-  if (mica_bc_method_has(opt->bc_method, MICA_BC_MULTIPLIERS) ||
-      mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION))
-    return refuse_owned(deck, "bc.method", "use bc.method = \"penalty\" or \"nitsche\"");
-  if (opt->vci) return refuse_owned(deck, "quadrature.vci", "set quadrature.vci = false");
+  if (mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION))
+    return refuse_owned(deck, "bc.method", "use bc.method = \"penalty\", \"nitsche\" or \"lagrange\"");
   MlsOptions mls_opt;
   MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
   if (mls_opt.weight && mica_type_has(&mls_opt.weight->type, MLS_WEIGHT_ADAPTIVE))
     return refuse_owned(deck, "mls.weight", "use a weight without a per-particle shape parameter");
-  MICA_CALL(mica_deck_int(deck, "quadrature.error_order", &order));
-  if (order > 0) return refuse_owned(deck, "quadrature.error_order", "leave it 0 (the error norms on the solve's points)");
-  if (mica_deck_has(deck, "output.probes")) return refuse_owned(deck, "output.probes", "remove the probes");
   MICA_CALL(mica_deck_bool(deck, "output.mesh", &flag));
   if (flag) return refuse_owned(deck, "output.mesh", "set output.mesh = false (the particle VTU pieces are written)");
   MICA_CALL(mica_deck_bool(deck, "output.quadrature_fields", &flag));
@@ -60,8 +54,10 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
     char mesh[PATH_MAX];
     MICA_CALL(run_read_shape(deck, &shape, mesh, sizeof mesh));
     MICA_CALL(run_read_layout(deck, shape.dim, 0, &layout, &cells));
+    long error_order;
     MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
-    MICA_CALL(mica_distribution_create_owned(&shape, &layout, &cells, &mls_opt, &rp->dist));
+    MICA_CALL(mica_deck_int(deck, "quadrature.error_order", &error_order));
+    MICA_CALL(mica_distribution_create_owned(&shape, &layout, &cells, &mls_opt, (int)error_order, &rp->dist));
     const MicaDistribution *d = rp->dist;
     printf("MPI: %d ranks, parallel.data = distributed: blocks %d × %d × %d of the index grids, particles per rank "
            "%ld (+ up to %ld ghosts), quadrature points per rank %ld to %ld (%.3g s)\n",
@@ -83,9 +79,9 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
 /* parallel.data = "distributed": the whole problem's counts are the sums of the ranks' owned parts. */
 static int owned_totals(const RunProblem *rp, RunTotals *c) {
   const MicaDistribution *d = rp->dist;
-  MICA_CALL(mica_parallel_matrix_nnz_mapped(rp->solid->K, d->global_node, d->nparticles, &c->nnz));
+  MICA_CALL(mica_parallel_matrix_nnz_mapped(rp->solid->K, d->global_node, d->nglobal_nodes, &c->nnz));
   c->particles = d->nparticles;
-  c->dofs = d->nparticles * rp->solid->ncomp;
+  c->dofs = d->nglobal_nodes * rp->solid->ncomp; /* with the multiplier nodes, as serially */
   c->cells = mica_parallel_sum_long(c->cells);
   c->quadrature_points = mica_parallel_sum_long(c->quadrature_points);
   c->boundary_points = mica_parallel_sum_long(c->boundary_points);

@@ -17,7 +17,7 @@ static const char *unavailable(const RunVciFacts *f, unsigned mode, const char *
   if (f->axisymmetric) return "axisymmetric solid: no VCI for the hoop terms";
   if (mode & RUN_INTEGRATION_SMOOTHED) return "quadrature.mode = \"scni\" passes the linear patch test itself";
   if (mode & RUN_INTEGRATION_NODAL) return "direct nodal integration is shown as it is";
-  if (f->parallel) return "VCI is not available in parallel runs yet";
+  if (f->parallel) return "VCI is not available in parallel runs with parallel.data = replicated";
   if (f->boundary_uncovered > 0) return "the mesh's boundary sets do not cover the boundary once";
   if (f->symmetric_only) return "this analysis needs the symmetric Galerkin tangent";
   const MicaLinearSolverOps *solver = strcmp(linear, "auto") ? mica_linear_solver_find(linear) : NULL;
@@ -36,6 +36,13 @@ static int by_layout(const MicaDeck *deck, RunVciChoice *c) {
   snprintf(c->reason, sizeof c->reason, "%s", gmsh ? "Gmsh mesh nodes" : grid ? "particles on a grid"
                                                    : !strcmp(layout, "jittered") ? "jittered layout"
                                                                                  : "irregular layout");
+  return MICA_SUCCESS;
+}
+
+int run_vci_replicated_parallel(const MicaDeck *deck, int *replicated) {
+  const char *data;
+  MICA_CALL(mica_deck_string(deck, "parallel.data", &data));
+  *replicated = mica_parallel_active() && strcmp(data, "distributed") != 0;
   return MICA_SUCCESS;
 }
 

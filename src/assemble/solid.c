@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "mica/kernel.h"
+#include "mica/parallel.h"
 #include "mica/solid.h"
 #include "mica/timer.h"
 
@@ -254,9 +255,9 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
   MICA_CHECK(!opt->scni || (opt->field.ops->order == 1 && !opt->axisymmetric), MICA_ERR_INPUT,
              "SCNI smooths first derivatives of plane or 3-D fields only; model '%s'%s", opt->field.ops->type.name,
              opt->axisymmetric ? " is axisymmetric" : " uses second derivatives");
-  MICA_CHECK(!opt->vci || !opt->parallel, MICA_ERR_INPUT,
-             "quadrature.vci is not available in parallel runs yet (its correction sums over every particle's "
-             "support); run on one process");
+  MICA_CHECK(!opt->vci || !opt->parallel || opt->parallel->owned, MICA_ERR_INPUT,
+             "quadrature.vci is not available in parallel runs with parallel.data = \"replicated\" (its correction "
+             "sums over every particle's support); use parallel.data = \"distributed\", or run on one process");
   MICA_CHECK(!opt->parallel || !mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION), MICA_ERR_INPUT,
              "bc.method = \"%s\" replaces equations of the assembled system, which a parallel run sums over the "
              "ranks; run on one process, or use another bc.method", opt->bc_method->type.name);
@@ -267,10 +268,13 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
   return MICA_SUCCESS;
 }
 
-/* VCI: corrected test gradients in the volume cache (vci.c), timed for the summary. */
+/* VCI: corrected test gradients in the volume cache (vci.c), timed for the summary; over the ranks with
+ * distributed data (collective: at the end of the solid's creation, owned_collectives). */
 static int apply_vci(MicaSolid *s) {
   const double start = mica_wtime();
-  MICA_CALL(mica_vci_correct(s->disc, s->mls, s->opt.basis_order, s->volume));
+  MicaDistribution *dist = s->opt.parallel;
+  if (dist && dist->owned) MICA_CALL(mica_vci_correct_owned(s->disc, s->mls, s->opt.basis_order, s->volume, dist));
+  else MICA_CALL(mica_vci_correct(s->disc, s->mls, s->opt.basis_order, s->volume));
   s->time_vci = mica_wtime() - start;
   return MICA_SUCCESS;
 }
@@ -304,7 +308,7 @@ static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
   s->time_shape += mica_wtime() - start;
   s->time_search += s->volume->time_search;
   s->caches_built++;
-  if (opt->vci) MICA_CALL(apply_vci(s));
+  if (opt->vci && !(opt->parallel && opt->parallel->owned)) MICA_CALL(apply_vci(s));
   return MICA_SUCCESS;
 }
 
@@ -329,6 +333,33 @@ static int cell_scratch(MicaSolid *s) {
   return MICA_SUCCESS;
 }
 
+/* parallel.data = "distributed": the multiplier nodes' owners and rows over the ranks, each named by its
+ * condition and its vertex's key in the grid of cell corners (the same on every rank that holds it). */
+static int owned_multipliers(MicaSolid *s) {
+  long *id = NULL;
+  const long first = s->nparticles;
+  MICA_CALL(MICA_MALLOC(id, s->nmultiplier_nodes + 1));
+  int ierr = MICA_SUCCESS;
+  for (int c = 0; c < s->ndirichlet && !ierr; c++) {
+    const MicaBoundarySet *set = &s->disc->sets[s->dirichlet[c].set];
+    if (!set->vertex_key && set->nvertices)
+      ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_ARGUMENT, "set '%s': no vertex keys", set->name);
+    for (long v = 0; !ierr && v < set->nvertices; v++)
+      id[s->multiplier_offset[c] - first + v] = set->vertex_key[v] * s->ndirichlet + c;
+  }
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MICA_CALL_CLEANUP(mica_owned_add_nodes(s->opt.parallel, s->nmultiplier_nodes, id));
+cleanup:
+  free(id);
+  return ierr;
+}
+
+/* Whether the solid's creation ends in collectives over distributed data (every rank reaches them, or agrees on
+ * the failure that stopped it). */
+static int owned_collectives(const MicaSolidOptions *opt) {
+  return opt->parallel && opt->parallel->owned && (opt->vci || mica_bc_method_has(opt->bc_method, MICA_BC_MULTIPLIERS));
+}
+
 int mica_solid_create(const MicaDiscretization *disc, const MicaApprox *approx, const MicaSolidOptions *opt,
                       int ndirichlet, MicaDirichlet *dirichlet, int ntraction, MicaTraction *traction,
                       MicaSolid **out) {
@@ -341,7 +372,7 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
   *out = NULL;
   MicaSolid *s;
   MICA_CALL(MICA_CALLOC(s, 1));
-  int ierr = MICA_SUCCESS;
+  int ierr = MICA_SUCCESS, agreed = 0;
   s->disc = disc;
   s->approx = *approx;
   s->mls = mica_approx_has(approx->ops, MICA_APPROX_MLS) ? approx->ctx : NULL;
@@ -372,9 +403,16 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
   MICA_CALL_CLEANUP(MICA_MALLOC(s->work, (long)s->nq * s->nq + m * m + m * s->nq + 8 * m * s->ncomp + 64));
   MICA_CALL_CLEANUP(MICA_MALLOC(s->work_nodes, largest_clique(s)));
   MICA_CALL_CLEANUP(cell_scratch(s));
+  if (owned_collectives(opt)) {
+    agreed = 1;
+    MICA_CALL_CLEANUP(mica_parallel_agree(MICA_SUCCESS));
+    if (opt->vci) MICA_CALL_CLEANUP(apply_vci(s));
+    if (mica_bc_method_has(opt->bc_method, MICA_BC_MULTIPLIERS)) MICA_CALL_CLEANUP(owned_multipliers(s));
+  }
   *out = s;
   return MICA_SUCCESS;
 cleanup:
+  if (owned_collectives(opt) && !agreed) mica_parallel_agree(ierr);
   mica_solid_destroy(&s); /* it owns the conditions and body force from the start, failure or not */
   return ierr;
 }

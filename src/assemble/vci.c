@@ -11,6 +11,7 @@
 #include <lapacke.h> /* it includes complex.h, whose macro I rules out that name: particles are `part` */
 #include <string.h>
 
+#include "mica/parallel.h"
 #include "mica/solid.h"
 
 enum { VCI_MAX_TERMS = 10 }; /* monomials of degree ≤ 2 in 3-D (basis order 3) */
@@ -71,7 +72,7 @@ static void local_coordinates(const MlsApprox *mls, long part, const double *x, 
 typedef struct {
   Monomials basis;
   double *A, *r;
-  long *npoints;
+  double *npoints; /* a count, as a double so that distributed data sums it with the others */
 } Systems;
 
 /* A_I += w q qᵀ and r_Id −= w (∂_d N_I q + N_I ∂_d q) at every volume point, for every supporting I. */
@@ -142,7 +143,7 @@ static int solve_particle(const MlsApprox *mls, long part, Systems *sys) {
     MICA_ERROR(MICA_ERR_NUMERIC,
                "VCI: particle %ld at (%g, %g, %g) has %ld volume quadrature points in its support, which do not "
                "determine its %d correction terms (LAPACK info %d); raise quadrature.order or mls.dilation",
-               part + 1, x[0], x[1], dim == 3 ? x[2] : 0.0, sys->npoints[part], m, (int)info);
+               part + 1, x[0], x[1], dim == 3 ? x[2] : 0.0, (long)sys->npoints[part], m, (int)info);
   }
   return MICA_SUCCESS;
 }
@@ -166,7 +167,17 @@ static void correct_gradients(const MicaDiscretization *disc, const MlsApprox *m
     }
 }
 
-int mica_vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume) {
+/* parallel.data = "distributed": a particle's sums span the ranks whose points its support reaches; they are added
+ * at its owner, which solves, and its ξ is copied into its ghosts. */
+static int owned_sums(MicaDistribution *dist, int ierr, Systems *sys, int dim) {
+  const int m = sys->basis.m;
+  MICA_CALL(mica_ghost_reduce(dist, ierr, sys->A, m * m));
+  MICA_CALL(mica_ghost_reduce(dist, MICA_SUCCESS, sys->r, m * dim));
+  return mica_ghost_reduce(dist, MICA_SUCCESS, sys->npoints, 1);
+}
+
+static int vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
+                       MicaDistribution *dist) {
   MICA_CHECK(volume->npoints == disc->nquad && volume->dim == disc->dim, MICA_ERR_ARGUMENT,
              "mica_vci_correct: the cache is not at the discretization's volume points");
   MICA_CHECK(disc->boundary_uncovered == 0, MICA_ERR_INPUT,
@@ -178,12 +189,18 @@ int mica_vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int n
   int ierr = MICA_SUCCESS;
   MICA_CALL(monomials_init(dim, (n > 1 ? n : 1) - 1, &sys.basis));
   const int m = sys.basis.m;
-  MICA_CALL_CLEANUP(MICA_CALLOC(sys.A, np * m * m));
-  MICA_CALL_CLEANUP(MICA_CALLOC(sys.r, np * m * dim));
-  MICA_CALL_CLEANUP(MICA_CALLOC(sys.npoints, np));
-  add_volume(disc, mls, volume, &sys);
-  MICA_CALL_CLEANUP(add_boundary(disc, mls, &sys));
-  for (long part = 0; part < np; part++) MICA_CALL_CLEANUP(solve_particle(mls, part, &sys));
+  ierr = MICA_CALLOC(sys.A, np * m * m);
+  if (!ierr) ierr = MICA_CALLOC(sys.r, np * m * dim);
+  if (!ierr) ierr = MICA_CALLOC(sys.npoints, np);
+  if (!ierr) add_volume(disc, mls, volume, &sys);
+  if (!ierr) ierr = add_boundary(disc, mls, &sys);
+  if (dist) MICA_CALL_CLEANUP(owned_sums(dist, ierr, &sys, dim));
+  MICA_CALL_CLEANUP(ierr);
+  const long nsolve = dist ? dist->nowned : np; /* distributed: at the owned particles */
+  for (long part = 0; part < nsolve && !ierr; part++) ierr = solve_particle(mls, part, &sys);
+  if (dist) MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MICA_CALL_CLEANUP(ierr);
+  if (dist) MICA_CALL_CLEANUP(mica_ghost_update(dist, sys.r, m * dim)); /* ξ at the ghosts */
   MICA_FREE(volume->dN_test);
   MICA_CALL_CLEANUP(MICA_MALLOC(volume->dN_test, nnz * dim));
   correct_gradients(disc, mls, &sys, volume);
@@ -192,4 +209,13 @@ cleanup:
   MICA_FREE(sys.r);
   MICA_FREE(sys.npoints);
   return ierr;
+}
+
+int mica_vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume) {
+  return vci_correct(disc, mls, n, volume, NULL);
+}
+
+int mica_vci_correct_owned(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
+                           MicaDistribution *dist) {
+  return vci_correct(disc, mls, n, volume, dist);
 }

@@ -72,6 +72,14 @@ static int lagrange_point(MicaSolid *s, const MicaDirichlet *c, long p, double t
   return mica_sparse_add_clique(K, n, nodes, Ke);
 }
 
+/* Who pins a multiplier node: the one process, rank 0 with replicated data (its pattern holds every multiplier
+ * node's block), the node's owner with distributed data. */
+static int pins_node(const MicaSolid *s, long node) {
+  const MicaDistribution *dist = s->opt.parallel;
+  if (!dist) return 1;
+  return dist->owned ? mica_owned_node(dist, node) : mica_parallel_rank() == 0;
+}
+
 /* Multiplier components that are not prescribed: λ_b = 0 through an identity row and column. */
 static int pin_free_components(MicaSolid *s, const MicaDirichlet *c, const double *u, double *R, MicaSparse *K) {
   const int dim = s->ncomp, cond = condition_index(s, c); /* unknowns per node */
@@ -79,6 +87,7 @@ static int pin_free_components(MicaSolid *s, const MicaDirichlet *c, const doubl
   double block[MICA_MAX_COMP * MICA_MAX_COMP];
   for (long v = 0; v < nvertices; v++) {
     const long node = s->multiplier_offset[cond] + v;
+    if (!pins_node(s, node)) continue;
     memset(block, 0, sizeof block);
     for (int b = 0; b < dim; b++)
       if (!(c->mask & (1 << b))) {
@@ -93,8 +102,7 @@ static int pin_free_components(MicaSolid *s, const MicaDirichlet *c, const doubl
 static int lagrange_add(MicaSolid *s, const MicaDirichlet *c, double t, const double *u, double *R, MicaSparse *K) {
   const long npoints = s->boundary[c->set]->npoints;
   for (long p = 0; p < npoints; p++) MICA_CALL(lagrange_point(s, c, p, t, u, R, K));
-  /* once per problem: by rank 0 in a parallel run (whose pattern holds every multiplier node's block) */
-  if (!s->opt.parallel || mica_parallel_rank() == 0) MICA_CALL(pin_free_components(s, c, u, R, K));
+  MICA_CALL(pin_free_components(s, c, u, R, K)); /* once per problem (pins_node) */
   return MICA_SUCCESS;
 }
 

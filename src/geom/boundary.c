@@ -44,6 +44,7 @@ void geom_set_free(MicaBoundarySet *set) {
   MICA_FREE(set->element_vertices);
   MICA_FREE(set->cell);
   MICA_FREE(set->grid_cell);
+  MICA_FREE(set->vertex_key);
 }
 
 /* ---- faces of the grid on a set ---- */
@@ -240,6 +241,8 @@ static int build_set(const GeomMap *map, const GeomGrid *grid, const GeomSetSpec
     }
     MICA_CALL_CLEANUP(face_points(map, grid, &faces[e], order, u, wu, e, set, &q));
   }
+  set->vertex_key = keys; /* the set's vertices in key order: vertex v is keys[v] */
+  keys = NULL;
 cleanup:
   MICA_FREE(faces);
   MICA_FREE(keys);

@@ -68,9 +68,12 @@ int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOp
              "gives each rank's subdomain to CHOLMOD)",
              ops->type.name);
   /* each rank's rows are those of its particles */
-  MicaLinearLayout layout = {mica_parallel_comm(), dist->partition->n, dist->partition->part, NULL, 0, 0};
-  if (dist->owned) /* parallel.data = "distributed": local numbering, owned particles first */
-    layout.node_global = dist->global_node, layout.nowned = dist->nowned, layout.nglobal = dist->nparticles;
+  MicaLinearLayout layout = {mica_parallel_comm(), dist->partition->n, dist->partition->part, NULL, 0, 0, NULL};
+  if (dist->owned) { /* parallel.data = "distributed": local numbering, owned particles first (then multipliers) */
+    layout.nnodes = dist->nowned + dist->nghost + dist->nextra;
+    layout.node_global = dist->global_node, layout.nowned = dist->nowned_nodes, layout.nglobal = dist->nglobal_nodes;
+    layout.owned_node = dist->owned_node;
+  }
   MicaLinearSolver *inner = NULL;
   MICA_CALL(mica_linear_solver_create(ops, &inner));
   int ierr = mica_linear_solver_set_layout(inner, &layout);

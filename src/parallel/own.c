@@ -224,11 +224,34 @@ static int add_owned_supports(const Source *src, const long plo[3], const long p
   return ierr;
 }
 
+int mica_owned_cell_points(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                           const MicaDistribution *dist, int order, MicaDiscretization **disc) {
+  MicaGridBlock block;
+  MicaCellSpec c = *cells;
+  memset(&block, 0, sizeof block);
+  memcpy(block.cell_lo, dist->cell_lo, sizeof block.cell_lo);
+  memcpy(block.cell_hi, dist->cell_hi, sizeof block.cell_hi);
+  c.order = order;
+  return mica_discretization_create_block(shape, layout, &c, &block, disc);
+}
+
+/* ... and of the error norms' own points in the rank's cells (quadrature.error_order). */
+static int add_error_supports(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                              const MicaDistribution *dist, const Source *src, long **needed, long *nneeded) {
+  if (dist->error_order <= 0) return MICA_SUCCESS;
+  MicaDiscretization *e = NULL;
+  MICA_CALL(mica_owned_cell_points(shape, layout, cells, dist, dist->error_order, &e));
+  const int ierr = add_supports(src->mls, e->nquad, e->qx, needed, nneeded);
+  mica_discretization_destroy(&e);
+  return ierr;
+}
+
 /* The source's particles in the supports of its points: grown until they lie MARGIN layers inside it. */
 static int source_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                          const MlsOptions *mls_opt, const long n[3], const long m[3], const long plo[3],
-                         const long phi[3], const long clo[3], const long chi[3], Source *src, long **needed,
+                         const long phi[3], const MicaDistribution *dist, Source *src, long **needed,
                          long *nneeded) {
+  const long *clo = dist->cell_lo, *chi = dist->cell_hi;
   long layers = (long)ceil(mls_opt->dilation > 0 ? mls_opt->dilation : 1.0) + MARGIN;
   for (;;) {
     MICA_CALL(source_build(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, layers, src));
@@ -237,6 +260,7 @@ static int source_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layou
     MICA_CALL(add_supports(src->mls, d->nquad, d->qx, needed, nneeded));
     for (int s = 0; s < d->nsets; s++) MICA_CALL(add_supports(src->mls, d->sets[s].n, d->sets[s].x, needed, nneeded));
     MICA_CALL(add_owned_supports(src, plo, phi, needed, nneeded)); /* the fields are written at them */
+    MICA_CALL(add_error_supports(shape, layout, cells, dist, src, needed, nneeded));
     if (source_deep_enough(src, n, *needed, *nneeded)) return MICA_SUCCESS;
     source_free(src);
     free(*needed);
@@ -325,10 +349,13 @@ static int local_mls(const Source *src, const MlsOptions *mls_opt, const long *m
 
 /* ---- the ghost plan --------------------------------------------------------------------------------------- */
 
-/* Each ghost is asked of its owner by its position in the owner's block: the owners learn what to send. */
-static int ghost_plan(MicaDistribution *dist, const long *offsets) {
-  MicaGhostPlan *g = &dist->ghosts;
-  const int P = mica_parallel_size();
+/* The plan from each ghost's owner and its place there (code ≥ 0: the position of an owned particle in the
+ * owner's block; < 0: the owner's extra node −code − 1): the owners learn what to send. ghost[nreq] are the local
+ * nodes, grouped by owner in recv_index (ascending owner, then the given order). */
+static int ghost_plan_build(MicaDistribution *dist, MicaGhostPlan *g, long nreq, const long *ghost, const int *owner,
+                            const long *code) {
+  const int P = mica_parallel_size(), rank = mica_parallel_rank();
+  const long nlocal = dist->nowned + dist->nghost;
   long *request = NULL;
   int ierr = MICA_SUCCESS;
   MICA_CALL(MICA_CALLOC(g->send_counts, P + 1));
@@ -336,17 +363,16 @@ static int ghost_plan(MicaDistribution *dist, const long *offsets) {
   MICA_CALL(MICA_CALLOC(g->recv_counts, P + 1));
   MICA_CALL(MICA_CALLOC(g->recv_displs, P + 1));
   MICA_CALL(MICA_CALLOC(g->scaled, 4L * P + 4));
-  MICA_CALL(MICA_MALLOC(g->recv_index, dist->nghost + 1));
-  MICA_CALL(MICA_MALLOC(request, dist->nghost + 1));
-  const int *part = dist->partition->part;
-  for (long i = dist->nowned; i < dist->nowned + dist->nghost; i++) g->recv_counts[part[i]]++;
+  MICA_CALL(MICA_MALLOC(g->recv_index, nreq + 1));
+  MICA_CALL(MICA_MALLOC(request, nreq + 1));
+  for (long i = 0; i < nreq; i++) g->recv_counts[owner[i]]++;
   for (int r = 0; r < P; r++) g->recv_displs[r + 1] = g->recv_displs[r] + g->recv_counts[r];
   int *cursor = g->scaled; /* scratch, before its use per exchange */
   for (int r = 0; r < P; r++) cursor[r] = g->recv_displs[r];
-  for (long i = dist->nowned; i < dist->nowned + dist->nghost; i++) {
-    const int k = cursor[part[i]]++;
-    g->recv_index[k] = i;
-    request[k] = dist->global_node[i] - offsets[part[i]];
+  for (long i = 0; i < nreq; i++) {
+    const int k = cursor[owner[i]]++;
+    g->recv_index[k] = ghost[i];
+    request[k] = code[i];
   }
   MPI_Alltoall(g->recv_counts, 1, MPI_INT, g->send_counts, 1, MPI_INT, mica_parallel_comm());
   for (int r = 0; r < P; r++) g->send_displs[r + 1] = g->send_displs[r] + g->send_counts[r];
@@ -354,12 +380,33 @@ static int ghost_plan(MicaDistribution *dist, const long *offsets) {
   if (!ierr) {
     MPI_Alltoallv(request, g->recv_counts, g->recv_displs, MPI_LONG, g->send_index, g->send_counts, g->send_displs,
                   MPI_LONG, mica_parallel_comm());
-    for (int k = 0; k < g->send_displs[P]; k++)
-      if (g->send_index[k] < 0 || g->send_index[k] >= dist->nowned)
-        ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_ARGUMENT, "ghost plan: position %ld of %ld",
-                              g->send_index[k], dist->nowned);
+    for (int k = 0; k < g->send_displs[P]; k++) {
+      const long c = g->send_index[k], e = -c - 1;
+      if (c >= 0 && c < dist->nowned) continue;
+      if (c < 0 && e < dist->nextra && dist->extra_owner[e] == rank) {
+        g->send_index[k] = nlocal + e;
+        continue;
+      }
+      ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_ARGUMENT, "ghost plan: request %ld of %ld owned",
+                            c, dist->nowned);
+    }
   }
   free(request);
+  return ierr;
+}
+
+/* The ghost particles' plan: each asked of its owner by its position in the owner's block. */
+static int ghost_plan(MicaDistribution *dist, const long *offsets) {
+  const long n = dist->nghost;
+  long *ghost = NULL, *code = NULL;
+  int ierr = MICA_MALLOC(ghost, n + 1);
+  if (!ierr) ierr = MICA_MALLOC(code, n + 1);
+  for (long i = 0; !ierr && i < n; i++) {
+    const long k = dist->nowned + i;
+    ghost[i] = k, code[i] = dist->global_node[k] - offsets[dist->partition->part[k]];
+  }
+  if (!ierr) ierr = ghost_plan_build(dist, &dist->ghosts, n, ghost, dist->partition->part + dist->nowned, code);
+  free(ghost), free(code);
   return ierr;
 }
 
@@ -389,8 +436,7 @@ static int scale_plan(MicaGhostPlan *g, int ncomp, int **sc, int **sd, int **rc,
   return MICA_SUCCESS;
 }
 
-int mica_ghost_update(MicaDistribution *dist, double *v, int ncomp) {
-  MicaGhostPlan *g = &dist->ghosts;
+static int plan_update(MicaGhostPlan *g, double *v, int ncomp) {
   const int P = mica_parallel_size();
   int *sc, *sd, *rc, *rd;
   MICA_CALL(mica_parallel_agree(scale_plan(g, ncomp, &sc, &sd, &rc, &rd)));
@@ -402,31 +448,233 @@ int mica_ghost_update(MicaDistribution *dist, double *v, int ncomp) {
   return MICA_SUCCESS;
 }
 
-int mica_ghost_sum(MicaDistribution *dist, int ierr, double *v, int ncomp) {
-  MicaGhostPlan *g = &dist->ghosts;
+/* The reverse of the update: the ghosts' entries added into their owners', in rank order (the same sums on every
+ * run); the ghosts keep theirs. */
+static int plan_reduce(MicaGhostPlan *g, int ierr, double *v, int ncomp) {
   const int P = mica_parallel_size();
   int *sc, *sd, *rc, *rd;
   if (!ierr) ierr = scale_plan(g, ncomp, &sc, &sd, &rc, &rd);
   MICA_CALL(mica_parallel_agree(ierr));
   for (long k = 0; k < g->recv_displs[P]; k++)
     memcpy(g->recv_buffer + k * ncomp, v + g->recv_index[k] * ncomp, sizeof(double) * (size_t)ncomp);
-  /* the reverse of the update: ghosts to owners, added in rank order (the same sums on every run) */
   MPI_Alltoallv(g->recv_buffer, rc, rd, MPI_DOUBLE, g->send_buffer, sc, sd, MPI_DOUBLE, mica_parallel_comm());
   for (long k = 0; k < g->send_displs[P]; k++)
     for (int c = 0; c < ncomp; c++) v[g->send_index[k] * ncomp + c] += g->send_buffer[k * ncomp + c];
-  return mica_ghost_update(dist, v, ncomp);
+  return MICA_SUCCESS;
+}
+
+static int plan_sum(MicaGhostPlan *g, int ierr, double *v, int ncomp) {
+  MICA_CALL(plan_reduce(g, ierr, v, ncomp));
+  return plan_update(g, v, ncomp);
+}
+
+int mica_ghost_update(MicaDistribution *dist, double *v, int ncomp) { return plan_update(&dist->ghosts, v, ncomp); }
+
+int mica_ghost_sum(MicaDistribution *dist, int ierr, double *v, int ncomp) {
+  return plan_sum(&dist->ghosts, ierr, v, ncomp);
+}
+
+int mica_ghost_reduce(MicaDistribution *dist, int ierr, double *v, int ncomp) {
+  return plan_reduce(&dist->ghosts, ierr, v, ncomp);
 }
 
 int mica_owned_residual(MicaDistribution *dist, int ierr, double *R, int ncomp) {
   if (!ierr) ierr = mica_parallel_inject("assemble");
-  return mica_ghost_sum(dist, ierr, R, ncomp);
+  return plan_sum(dist->nextra ? &dist->node_ghosts : &dist->ghosts, ierr, R, ncomp);
 }
 
 int mica_owned_norm(const MicaDistribution *dist, const double *v, int ncomp, double *norm) {
   double s = 0;
   for (long i = 0; i < dist->nowned * ncomp; i++) s += v[i] * v[i];
+  for (long k = dist->nowned; k < dist->nowned_nodes; k++) /* the extra nodes this rank owns */
+    for (int c = 0; c < ncomp; c++) s += v[dist->owned_node[k] * ncomp + c] * v[dist->owned_node[k] * ncomp + c];
   MICA_CALL(mica_parallel_sum(MICA_SUCCESS, &s, 1));
   *norm = sqrt(s);
+  return MICA_SUCCESS;
+}
+
+/* ---- extra nodes (Lagrange multipliers) --------------------------------------------------------------------- */
+
+typedef struct {
+  long id, index; /* the node's name and its index among the extra nodes of rank `rank` */
+  int rank, slot; /* who holds it, and where its answer goes in the reply */
+} ExtraClaim;
+
+static int compare_claim(const void *a, const void *b) {
+  const ExtraClaim *x = a, *y = b;
+  if (x->id != y->id) return (x->id > y->id) - (x->id < y->id);
+  return (x->rank > y->rank) - (x->rank < y->rank);
+}
+
+static int home_of(long id, int P) { return (int)(id % P); }
+
+/* At the home rank: every holder of a node hears the lowest holder's rank and index (pairs in `claims`'s order). */
+static int decide_owners(const long *claims, long nclaims, const int *displs, long *reply) {
+  const int P = mica_parallel_size();
+  ExtraClaim *c = NULL;
+  MICA_CALL(MICA_MALLOC(c, nclaims + 1));
+  for (int r = 0; r < P; r++)
+    for (int k = displs[r] / 2; k < displs[r + 1] / 2; k++)
+      c[k] = (ExtraClaim){claims[2 * k], claims[2 * k + 1], r, k};
+  qsort(c, (size_t)nclaims, sizeof *c, compare_claim);
+  for (long k = 0, first = 0; k < nclaims; k++) {
+    if (c[k].id != c[first].id) first = k;
+    reply[2 * c[k].slot] = c[first].rank, reply[2 * c[k].slot + 1] = c[first].index;
+  }
+  free(c);
+  return MICA_SUCCESS;
+}
+
+/* Each extra node's owner and its index there (owner[n], where[n]): claims sent to the nodes' homes, answered. */
+static int extra_owners(long n, const long *id, int *owner, long *where) {
+  const int P = mica_parallel_size();
+  int *sc = NULL, *sd = NULL, *rc = NULL, *rd = NULL;
+  long *send = NULL, *recv = NULL, *reply = NULL, *slot = NULL;
+  int ierr = MICA_CALLOC(sc, P + 1);
+  if (!ierr) ierr = MICA_CALLOC(sd, P + 1);
+  if (!ierr) ierr = MICA_CALLOC(rc, P + 1);
+  if (!ierr) ierr = MICA_CALLOC(rd, P + 1);
+  if (!ierr) ierr = MICA_MALLOC(send, 2 * n + 2);
+  if (!ierr) ierr = MICA_MALLOC(slot, n + 1);
+  for (long k = 0; !ierr && k < n; k++) sc[home_of(id[k], P)] += 2;
+  for (int r = 0; !ierr && r < P; r++) sd[r + 1] = sd[r] + sc[r];
+  for (long k = 0; !ierr && k < n; k++) {
+    const int h = home_of(id[k], P);
+    slot[k] = sd[h] / 2 + (long)rd[h]++; /* rd: a cursor until the counts come back */
+    send[2 * slot[k]] = id[k], send[2 * slot[k] + 1] = k;
+  }
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MPI_Alltoall(sc, 1, MPI_INT, rc, 1, MPI_INT, mica_parallel_comm());
+  rd[0] = 0;
+  for (int r = 0; r < P; r++) rd[r + 1] = rd[r] + rc[r];
+  ierr = MICA_MALLOC(recv, (long)rd[P] + 2);
+  if (!ierr) ierr = MICA_MALLOC(reply, (long)rd[P] + 2);
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MPI_Alltoallv(send, sc, sd, MPI_LONG, recv, rc, rd, MPI_LONG, mica_parallel_comm());
+  ierr = decide_owners(recv, rd[P] / 2, rd, reply);
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MPI_Alltoallv(reply, rc, rd, MPI_LONG, send, sc, sd, MPI_LONG, mica_parallel_comm());
+  for (long k = 0; k < n; k++) owner[k] = (int)send[2 * slot[k]], where[k] = send[2 * slot[k] + 1];
+cleanup:
+  free(sc), free(sd), free(rc), free(rd), free(send), free(recv), free(reply), free(slot);
+  return ierr;
+}
+
+/* Rows: rank r's particles then its owned extra nodes, after the lower ranks' (offsets over the ranks' counts). */
+static int number_nodes(MicaDistribution *dist) {
+  const int P = mica_parallel_size(), rank = mica_parallel_rank();
+  const long nlocal = dist->nowned + dist->nghost, *size = dist->partition->part_size;
+  long *counts = NULL, *old = NULL, *fresh = NULL;
+  int ierr = MICA_CALLOC(counts, P + 1);
+  if (!ierr) ierr = MICA_CALLOC(old, P + 1);
+  if (!ierr) ierr = MICA_CALLOC(fresh, P + 1);
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MPI_Allgather(&dist->nowned_nodes, 1, MPI_LONG, counts, 1, MPI_LONG, mica_parallel_comm());
+  for (int r = 0; r < P; r++) old[r + 1] = old[r] + size[r], fresh[r + 1] = fresh[r] + counts[r];
+  dist->nglobal_nodes = fresh[P];
+  const int *part = dist->partition->part;
+  for (long i = 0; i < nlocal; i++) dist->global_node[i] = fresh[part[i]] + dist->global_node[i] - old[part[i]];
+  for (long k = dist->nowned; k < dist->nowned_nodes; k++) dist->global_node[dist->owned_node[k]] = fresh[rank] + k;
+cleanup:
+  free(counts), free(old), free(fresh);
+  return ierr;
+}
+
+/* The ghost extra nodes' numbers, from their owners (an exchange of doubles: exact below 2^53). */
+static int ghost_numbers(MicaDistribution *dist) {
+  const long nnodes = dist->nowned + dist->nghost + dist->nextra;
+  double *v = NULL;
+  int ierr = MICA_CALLOC(v, nnodes + 1);
+  for (long k = 0; !ierr && k < dist->nowned_nodes; k++) v[dist->owned_node[k]] = (double)dist->global_node[dist->owned_node[k]];
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MICA_CALL_CLEANUP(plan_update(&dist->node_ghosts, v, 1));
+  for (long k = 0; k < dist->nextra; k++) {
+    const long node = dist->nowned + dist->nghost + k;
+    if (dist->extra_owner[k] != mica_parallel_rank()) dist->global_node[node] = (long)v[node];
+  }
+cleanup:
+  free(v);
+  return ierr;
+}
+
+/* The plan over the ghost particles and the ghost extra nodes. */
+static int node_plan(MicaDistribution *dist, const long *where) {
+  const long nlocal = dist->nowned + dist->nghost, *size = dist->partition->part_size;
+  const int P = mica_parallel_size(), rank = mica_parallel_rank();
+  long *ghost = NULL, *code = NULL, *old = NULL, m = 0;
+  int *owner = NULL;
+  int ierr = MICA_MALLOC(ghost, dist->nghost + dist->nextra + 1);
+  if (!ierr) ierr = MICA_MALLOC(code, dist->nghost + dist->nextra + 1);
+  if (!ierr) ierr = MICA_MALLOC(owner, dist->nghost + dist->nextra + 1);
+  if (!ierr) ierr = MICA_CALLOC(old, P + 1);
+  for (int r = 0; !ierr && r < P; r++) old[r + 1] = old[r] + size[r];
+  for (long i = dist->nowned; !ierr && i < nlocal; i++) { /* before number_nodes: the particle-only numbers */
+    ghost[m] = i, owner[m] = dist->partition->part[i], code[m] = dist->global_node[i] - old[owner[m]];
+    m++;
+  }
+  for (long k = 0; !ierr && k < dist->nextra; k++)
+    if (dist->extra_owner[k] != rank) ghost[m] = nlocal + k, owner[m] = dist->extra_owner[k], code[m] = -where[k] - 1, m++;
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MICA_CALL_CLEANUP(ghost_plan_build(dist, &dist->node_ghosts, m, ghost, owner, code));
+cleanup:
+  free(ghost), free(code), free(owner), free(old);
+  return ierr;
+}
+
+int mica_owned_add_nodes(MicaDistribution *dist, long n, const long *id) {
+  const int rank = mica_parallel_rank();
+  const long nlocal = dist->nowned + dist->nghost;
+  long *where = NULL;
+  MICA_CHECK(dist->owned && !dist->nextra, MICA_ERR_ARGUMENT, "extra nodes: added once, to distributed data");
+  int ierr = MICA_MALLOC(dist->extra_owner, n + 1);
+  if (!ierr) ierr = MICA_MALLOC(where, n + 1);
+  if (!ierr) ierr = MICA_REALLOC(dist->global_node, nlocal + n + 1);
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MICA_CALL_CLEANUP(extra_owners(n, id, dist->extra_owner, where));
+  dist->nextra = n;
+  long mine = 0;
+  for (long k = 0; k < n; k++) mine += dist->extra_owner[k] == rank;
+  dist->nowned_nodes = dist->nowned + mine;
+  ierr = MICA_MALLOC(dist->owned_node, dist->nowned_nodes + 1);
+  for (long i = 0; !ierr && i < dist->nowned; i++) dist->owned_node[i] = i;
+  for (long k = 0, j = dist->nowned; !ierr && k < n; k++)
+    if (dist->extra_owner[k] == rank) dist->owned_node[j++] = nlocal + k;
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MICA_CALL_CLEANUP(node_plan(dist, where));
+  MICA_CALL_CLEANUP(number_nodes(dist));
+  MICA_CALL_CLEANUP(ghost_numbers(dist));
+cleanup:
+  free(where);
+  return ierr;
+}
+
+int mica_owned_node(const MicaDistribution *dist, long k) {
+  const long nlocal = dist->nowned + dist->nghost;
+  return k < nlocal ? k < dist->nowned : dist->extra_owner[k - nlocal] == mica_parallel_rank();
+}
+
+/* ---- points evaluated by one rank ------------------------------------------------------------------------ */
+
+int mica_owned_point_rank(const MicaDistribution *dist, const double *x, int *root) {
+  const int P = mica_parallel_size(), rank = mica_parallel_rank();
+  long *ptr = NULL, *index = NULL;
+  int ierr = mica_point_supports(dist->mls, 1, x, &ptr, &index, NULL);
+  long counts[2] = {0, 0}; /* the owned particles covering x (summed: its whole support), the local ones */
+  if (!ierr) {
+    counts[1] = ptr[1];
+    for (long e = 0; e < ptr[1]; e++) counts[0] += index[e] < dist->nowned;
+  }
+  free(ptr), free(index);
+  MICA_CALL(mica_parallel_agree(ierr));
+  long total = 0;
+  MPI_Allreduce(&counts[0], &total, 1, MPI_LONG, MPI_SUM, mica_parallel_comm());
+  int mine = total > 0 && counts[1] == total ? rank : P;
+  MPI_Allreduce(&mine, root, 1, MPI_INT, MPI_MIN, mica_parallel_comm());
+  MICA_CHECK(total > 0, MICA_ERR_INPUT, "no particle's support covers the point (%g, %g, %g)", x[0],
+             mls_dim(dist->mls) > 1 ? x[1] : 0.0, mls_dim(dist->mls) > 2 ? x[2] : 0.0);
+  MICA_CHECK(*root < P, MICA_ERR_ARGUMENT,
+             "no rank holds all %ld particles whose supports cover the point (%g, %g, %g)", total, x[0],
+             mls_dim(dist->mls) > 1 ? x[1] : 0.0, mls_dim(dist->mls) > 2 ? x[2] : 0.0);
   return MICA_SUCCESS;
 }
 
@@ -435,7 +683,7 @@ int mica_owned_norm(const MicaDistribution *dist, const double *v, int ncomp, do
 static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                        const MlsOptions *mls_opt, MicaDistribution *dist) {
   const int P = mica_parallel_size(), rank = mica_parallel_rank();
-  long n[3], m[3], per_cell, plo[3], phi[3], clo[3], chi[3], *offsets = NULL, *needed = NULL, nneeded = 0;
+  long n[3], m[3], per_cell, plo[3], phi[3], *offsets = NULL, *needed = NULL, nneeded = 0;
   long *map = NULL;
   Source src;
   memset(&src, 0, sizeof src);
@@ -460,8 +708,8 @@ static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
     if ((double)p->part_size[r] * P / (double)offsets[P] > p->imbalance)
       p->imbalance = (double)p->part_size[r] * P / (double)offsets[P];
   block_box(rank, dist->procs, n, plo, phi);
-  block_box(rank, dist->procs, m, clo, chi);
-  ierr = source_create(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, &src, &needed, &nneeded);
+  block_box(rank, dist->procs, m, dist->cell_lo, dist->cell_hi);
+  ierr = source_create(shape, layout, cells, mls_opt, n, m, plo, phi, dist, &src, &needed, &nneeded);
   if (!ierr) ierr = MICA_CALLOC(dist->local, 1);
   if (!ierr) take_points(&src, dist->local);
   if (!ierr) ierr = local_particles(&src, dist, n, needed, nneeded, offsets, &map);
@@ -476,21 +724,24 @@ cleanup:
 }
 
 int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
-                                   const MicaCellSpec *cells, const MlsOptions *mls_opt, MicaDistribution **out) {
+                                   const MicaCellSpec *cells, const MlsOptions *mls_opt, int error_order,
+                                   MicaDistribution **out) {
   *out = NULL;
   const double start = mica_wtime();
   MicaDistribution *dist = NULL;
   int ierr = MICA_CALLOC(dist, 1);
   if (!ierr) {
     dist->owned = 1;
+    dist->error_order = error_order;
     ierr = build_owned(shape, layout, cells, mls_opt, dist);
     if (!ierr) dist->nsets = dist->local->nsets;
+    dist->nowned_nodes = dist->nowned; /* until extra nodes are added */
   }
   if (!ierr) ierr = mica_parallel_inject("build");
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
   /* the body's volume, not the rank's part (the penalty's length scale L = volume^(1/dim) is the body's) */
   MICA_CALL_CLEANUP(mica_parallel_sum(MICA_SUCCESS, &dist->local->volume, 1));
-  dist->nparticles = mica_parallel_sum_long(dist->nowned);
+  dist->nparticles = dist->nglobal_nodes = mica_parallel_sum_long(dist->nowned);
   MicaParallelStats *st = &dist->stats;
   st->owned_particles = dist->nowned;
   st->ghost_particles = dist->nghost;
@@ -508,6 +759,9 @@ cleanup:
 
 void parallel_owned_free(MicaDistribution *dist) {
   ghost_plan_free(&dist->ghosts);
+  ghost_plan_free(&dist->node_ghosts);
+  free(dist->owned_node), free(dist->extra_owner);
+  dist->owned_node = NULL, dist->extra_owner = NULL;
   free(dist->global_node);
   dist->global_node = NULL;
   mls_destroy(&dist->mls);

@@ -198,7 +198,8 @@ static void petsc_destroy(MicaLinearSolver *solver) {
   solver->data = NULL;
 }
 
-/* Local numbering: the layout's node numbers are PETSc's; this rank's rows are its first nowned nodes. */
+/* Local numbering: the layout's node numbers are PETSc's; this rank's rows are its first nowned nodes (or its
+ * owned_node list). */
 static int number_local_rows(PetscSolver *ps, const MicaLinearLayout *layout) {
   MICA_CHECK(layout->nnodes == ps->nnodes && layout->nowned <= ps->nnodes, MICA_ERR_ARGUMENT,
              "petsc: a local layout of %ld nodes (%ld owned) for a matrix of %ld", layout->nnodes, layout->nowned,
@@ -210,7 +211,8 @@ static int number_local_rows(PetscSolver *ps, const MicaLinearLayout *layout) {
   MICA_CALL(MICA_MALLOC(ps->local_dofs, ps->nlocal + 1));
   for (long k = 0; k < ps->nnodes; k++)
     for (int c = 0; c < ps->ndof; c++) ps->row_of_dof[k * ps->ndof + c] = (PetscInt)(layout->node_global[k] * ps->ndof + c);
-  for (PetscInt i = 0; i < ps->nlocal; i++) ps->local_dofs[i] = i;
+  for (PetscInt i = 0; i < ps->nlocal; i++)
+    ps->local_dofs[i] = layout->owned_node ? layout->owned_node[i / ps->ndof] * ps->ndof + i % ps->ndof : i;
   return MICA_SUCCESS;
 }
 

@@ -28,7 +28,7 @@ int mica_linear_solver_create(const MicaLinearSolverOps *ops, MicaLinearSolver *
   MicaLinearSolver *solver = NULL;
   MICA_CALL(MICA_CALLOC(solver, 1));
   solver->ops = ops;
-  solver->layout = (MicaLinearLayout){MPI_COMM_SELF, 0, NULL, NULL, 0, 0};
+  solver->layout = (MicaLinearLayout){MPI_COMM_SELF, 0, NULL, NULL, 0, 0, NULL};
   int ierr = ops->create(solver);
   if (ierr) {
     free(solver);

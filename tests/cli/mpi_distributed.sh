@@ -7,6 +7,14 @@
 #     1e-12 times the conditioning), and the relative L2 error norm within the same tolerances (absolute): Cook's membrane with
 #     Neo-Hooke (4 load steps), the 3-D cube in tension (linear) — both with Nitsche's method, the default —, the
 #     Cosserat manufactured solution with penalty and with Nitsche, the cube with penalty; and with MUMPS at P = 2, 3, 4 on a jittered and a graded layout;
+#   - VCI (auto: on for jittered particles): Cook's membrane jittered at P = 1-4 with MUMPS (LU) within 1e-10 of the
+#     serial cholmod-sym run, with GAMG (GMRES) at P = 2, 4 within 1e-7, the jittered 3-D cube at P = 2, 4 (MUMPS);
+#   - probes (each evaluated by the lowest rank holding the point's whole support): Cook's tip, a stress and the
+#     strain energy, the cube's corner and centre, the glide layer's four, a jittered VCI run's, at P = 2-4 within
+#     1e-10 (relative) of the serial run;
+#   - the error norms on quadrature.error_order's points (each rank's cells) within 1e-10 at P = 2, 4;
+#   - Lagrange multipliers: the Cosserat glide layer at P = 1-4 with MUMPS (LU) within 1e-10 of the serial UMFPACK
+#     run, with the serial dofs and nnz; GAMG refused;
 #   - no rank holds the whole problem: on a 12³ cube at P = 4, the ranks' owned particles, volume points and
 #     boundary points sum to the serial run's counts, the summed tangent has the serial nnz, and each rank holds
 #     (owned + ghosts) fewer than 0.6 of the particles;
@@ -25,11 +33,12 @@ mpi_leak_checks
 Q=(--set output.monitor=false --set output.mesh=false)
 D=(--set solver.linear=petsc --set parallel.data=distributed)
 
-# serial DIR DECK [--set ...]: the reference, CHOLMOD
+# serial DIR DECK [--set ...]: the reference, CHOLMOD (REFERENCE=umfpack where the tangent is a saddle point)
 serial() {
   local dir=$1 deck=$2; shift 2
   "$MICA" run "$deck" -o "$dir" "${Q[@]}" "$@" > "$dir.log" 2>&1 || fail "serial $deck $*: $(tail -n 3 "$dir.log")"
-  [ "$(json_value linear_solver "$dir/summary.json")" = cholmod ] || fail "$dir: the reference is not CHOLMOD"
+  [ "$(json_value linear_solver "$dir/summary.json")" = "${REFERENCE:-cholmod}" ] \
+    || fail "$dir: the reference is not ${REFERENCE:-cholmod}"
 }
 
 # distributed NP DIR DECK [--set ...] (NP = 1: serially)
@@ -96,6 +105,23 @@ check_deck nitsche 1e-10 1e-7 tests/decks/cosserat/nitsche.cfg
 check_deck cube_penalty 1e-10 1e-7 tests/decks/parallel/cube.cfg --set "particles.count=[6,6,6]" --set quadrature.order=3 \
   --set bc.method=\"penalty\"
 
+# Lagrange multipliers (a saddle point: MUMPS's LU against the serial UMFPACK): the Cosserat glide layer widened so
+# that the blocks of 2, 3 and 4 ranks cut its constrained bottom (split along x, or 2 × 2): a multiplier node on
+# two ranks' faces is owned by the lower one; the summed dofs (multipliers included) and nnz are the serial ones
+REFERENCE=umfpack serial "$work/glide" tests/decks/parallel/glide.cfg
+for np in 1 2 3 4; do
+  distributed "$np" "$work/glide-$np" tests/decks/parallel/glide.cfg --set solver.petsc=\"mumps\"
+  same "$work/glide" "$work/glide-$np" "$np" 1e-10
+  for key in dofs nnz; do
+    [ "$(json_value $key "$work/glide-$np/summary.json")" = "$(json_value $key "$work/glide/summary.json")" ] \
+      || fail "glide-$np: $key $(json_value $key "$work/glide-$np/summary.json"), serial $(json_value $key "$work/glide/summary.json")"
+  done
+done
+ok "glide: dofs and nnz (multiplier nodes included) as serially at P = 1-4"
+# GAMG cannot precondition the saddle point: refused (exit 2) with the remedy
+expect_failure 2 'the Lagrange multipliers make the tangent a saddle point' -- "${MPIRUN[@]}" -np 2 "$MICA" run \
+  tests/decks/parallel/glide.cfg -o "$work/glide-gamg" "${Q[@]}" "${D[@]}" --set solver.petsc=\"gamg\"
+
 # a rank lays out its own block: jittered particles from their own draws of the counter-based stream, graded ones
 # with the whole layout's spacings and radii near the block's edge (MUMPS at P = 2, 3, 4)
 check_layout() {
@@ -106,12 +132,89 @@ check_layout() {
     same "$work/$name" "$work/$name-$np" "$np" 1e-10
   done
 }
-# (quadrature.vci = false: auto would turn VCI on for the serial jittered reference, and the distributed mode
-# has no VCI yet, so both solve the uncorrected Gauss rule; the supports of both are sized on the grid)
+# (the supports of both are sized on the grid; quadrature.vci = false: the uncorrected Gauss rule)
 check_layout jittered tests/decks/parallel/cook.cfg --set "particles.count=[9,9]" --set solver.steps=2 \
   --set particles.layout=\"jittered\" --set particles.seed=7 --set quadrature.vci=false
+
+# VCI (quadrature.vci = auto: on for jittered particles, serially and distributed): each particle's Gram matrix and
+# right-hand sides summed at its owner over the ranks its support reaches, solved there, ξ sent to the ghosts. The
+# tangent is unsymmetric: MUMPS's LU at P = 1-4 within 1e-10 of the serial cholmod-sym run (refined to round-off),
+# GMRES with GAMG within 1e-7; and the 3-D jittered cube (boundary faces' sums) with MUMPS at P = 2, 4
+check_vci() {
+  local name=$1 ranks=$2 deck=$3; shift 3
+  REFERENCE=cholmod-sym serial "$work/$name" "$deck" "$@"
+  [ "$(json_value vci "$work/$name/summary.json")" = true ] || fail "$name: VCI is not on serially"
+  for np in $ranks; do
+    distributed "$np" "$work/$name-$np" "$deck" "$@" --set solver.petsc=\"mumps\"
+    [ "$(json_value vci "$work/$name-$np/summary.json")" = true ] || fail "$name-$np: VCI is not on"
+    same "$work/$name" "$work/$name-$np" "$np" 1e-10
+  done
+}
+jittered=(--set "particles.count=[9,9]" --set solver.steps=2 --set particles.layout=\"jittered\" --set particles.seed=7)
+check_vci vci "1 2 3 4" tests/decks/parallel/cook.cfg "${jittered[@]}"
+for np in 2 4; do
+  distributed "$np" "$work/vci-$np-gamg" tests/decks/parallel/cook.cfg "${jittered[@]}" --set solver.petsc=\"gamg\" \
+    --set solver.linear_rtol=1e-12
+  same "$work/vci" "$work/vci-$np-gamg" "$np" 1e-7
+done
+check_vci vci_cube "2 4" tests/decks/parallel/cube.cfg --set "particles.count=[6,6,6]" --set quadrature.order=3 \
+  --set particles.layout=\"jittered\" --set particles.seed=3
 check_layout graded tests/decks/parallel/cube.cfg --set "particles.count=[7,6,6]" --set quadrature.order=3 \
   --set particles.layout=\"graded\" --set "particles.grading=[4.0]" --set mls.spacing=\"far\"
+
+# ---- probes: evaluated by the lowest rank holding the point's whole support, broadcast ----------------------------
+# probe_same SERIAL OTHER KEY...: each probe of OTHER's summary within 1e-10 (relative) of SERIAL's
+probe_same() {
+  local ref=$1 dir=$2; shift 2
+  for key in "$@"; do
+    local a b
+    a=$(json_value "$key" "$ref/summary.json"); b=$(json_value "$key" "$dir/summary.json")
+    [ -n "$a" ] && [ -n "$b" ] || fail "probe $key missing in $ref or $dir"
+    awk -v a="$a" -v b="$b" 'BEGIN { d = a - b; if (d < 0) d = -d; s = a < 0 ? -a : a; exit !(d <= 1e-10 * s) }' \
+      || fail "$dir: probe $key = $b, serial $a: not within 1e-10"
+  done
+  ok "$(basename "$dir"): probes $* within 1e-10 of the serial run"
+}
+# check_probes NAME RANKS DECK KEYS [--set ...]
+check_probes() {
+  local name=$1 ranks=$2 deck=$3 keys=$4; shift 4
+  serial "$work/$name" "$deck" "$@"
+  for np in $ranks; do
+    distributed "$np" "$work/$name-$np" "$deck" "$@" --set solver.petsc=\"mumps\"
+    probe_same "$work/$name" "$work/$name-$np" $keys
+  done
+}
+# Cook's tip (a corner of the body), a stress inside, the strain energy (a sum over the ranks' points)
+check_probes probe_cook "2 3 4" input/cook_neohooke.cfg "tip_uy mid_sxx energy" --set "particles.count=[9,9]" \
+  --set solver.steps=4 --set output.vtu=false --set 'output.probes=({ name = "tip_uy"; point = [48.0, 60.0]; field = "uy"; },
+  { name = "mid_sxx"; point = [30.0, 40.0]; field = "sxx"; }, { name = "energy"; field = "energy"; })'
+# the cube's corner and its centre (on the interfaces of the 2 × 2 blocks at P = 4)
+check_probes probe_cube "2 4" input/cube3d.cfg "corner_ux centre_uy" --set "particles.count=[6,6,6]" \
+  --set quadrature.order=3 --set output.vtu=false --set 'output.probes=({ name = "corner_ux"; point = [1.0, 1.0, 1.0];
+  field = "ux"; }, { name = "centre_uy"; point = [0.5, 0.5, 0.5]; field = "uy"; })'
+# the glide layer's own probes (blocks along y: the top and the middle on different ranks; multipliers on rank 0)
+REFERENCE=umfpack check_probes probe_glide "2 3 4" input/cosserat_glide.cfg "phi_top ux_top phi_mid ux_mid" \
+  --set output.vtu=false
+# with VCI (jittered)
+REFERENCE=cholmod-sym check_probes probe_vci "2 4" tests/decks/parallel/cook.cfg "p_ux" "${jittered[@]}" --set output.vtu=false \
+  --set 'output.probes=({ name = "p_ux"; point = [24.0, 50.0]; field = "ux"; })'
+
+# ---- error norms on quadrature.error_order's own points: each rank's in its cells (their supports in its ghosts) --
+serial "$work/error_order" tests/decks/cosserat/nitsche.cfg --set quadrature.error_order=8
+for np in 2 4; do
+  distributed "$np" "$work/error_order-$np" tests/decks/cosserat/nitsche.cfg --set quadrature.error_order=8 \
+    --set solver.petsc=\"mumps\"
+  same "$work/error_order" "$work/error_order-$np" "$np" 1e-10
+  for key in error_points multiplier_nodes; do
+    [ "$(json_value $key "$work/error_order-$np/summary.json")" = "$(json_value $key "$work/error_order/summary.json")" ] \
+      || fail "error_order-$np: $key differs from the serial run's"
+  done
+  for key in error_h1 error_energy; do
+    awk -v a="$(json_value $key "$work/error_order/summary.json")" -v b="$(json_value $key "$work/error_order-$np/summary.json")" \
+      'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-10) }' || fail "error_order-$np: $key not within 1e-10"
+  done
+done
+ok "error norms with quadrature.error_order = 8 as serially at P = 2, 4"
 
 # ---- no rank holds the whole problem -----------------------------------------------------------------------
 medium=(--set "particles.count=[12,12,12]" --set quadrature.order=2 --set output.vtu=false)
@@ -162,10 +265,7 @@ pd='parallel = { data = "distributed"; };'
 refuse umfpack 'solver.linear is not available with parallel.data = "distributed"' "$pd" \
   'solver = { linear = "umfpack"; steps = 1; };'
 refuse mesh 'output.mesh is not available' 'output = { vtu = false; };' "$pd"
-refuse probes 'output.probes is not available' "$pd" \
-  'output = { mesh = false; probes = ( { name = "tip"; point = [48.0, 60.0]; field = "uy"; } ); };'
-refuse lagrange 'bc.method is not available' "$pd" 'bc = { method = "lagrange"; };'
-refuse vci 'quadrature.vci is not available' "$pd" 'quadrature = { order = 5; vci = true; };'
+refuse collocation 'bc.method is not available' "$pd" 'bc = { method = "collocation"; };'
 refuse irregular 'particles.layout is not available' "$pd" 'particles = { count = [9, 9]; layout = "irregular"; };'
 # serially too: a distributed deck means the same on one process
 deck=$(variant serial_mesh 'output = { vtu = false; };' "$pd")
