@@ -148,8 +148,12 @@ typedef struct MicaDiscretization {
   int dim;
   long nparticles;
   double *x;        /* [nparticles*dim] */
-  double *x_grid;   /* jittered layout: the same particles before the jitter, [nparticles*dim], on which the
-                       supports are sized (mls: spacing_points); else NULL */
+  double *x_grid;   /* jittered layout: the same particles before the jitter, [nparticles*dim]; irregular layout:
+                       the regular layout of the same counts, [ngrid*dim]; the supports are sized on it (mls:
+                       spacing_points); else NULL */
+  long ngrid;       /* irregular layout: the points in x_grid; 0 when x_grid holds one point per particle */
+  long *grid_index; /* irregular layout: [nparticles], the grid point nearest each particle in parameter space,
+                       whose spacing it takes (mls: spacing_index); else NULL (particle I is grid point I) */
   long ncells;      /* background integration cells */
   long nquad;
   double *qx;       /* [nquad*dim] volume quadrature points */

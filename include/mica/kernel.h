@@ -82,6 +82,11 @@ void mica_kernel_chunk_init(MicaKernelChunk *ch, int nc, int nd, long u, int cap
  * caller's job when count == capacity. */
 void mica_kernel_chunk_add(MicaKernelChunk *ch, long n, const double *beta, const long *loc, const double *A,
                            double w);
+/* The same with different entries for the rows and the columns, K_(I a)(K b) = w Σ_ij β_row_I[i] A_(a i)(b j)
+ * β_col_K[j] (Petrov–Galerkin: test and trial functions differ, K is unsymmetric; flush without
+ * MICA_KERNEL_HALF). */
+void mica_kernel_chunk_add_pair(MicaKernelChunk *ch, long n, const double *beta_row, const double *beta_col,
+                                const long *loc, const double *A, double w);
 /* Ke (=, or += with MICA_KERNEL_ADD) the staged points' blocks (K ≤ I with MICA_KERNEL_HALF); empties the chunk. */
 void mica_kernel_chunk_flush(MicaKernelChunk *ch, int flags, double *Ke);
 

@@ -137,8 +137,12 @@ typedef struct MlsOptions {
   double rcond_min;           /* reciprocal condition of M below this is an error; default 1e-13 */
   MlsSearchKind search;       /* default kdtree */
   MlsSpacingRule spacing;     /* the local spacing a dilation multiplies; default near */
-  const double *spacing_points; /* NULL, or [n*dim] positions the local spacing is measured on instead of the
-                                   particles' (a jittered cloud's grid); read by mls_create only */
+  const double *spacing_points; /* NULL, or [spacing_count*dim] positions the local spacing is measured on
+                                   instead of the particles' (a jittered or irregular cloud's grid); particle I
+                                   takes the spacing of point spacing_index[I] (NULL: point I, spacing_count =
+                                   n); read by mls_create only */
+  long spacing_count;           /* the number of spacing_points; 0 means n */
+  const long *spacing_index;    /* NULL, or [n]: the spacing point of each particle */
 } MlsOptions;
 
 /* The defaults of mls_keys (settings.c) and of the registries, which are where they live. */

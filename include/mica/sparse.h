@@ -41,6 +41,10 @@ int mica_sparse_add_clique(MicaSparse *A, long n, const long *nodes, const doubl
  * mica_sparse_mirror_upper. The nodes may be the union of several cliques: a pair outside the pattern is
  * skipped if its block is zero (no clique coupled it), an error otherwise. */
 int mica_sparse_add_clique_upper(MicaSparse *A, long n, const long *nodes, const double *K, long np);
+/* Any clique matrix given by its transpose in the planar layout: A[dofs of nodes[a], dofs of nodes[b]] +=
+ * K[(b·ndof + j)·(ndof·np) + i·np + a] for every pair a, b (row (b j) of K is column (b j) of A; an unsymmetric
+ * Petrov–Galerkin block computed with test and trial functions swapped). Pairs outside the pattern as above. */
+int mica_sparse_add_clique_columns(MicaSparse *A, long n, const long *nodes, const double *K, long np);
 /* A_ji = A_ij for every stored i < j: makes A symmetric from its upper triangle after upper-block cliques
  * (overwrites the strict lower triangle; the pattern is symmetric). O(nnz), no allocation. */
 void mica_sparse_mirror_upper(MicaSparse *A);

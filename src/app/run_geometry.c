@@ -252,7 +252,9 @@ int run_build_geometry(const MicaDeck *deck, RunProblem *rp) {
   rp->time_discretize = mica_wtime() - start - rp->time_mls;
   if (!fe) {
     MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
-    mls_opt.spacing_points = rp->disc->x_grid; /* a jittered layout's supports are sized on its grid */
+    mls_opt.spacing_points = rp->disc->x_grid; /* a jittered or irregular layout's supports are sized on its grid */
+    mls_opt.spacing_count = rp->disc->ngrid;
+    mls_opt.spacing_index = rp->disc->grid_index;
     start = mica_wtime();
     MICA_CALL(mica_study_mls_input(mls_create(rp->disc->dim, rp->disc->nparticles, rp->disc->x, &mls_opt, &rp->mls)));
     rp->time_mls = mica_wtime() - start;

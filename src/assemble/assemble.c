@@ -267,12 +267,13 @@ static int assemble_points_general(MicaSolid *s, const VolumeTerms *v, const dou
 
 /* ---- the kernel path: symmetric half, points of a background cell together ---- */
 
-/* The kernel (mica/kernel.h) serves plane and 3-D models whose test functions are the trial functions: K is then
- * symmetric and only its upper blocks are computed and scattered. VCI (Petrov–Galerkin) takes the general
- * per-point path; axisymmetric hoop terms (entries that differ per component) the slot-based element_stiffness. */
-static int kernel_applies(const MicaSolid *s, const MicaShapeCache *c) {
-  return !s->opt.axisymmetric && !c->dN_test && !s->opt.general_kernel;
-}
+/* The kernel (mica/kernel.h) serves plane and 3-D models. Where the test functions are the trial functions K is
+ * symmetric and only its upper blocks are computed and scattered; VCI's corrected test gradients (Petrov–Galerkin)
+ * make it unsymmetric, and the kernel computes every block (petrov_galerkin). Axisymmetric hoop terms (entries
+ * that differ per component) take the slot-based element_stiffness. */
+static int kernel_applies(const MicaSolid *s) { return !s->opt.axisymmetric && !s->opt.general_kernel; }
+
+static int petrov_galerkin(const MicaShapeCache *c) { return c->dN_test != NULL; }
 
 _Static_assert(MICA_MAX_COMP * 10 <= MICA_KERNEL_MAX_WIDTH, "the kernel's A holds (unknowns × entries)²");
 
@@ -296,23 +297,27 @@ static void entry_slots(const Layout *L, int *slot) {
   }
 }
 
-/* The kernel's A_(a i)(b j) = D[slot(a, i), slot(b, j)], (nc·nd) × (nc·nd) row-major. */
-static void kernel_tangent(int width, const int *slot, const double *D, int nq, double *A) {
+/* The kernel's A_(a i)(b j) = D[slot(a, i), slot(b, j)], (nc·nd) × (nc·nd) row-major; transposed: its transpose,
+ * for the Petrov–Galerkin blocks computed with the trial functions in the rows (assemble_cell). */
+static void kernel_tangent(int width, const int *slot, const double *D, int nq, int transposed, double *A) {
   for (int r = 0; r < width; r++)
-    for (int col = 0; col < width; col++) A[r * width + col] = D[slot[r] * nq + slot[col]];
+    for (int col = 0; col < width; col++)
+      A[r * width + col] = transposed ? D[slot[col] * nq + slot[r]] : D[slot[r] * nq + slot[col]];
 }
 
-/* β of point p's particles, beta[K·nd + i] (b_entries' order): the cache's gradients themselves when they are all
- * of it (classical models), else gathered into scratch. */
-static const double *point_entries(const Layout *L, const MicaShapeCache *c, long p, double *scratch) {
+/* β of point p's particles, beta[K·nd + i] (b_entries' order) with gradients dN (the trial functions' c->dN or
+ * VCI's test gradients): the gradients themselves when they are all of it (classical models), else gathered into
+ * scratch. */
+static const double *point_entries(const Layout *L, const MicaShapeCache *c, const double *dN, long p,
+                                   double *scratch) {
   const long first = c->ptr[p], n = c->ptr[p + 1] - first;
-  if (!L->values && L->order < 2) return c->dN + first * L->dim;
+  if (!L->values && L->order < 2) return dN + first * L->dim;
   const int nd = shape_entries(L);
   for (long K = 0; K < n; K++) {
     double *out = scratch + K * nd;
     int i = 0;
     if (L->values) out[i++] = c->N[first + K];
-    for (int J = 0; J < L->dim; J++) out[i++] = c->dN[(first + K) * L->dim + J];
+    for (int J = 0; J < L->dim; J++) out[i++] = dN[(first + K) * L->dim + J];
     if (L->order >= 2)
       for (int h = 0; h < L->nh; h++) out[i++] = c->ddN[(first + K) * L->nh + h];
   }
@@ -366,34 +371,46 @@ static int check_symmetric(const double *D, int nq, long p) {
 
 /* A group of points through the kernel into one planar matrix, scattered once. nunion: the particles of the
  * union of the group's supports (s->cell_nodes[0..nunion), cell_group), the rows and columns of that matrix,
- * which every point of the group adds into at its particles' positions in the union; u: the unknowns. */
+ * which every point of the group adds into at its particles' positions in the union; u: the unknowns.
+ * Symmetric: the lower blocks, scattered as the upper ones. Petrov–Galerkin (VCI): every block of the transpose,
+ * trial functions in the rows, test functions in the columns and Aᵀ, so that a row of the planar matrix is a
+ * column of K (mica_sparse_add_clique_columns' contiguous runs). */
 static int assemble_cell(MicaSolid *s, const VolumeTerms *v, long first, long last, long nunion, const double *u,
                          double *R, MicaSparse *K) {
   const MicaShapeCache *c = s->volume;
-  const int nc = s->ncomp, nd = shape_entries(v->L), width = nc * nd;
+  const int nc = s->ncomp, nd = shape_entries(v->L), width = nc * nd, pg = petrov_galerkin(c);
   double *Kc = s->cell_matrix, *staging = Kc + mica_kernel_ke_size(nc, nunion);
   double *A = staging + mica_kernel_chunk_size(nc, nd, nunion, s->chunk_points), *beta = A + width * width;
+  double *beta_test = beta + s->cell_cap * nd;
   const int classical = mica_type_has(&s->opt.field.ops->type, MICA_FIELD_CLASSICAL);
   int slot[MICA_MAX_COMP * 10];
   long *loc = s->work_nodes;
   MicaKernelChunk chunk;
   mica_kernel_chunk_init(&chunk, nc, nd, nunion, s->chunk_points, staging);
   entry_slots(v->L, slot);
-  int flags = MICA_KERNEL_HALF; /* the first flush writes Kc, the later ones add: no clearing of Kc */
+  int flags = pg ? 0 : MICA_KERNEL_HALF; /* the first flush writes Kc, the later ones add: no clearing of Kc */
   for (long p = first; p < last; p++) {
     MICA_CALL(point_residual(s, v, p, u, R, 1));
-    if (!classical) MICA_CALL(check_symmetric(s->work, s->nq, p)); /* a classical A is symmetric by construction */
+    /* the half needs a symmetric A; a classical one is by construction */
+    if (!classical && !pg) MICA_CALL(check_symmetric(s->work, s->nq, p));
     const long n = c->ptr[p + 1] - c->ptr[p];
     for (long k = 0; k < n; k++) loc[k] = s->cell_slot[c->index[c->ptr[p] + k]];
-    kernel_tangent(width, slot, s->work, s->nq, A);
+    kernel_tangent(width, slot, s->work, s->nq, pg, A);
     if (chunk.count == chunk.capacity) {
       mica_kernel_chunk_flush(&chunk, flags, Kc);
       flags |= MICA_KERNEL_ADD;
     }
-    mica_kernel_chunk_add(&chunk, n, point_entries(v->L, c, p, beta), loc, A, s->disc->qw[p]);
+    const double *trial = point_entries(v->L, c, c->dN, p, beta);
+    if (pg)
+      mica_kernel_chunk_add_pair(&chunk, n, trial, point_entries(v->L, c, c->dN_test, p, beta_test), loc, A,
+                                 s->disc->qw[p]);
+    else
+      mica_kernel_chunk_add(&chunk, n, trial, loc, A, s->disc->qw[p]);
   }
   mica_kernel_chunk_flush(&chunk, flags, Kc);
-  return mica_sparse_add_clique_upper(K, nunion, s->cell_nodes, Kc, mica_kernel_padded(nunion));
+  const long np = mica_kernel_padded(nunion);
+  return pg ? mica_sparse_add_clique_columns(K, nunion, s->cell_nodes, Kc, np)
+            : mica_sparse_add_clique_upper(K, nunion, s->cell_nodes, Kc, np);
 }
 
 /* Lower blocks (K ≤ I) of a row-major Ke over the point's n particles into the group's planar matrix at loc. */
@@ -441,7 +458,7 @@ static int assemble_points_grouped(MicaSolid *s, const VolumeTerms *v, int kerne
     MICA_CALL(ierr);
   }
   /* before the boundary terms, which add full (and for some methods unsymmetric) blocks */
-  mica_sparse_mirror_upper(K);
+  if (!petrov_galerkin(c)) mica_sparse_mirror_upper(K);
   return MICA_SUCCESS;
 }
 
@@ -457,7 +474,7 @@ static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, M
   VolumeTerms v = {&L, t, load_scale(s, t), 0};
   for (int a = 0; a < s->ncomp; a++) v.has_body |= s->opt.body[a] != NULL;
   if (mica_solid_pressure_cells(s)) return assemble_volume_cells(s, &v, u, R, K);
-  if (K && kernel_applies(s, s->volume)) return assemble_points_grouped(s, &v, 1, u, R, K);
+  if (K && kernel_applies(s)) return assemble_points_grouped(s, &v, 1, u, R, K);
   /* symmetric (test = trial functions) and one scatter per group, unless VCI's Petrov–Galerkin */
   if (K && !s->volume->dN_test && !s->opt.general_kernel) return assemble_points_grouped(s, &v, 0, u, R, K);
   return assemble_points_general(s, &v, u, R, K);

@@ -67,55 +67,66 @@ static void stage_projection(MicaKernelChunk *ch, long n, const long *loc, const
   }
 }
 
-/* Eight doubles as one value (GCC vector extension): one AVX-512 register, two AVX2 or four SSE2 registers, as
- * the instance's target decides; loads and stores through memcpy, which compiles to unaligned vector moves. */
+/* Vectors of the instruction set's width (GCC vector extension): two doubles for the baseline (SSE2), four for AVX2,
+ * eight for AVX-512; loads and stores through memcpy, which compiles to unaligned vector moves. Why not eight for
+ * all: GCC splits a vector wider than the target's registers into pieces and, in a loop whose trip count is not a
+ * constant (the chunks' sums over t), keeps the pieces on the stack — the AVX2 rows ran at 1.1–1.8 GFLOP/s so,
+ * slower than the slot-based general path (docs/performance.md §kernel). */
+typedef double V2 __attribute__((vector_size(16)));
+typedef double V4 __attribute__((vector_size(32)));
 typedef double V8 __attribute__((vector_size(64)));
-#define ZERO8 ((V8){0, 0, 0, 0, 0, 0, 0, 0})
-#define LOAD8(v, p) memcpy(&(v), (p), sizeof(V8))
-#define STORE8(p, v) memcpy((p), &(v), sizeof(V8))
 
 /* Rows of the kernel over the union: for every (I, a, b), out[k] (+)= Σ_t G_(I a b)[t] X_t[k] for k up to I's
  * block of 8 (half) or all np columns, t over the staged points' entries. T is a constant in the specialized
- * instances (one point of a classical or Cosserat model), so the sum over t is unrolled; the eight lanes stay in
- * registers, so each entry of Ke is loaded and stored once per chunk, not once per point. */
-static inline __attribute__((always_inline)) void rows(const int T, int nc, long u, long np, long stride, int flags,
-                                                       const double *restrict X, const double *restrict G,
-                                                       double *restrict Ke) {
-  const int add = flags & MICA_KERNEL_ADD;
-  for (long I = 0; I < u; I++) {
-    const long k1 = flags & MICA_KERNEL_HALF ? (I + 8) / 8 * 8 : np;
-    for (int a = 0; a < nc; a++)
-      for (int b = 0; b < nc; b++) {
-        const double *restrict g = G + ((I * nc + a) * nc + b) * stride;
-        double *restrict out = Ke + (I * nc + a) * nc * np + b * np;
-        long k = 0;
-        for (; k + 32 <= k1; k += 32) { /* four independent sums: an FMA's latency is hidden behind the others */
-          V8 acc0 = ZERO8, acc1 = ZERO8, acc2 = ZERO8, acc3 = ZERO8;
-          if (add) LOAD8(acc0, out + k), LOAD8(acc1, out + k + 8), LOAD8(acc2, out + k + 16), LOAD8(acc3, out + k + 24);
-          for (int t = 0; t < T; t++) {
-            const double *restrict x = X + t * np + k;
-            const double gs = g[t];
-            const V8 gt = {gs, gs, gs, gs, gs, gs, gs, gs};
-            V8 x0, x1, x2, x3;
-            LOAD8(x0, x), LOAD8(x1, x + 8), LOAD8(x2, x + 16), LOAD8(x3, x + 24);
-            acc0 += gt * x0, acc1 += gt * x1, acc2 += gt * x2, acc3 += gt * x3;
-          }
-          STORE8(out + k, acc0), STORE8(out + k + 8, acc1), STORE8(out + k + 16, acc2), STORE8(out + k + 24, acc3);
-        }
-        for (; k < k1; k += 8) {
-          V8 acc = ZERO8;
-          if (add) LOAD8(acc, out + k);
-          for (int t = 0; t < T; t++) {
-            V8 x;
-            LOAD8(x, X + t * np + k);
-            const double gs = g[t];
-            acc += (V8){gs, gs, gs, gs, gs, gs, gs, gs} * x;
-          }
-          STORE8(out + k, acc);
-        }
-      }
+ * instances (one point of a classical or Cosserat model), so the sum over t is unrolled; the sums stay in
+ * registers, so each entry of Ke is loaded and stored once per chunk, not once per point. Four independent sums
+ * of VT (W doubles) per tile: with one, every multiply-add waited for the previous one (latency 4 cycles). The
+ * same multiply-adds in the same order for every width: the same bits. */
+#define ROWS_OF_WIDTH(VT, W)                                                                                      \
+  static inline __attribute__((always_inline)) void rows_##VT(const int T, int nc, long u, long np, long stride,   \
+                                                             int flags, const double *restrict X,               \
+                                                             const double *restrict G, double *restrict Ke) {   \
+    const int add = flags & MICA_KERNEL_ADD;                                                                      \
+    for (long I = 0; I < u; I++) {                                                                                \
+      const long k1 = flags & MICA_KERNEL_HALF ? (I + 8) / 8 * 8 : np;                                           \
+      for (int a = 0; a < nc; a++)                                                                                \
+        for (int b = 0; b < nc; b++) {                                                                            \
+          const double *restrict g = G + ((I * nc + a) * nc + b) * stride;                                       \
+          double *restrict out = Ke + (I * nc + a) * nc * np + b * np;                                            \
+          long k = 0;                                                                                             \
+          for (; k + 4 * (W) <= k1; k += 4 * (W)) {                                                               \
+            VT acc0 = {0}, acc1 = {0}, acc2 = {0}, acc3 = {0};                                                    \
+            if (add) {                                                                                            \
+              memcpy(&acc0, out + k, sizeof(VT)), memcpy(&acc1, out + k + (W), sizeof(VT));                       \
+              memcpy(&acc2, out + k + 2 * (W), sizeof(VT)), memcpy(&acc3, out + k + 3 * (W), sizeof(VT));         \
+            }                                                                                                     \
+            for (int t = 0; t < T; t++) {                                                                         \
+              const double *restrict x = X + t * np + k;                                                          \
+              const double gt = g[t];                                                                             \
+              VT x0, x1, x2, x3;                                                                                  \
+              memcpy(&x0, x, sizeof(VT)), memcpy(&x1, x + (W), sizeof(VT));                                       \
+              memcpy(&x2, x + 2 * (W), sizeof(VT)), memcpy(&x3, x + 3 * (W), sizeof(VT));                         \
+              acc0 += gt * x0, acc1 += gt * x1, acc2 += gt * x2, acc3 += gt * x3;                                 \
+            }                                                                                                     \
+            memcpy(out + k, &acc0, sizeof(VT)), memcpy(out + k + (W), &acc1, sizeof(VT));                         \
+            memcpy(out + k + 2 * (W), &acc2, sizeof(VT)), memcpy(out + k + 3 * (W), &acc3, sizeof(VT));           \
+          }                                                                                                       \
+          for (; k < k1; k += (W)) { /* np and k1 are multiples of 8, so of W */                                  \
+            VT acc = {0};                                                                                         \
+            if (add) memcpy(&acc, out + k, sizeof(VT));                                                           \
+            for (int t = 0; t < T; t++) {                                                                         \
+              VT x;                                                                                               \
+              memcpy(&x, X + t * np + k, sizeof(VT));                                                             \
+              acc += g[t] * x;                                                                                    \
+            }                                                                                                     \
+            memcpy(out + k, &acc, sizeof(VT));                                                                    \
+          }                                                                                                       \
+        }                                                                                                         \
+    }                                                                                                             \
   }
-}
+ROWS_OF_WIDTH(V2, 2)
+ROWS_OF_WIDTH(V4, 4)
+ROWS_OF_WIDTH(V8, 8)
 
 /* The rows compiled for one instruction set each; the default build targets x86-64 without AVX, so the vector
  * versions are chosen at run time from the CPU's features (GCC's own target_clones dispatch goes by the CPU
@@ -124,25 +135,25 @@ static inline __attribute__((always_inline)) void rows(const int T, int nc, long
 typedef void RowsFn(int T, int nc, long u, long np, long stride, int flags, const double *X, const double *G,
                     double *Ke);
 
-#define ROWS_INSTANCE(name, attributes, TT)                                                                       \
+#define ROWS_INSTANCE(name, attributes, VT, TT)                                                                   \
   attributes static void name(int T, int nc, long u, long np, long stride, int flags, const double *X,            \
                               const double *G, double *Ke) {                                                      \
     (void)T;                                                                                                      \
-    rows(TT, nc, u, np, stride, flags, X, G, Ke);                                                                 \
+    rows_##VT(TT, nc, u, np, stride, flags, X, G, Ke);                                                            \
   }
-#define ROWS_VARIANT(name, attributes)                                                                            \
-  ROWS_INSTANCE(name##_2, attributes, 2)                                                                          \
-  ROWS_INSTANCE(name##_3, attributes, 3)                                                                          \
-  ROWS_INSTANCE(name##_4, attributes, 4)                                                                          \
-  ROWS_INSTANCE(name##_5, attributes, 5)                                                                          \
-  ROWS_INSTANCE(name##_any, attributes, T)                                                                       \
+#define ROWS_VARIANT(name, attributes, VT)                                                                        \
+  ROWS_INSTANCE(name##_2, attributes, VT, 2)                                                                      \
+  ROWS_INSTANCE(name##_3, attributes, VT, 3)                                                                      \
+  ROWS_INSTANCE(name##_4, attributes, VT, 4)                                                                      \
+  ROWS_INSTANCE(name##_5, attributes, VT, 5)                                                                      \
+  ROWS_INSTANCE(name##_any, attributes, VT, T)                                                                    \
   static RowsFn *const name[6] = {name##_any, name##_any, name##_2, name##_3, name##_4, name##_5};
 
-ROWS_VARIANT(rows_base, )
+ROWS_VARIANT(rows_base, , V2)
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
 #define KERNEL_DISPATCH 1
-ROWS_VARIANT(rows_avx2, __attribute__((target("avx2,fma"))))
-ROWS_VARIANT(rows_avx512, __attribute__((target("avx512f,fma,prefer-vector-width=512"))))
+ROWS_VARIANT(rows_avx2, __attribute__((target("avx2,fma"))), V4)
+ROWS_VARIANT(rows_avx512, __attribute__((target("avx512f,fma,prefer-vector-width=512"))), V8)
 #endif
 
 /* The widest variant this CPU runs: "avx512", "avx2" or "baseline". */
@@ -191,11 +202,16 @@ void mica_kernel_chunk_init(MicaKernelChunk *ch, int nc, int nd, long u, int cap
   *ch = (MicaKernelChunk){nc, nd, capacity, 0, u, np, stride, scratch, scratch + u * nc * nc * stride};
 }
 
+void mica_kernel_chunk_add_pair(MicaKernelChunk *ch, long n, const double *beta_row, const double *beta_col,
+                                const long *loc, const double *A, double w) {
+  stage_entries(ch, n, loc, beta_col);
+  stage_projection(ch, n, loc, beta_row, A, w);
+  ch->count++;
+}
+
 void mica_kernel_chunk_add(MicaKernelChunk *ch, long n, const double *beta, const long *loc, const double *A,
                            double w) {
-  stage_entries(ch, n, loc, beta);
-  stage_projection(ch, n, loc, beta, A, w);
-  ch->count++;
+  mica_kernel_chunk_add_pair(ch, n, beta, beta, loc, A, w);
 }
 
 void mica_kernel_chunk_flush(MicaKernelChunk *ch, int flags, double *Ke) {

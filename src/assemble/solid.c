@@ -314,7 +314,7 @@ static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
 
 /* Scratch of the group matrices (assemble.c: a group's union holds at most 1/8 more particles than the largest
  * support), in the planar layout of mica/kernel.h over ncomp unknowns, then the kernel's scratch, its tangent A
- * and the shape-function entries β of one point. */
+ * and the shape-function entries β of one point, trial and (VCI) test. */
 static int cell_scratch(MicaSolid *s) {
   s->cell_cap = s->volume->max_support + s->volume->max_support / 8 + 1;
   if (s->cell_cap > s->nparticles) s->cell_cap = s->nparticles;
@@ -326,7 +326,7 @@ static int cell_scratch(MicaSolid *s) {
   s->chunk_points = per_point * 8 > 32768 ? (int)(32768 / per_point) : 8;
   if (s->chunk_points < 1) s->chunk_points = 1;
   MICA_CALL(MICA_MALLOC(s->cell_matrix, mica_kernel_ke_size(nc, u) + mica_kernel_chunk_size(nc, nd, u, s->chunk_points) +
-                                            (long)(nc * nd) * (nc * nd) + u * nd));
+                                            (long)(nc * nd) * (nc * nd) + 2 * u * nd));
   MICA_CALL(MICA_MALLOC(s->cell_nodes, u));
   MICA_CALL(MICA_MALLOC(s->cell_slot, s->nparticles + 1));
   for (long i = 0; i < s->nparticles; i++) s->cell_slot[i] = -1;

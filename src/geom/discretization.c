@@ -7,13 +7,15 @@
 #include "geom_private.h"
 
 /* Particles of a mapped shape: laid out in parameter space, then mapped by X into *x. */
+/* The layout's particles mapped into x; for an irregular layout also each one's nearest grid point (*index). */
 static int layout_mapped(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes, long *n,
-                         double **x) {
+                         double **x, long **index) {
   int ierr = MICA_SUCCESS;
   double *xi = NULL;
   MICA_CALL(geom_layout_particles(map, layout, axes, n, &xi));
   MICA_CALL_CLEANUP(MICA_MALLOC(*x, *n * map->dim));
   for (long p = 0; p < *n; p++) geom_map_eval(map, &xi[p * map->dim], &(*x)[p * map->dim], NULL);
+  if (layout->kind == MICA_LAYOUT_IRREGULAR) MICA_CALL_CLEANUP(geom_layout_grid_index(axes, *n, xi, index));
 cleanup:
   MICA_FREE(xi);
   return ierr;
@@ -31,20 +33,24 @@ static void set_grid(const GeomMap *map, const MicaLayoutSpec *layout, const Geo
   }
 }
 
-/* The particles, and for a jittered layout the same grid before the jitter (x_grid, in the same order: the
- * jitter moves particles in place). The supports are sized on x_grid: the nearer neighbor of a jittered
- * particle can be as close as (1 − 2 jitter) spacings, which at jitter 0.3 and dilation 2 leaves points near
- * the boundary covered by one row of particles only (a singular moment matrix; docs/theory.md §supports). */
+/* The particles, and for a jittered or irregular layout the regular grid of the same counts (x_grid), on which the
+ * supports are sized (docs/theory.md §supports). Jittered: the same particles before the jitter, in the same order
+ * (the jitter moves particles in place); the nearer neighbor of a jittered particle can be as close as
+ * (1 − 2 jitter) spacings, which at jitter 0.3 and dilation 2 leaves points near the boundary covered by one row
+ * of particles only (a singular moment matrix). Irregular: each particle takes its nearest grid point's spacing
+ * (grid_index); measured on the Poisson-disk particles themselves, the axis rule finds the nearest of scattered
+ * neighbors, often well inside one spacing, and the supports come out small and uneven. */
 static int mapped_particles(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes,
                             MicaDiscretization *disc) {
-  MICA_CALL(layout_mapped(map, layout, axes, &disc->nparticles, &disc->x));
-  if (layout->kind != MICA_LAYOUT_JITTERED) return MICA_SUCCESS;
+  MICA_CALL(layout_mapped(map, layout, axes, &disc->nparticles, &disc->x, &disc->grid_index));
+  if (layout->kind != MICA_LAYOUT_JITTERED && layout->kind != MICA_LAYOUT_IRREGULAR) return MICA_SUCCESS;
   MicaLayoutSpec grid = *layout;
   long n;
   grid.kind = MICA_LAYOUT_REGULAR;
-  MICA_CALL(layout_mapped(map, &grid, axes, &n, &disc->x_grid));
-  MICA_CHECK(n == disc->nparticles, MICA_ERR_ARGUMENT, "jittered layout: %ld particles, %ld on its grid",
-             disc->nparticles, n);
+  MICA_CALL(layout_mapped(map, &grid, axes, &n, &disc->x_grid, NULL));
+  if (layout->kind == MICA_LAYOUT_IRREGULAR) disc->ngrid = n;
+  MICA_CHECK(n == disc->nparticles || disc->ngrid, MICA_ERR_ARGUMENT, "jittered layout: %ld particles, %ld on "
+             "its grid", disc->nparticles, n);
   return MICA_SUCCESS;
 }
 
@@ -204,6 +210,7 @@ int mica_discretization_destroy(MicaDiscretization **disc) {
   MICA_FREE(d->sets);
   MICA_FREE(d->x);
   MICA_FREE(d->x_grid);
+  MICA_FREE(d->grid_index);
   MICA_FREE(d->qx);
   MICA_FREE(d->qw);
   MICA_FREE(d->qcell);

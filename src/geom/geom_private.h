@@ -67,6 +67,9 @@ void geom_axes_destroy(GeomAxes *axes);
 /* Parameter coordinates of the particles ([*n × dim]) for any layout kind; allocates *xi. */
 int geom_layout_particles(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes, long *n,
                           double **xi);
+/* For each of the n parameter points xi of an irregular layout, the index (axis 0 fastest) of the nearest point of
+ * the regular layout of the same counts; allocates *index. */
+int geom_layout_grid_index(const GeomAxes *axes, long n, const double *xi, long **index);
 /* The particles of the grid box [lo, hi) of a regular, graded or jittered layout, the same values (grid order). */
 int geom_layout_box(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes, const long lo[3],
                     const long hi[3], long *n, double **xi);

@@ -257,6 +257,20 @@ int geom_layout_box(const GeomMap *map, const MicaLayoutSpec *layout, const Geom
   return MICA_SUCCESS;
 }
 
+int geom_layout_grid_index(const GeomAxes *axes, long n, const double *xi, long **index) {
+  MICA_CALL(MICA_MALLOC(*index, n + 1));
+  for (long p = 0; p < n; p++) {
+    long k = 0;
+    for (int d = axes->dim - 1; d >= 0; d--) { /* regular axes: t_i = i / (n_d − 1) */
+      long i = lround(xi[p * axes->dim + d] * (double)(axes->n[d] - 1));
+      i = i < 0 ? 0 : i > axes->n[d] - 1 ? axes->n[d] - 1 : i;
+      k = k * axes->n[d] + i;
+    }
+    (*index)[p] = k;
+  }
+  return MICA_SUCCESS;
+}
+
 int geom_layout_particles(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes, long *n,
                           double **xi) {
   int ierr = MICA_SUCCESS;

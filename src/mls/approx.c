@@ -95,13 +95,30 @@ static int set_weight_params(MlsApprox *mls) {
   return MICA_SUCCESS;
 }
 
-/* The local spacing by the rule, on the particles or on opt->spacing_points (a search of its own). */
+/* The local spacing by the rule, on the particles or on opt->spacing_points (a search of its own); with
+ * opt->spacing_index, particle I takes the spacing of point spacing_index[I]. */
 static int local_spacing(MlsApprox *mls, const MlsOptions *opt) {
   if (!opt->spacing_points) return mls_search_local_spacing_rule(mls->search, opt->spacing, mls->spacing);
+  const int dim = mls->dim;
+  const long count = opt->spacing_count > 0 ? opt->spacing_count : mls->n;
+  MICA_CHECK(opt->spacing_index || count == mls->n, MICA_ERR_ARGUMENT,
+             "mls_create: %ld spacing points for %ld particles and no spacing_index", count, mls->n);
+  MICA_CHECK(count >= 2, MICA_ERR_INPUT, "local spacing: %ld spacing points, need at least two", count);
+  for (long i = 0; opt->spacing_index && i < mls->n; i++)
+    MICA_CHECK(opt->spacing_index[i] >= 0 && opt->spacing_index[i] < count, MICA_ERR_ARGUMENT,
+               "mls_create: spacing_index[%ld] = %ld is not in [0, %ld)", i, opt->spacing_index[i], count);
   MlsSearch *grid = NULL;
-  MICA_CALL(mls_search_create(mls->dim, mls->n, opt->spacing_points, opt->search, &grid));
-  int ierr = mls_search_local_spacing_rule(grid, opt->spacing, mls->spacing);
+  double *h = mls->spacing;
+  int ierr = MICA_SUCCESS;
+  if (opt->spacing_index) MICA_CALL(MICA_MALLOC(h, count * dim));
+  MICA_CALL_CLEANUP(mls_search_create(dim, count, opt->spacing_points, opt->search, &grid));
+  MICA_CALL_CLEANUP(mls_search_local_spacing_rule(grid, opt->spacing, h));
+  if (opt->spacing_index)
+    for (long i = 0; i < mls->n; i++)
+      for (int d = 0; d < dim; d++) mls->spacing[i * dim + d] = h[opt->spacing_index[i] * dim + d];
+cleanup:
   mls_search_destroy(&grid);
+  if (h != mls->spacing) MICA_FREE(h);
   return ierr;
 }
 
@@ -114,7 +131,8 @@ int mls_create(int dim, long n, const double *x, const MlsOptions *opt, MlsAppro
   mls->dim = dim;
   mls->n = n;
   mls->opt = *opt;
-  mls->opt.spacing_points = NULL; /* not kept: the caller's array */
+  mls->opt.spacing_points = NULL; /* not kept: the caller's arrays */
+  mls->opt.spacing_index = NULL;
   mls->m = opt->basis->size(dim, opt->order);
   MICA_CALL_CLEANUP(MICA_MALLOC(mls->x, n * dim));
   MICA_CALL_CLEANUP(MICA_CALLOC(mls->radii, n * dim));

@@ -273,25 +273,26 @@ static int block_is_zero(const double *K, long ldr, long np, int ndof, long a, l
   return 1;
 }
 
-int mica_sparse_add_clique_upper(MicaSparse *A, long n, const long *nodes, const double *K, long np) {
+/* Column (b j) of A gets row (b j) of the planar K, for the row nodes a ≤ b (upper) or all a. */
+static int add_clique_columns(MicaSparse *A, long n, const long *nodes, const double *K, long np, int upper) {
   MICA_CHECK(A && (n == 0 || (nodes && K)) && np >= n, MICA_ERR_ARGUMENT,
-             "mica_sparse_add_clique_upper: NULL argument or row length %ld < %ld", np, n);
+             "mica_sparse_add_clique_%s: NULL argument or row length %ld < %ld", upper ? "upper" : "columns", np, n);
   MICA_CALL(check_clique_nodes(A, n, nodes));
   const int ndof = A->ndof;
   const long ldr = ndof * np; /* one row: ndof runs of np */
   for (long b = 0; b < n; b++) {
     const long col0 = nodes[b] * ndof, start = A->colptr[col0], end = A->colptr[col0 + 1];
     long p = start;
-    for (long a = 0; a <= b; a++) {
+    for (long a = 0; a < (upper ? b + 1 : n); a++) {
       const long next = find_block(A, p, end, nodes[a] * ndof);
       if (next >= end || A->rowind[next] != nodes[a] * ndof) {
         MICA_CHECK(block_is_zero(K, ldr, np, ndof, a, b), MICA_ERR_ARGUMENT,
-                   "mica_sparse_add_clique_upper: nodes %ld and %ld are not coupled in the pattern", nodes[a],
-                   nodes[b]);
+                   "mica_sparse_add_clique_%s: nodes %ld and %ld are not coupled in the pattern",
+                   upper ? "upper" : "columns", nodes[a], nodes[b]);
         continue;
       }
       p = next;
-      for (int j = 0; j < ndof; j++) { /* row (b j) of the lower blocks is column (b j) of the upper */
+      for (int j = 0; j < ndof; j++) { /* row (b j) of K is column (b j) of A */
         double *column = A->val + A->colptr[col0 + j] + (p - start);
         const double *k = K + (b * ndof + j) * ldr + a;
         for (int i = 0; i < ndof; i++) column[i] += k[i * np];
@@ -299,6 +300,14 @@ int mica_sparse_add_clique_upper(MicaSparse *A, long n, const long *nodes, const
     }
   }
   return MICA_SUCCESS;
+}
+
+int mica_sparse_add_clique_upper(MicaSparse *A, long n, const long *nodes, const double *K, long np) {
+  return add_clique_columns(A, n, nodes, K, np, 1);
+}
+
+int mica_sparse_add_clique_columns(MicaSparse *A, long n, const long *nodes, const double *K, long np) {
+  return add_clique_columns(A, n, nodes, K, np, 0);
 }
 
 /* Column j's entries above the diagonal, (i, j) with i < j, go to (j, i) in column i; as j grows, the rows j of

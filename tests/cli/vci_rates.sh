@@ -2,15 +2,21 @@
 # quadrature.vci = "auto" turns VCI on for jittered and irregular particles. Smooth manufactured solutions,
 # Dirichlet conditions on the whole boundary (Nitsche, the default), mls.dilation = order + 1 and Gauss order 4
 # (the defaults; input/manufactured.cfg's own dilation 2 and order 5 are set back to them), jitter 0.3,
-# irregular = Poisson-disk interior. Three refinements each; least-squares slopes of the relative errors
-# against h, asserted ≥ 0.9 × the optimal rates, L2 m + 1 and energy m for basis order m:
-#   2-D classical  input/manufactured.cfg        9, 17, 33 particles per side
-#   2-D Cosserat   input/cosserat_smooth.cfg     9, 17, 33
-#   3-D classical  input/manufactured3d.cfg      order 1: 5, 7, 9
-#   3-D Cosserat   input/cosserat_smooth3d.cfg   order 1: 5, 7, 9
-# 3-D order 2 is not run here: UMFPACK takes minutes on the unsymmetric tangent at 9^3 (189 s measured), and
-# 5, 7, 9 is still pre-asymptotic (docs/verification.md gives the one measured series).
-# Every run must report that auto chose VCI (vci_setting "auto", vci true).
+# irregular = Poisson-disk interior (supports sized on the regular grid of the same counts). Three refinements
+# each; least-squares slopes of the relative errors against h, asserted ≥ 0.9 × the optimal rates, L2 m + 1 and
+# energy m for basis order m:
+#   2-D classical  input/manufactured.cfg        orders 1, 2: 9, 17, 33 particles per side
+#   2-D Cosserat   input/cosserat_smooth.cfg     orders 1, 2: 9, 17, 33
+#   3-D classical  input/manufactured3d.cfg      order 1: 7, 9, 11; order 2: 7, 9, 11
+#   3-D Cosserat   input/cosserat_smooth3d.cfg   order 1: 7, 9, 11
+# Why 7, 9, 11 in 3-D: from 5³ the irregular layout's 27 random interior particles make the first level's error,
+# and so the slope, depend on the draw (classical order 1, particles.seed 1, 2, 3, 100001, 200001, 300001: energy
+# slope 0.89 to 1.12 over 5, 7, 9 — two of six below 0.9 — and 1.01 to 1.16 over 7, 9, 11);
+# order 2's supports (dilation 3) hold 89 of 5³'s 125 particles, pre-asymptotic (energy 1.68 from 5 to 7, 1.84
+# from 7 to 9, 2.12 from 9 to 11, jittered). 3-D Cosserat order 2 is not run: six unknowns per particle at
+# order 2's supports cost about four times the classical run.
+# Every run must report that auto chose VCI (vci_setting "auto", vci true). Runtime: 3 min 19 s of CPU (4 min 3 s
+# wall on the shared machine, load 4), 2026-12-02; the 3-D order-2 runs at 11³ are 33 s and 46 s of it.
 source "$(dirname "$0")/common.bash"
 work="$OUT_DIR/vci_rates"
 rm -rf "$work" && mkdir -p "$work"
@@ -34,19 +40,16 @@ rates() {
   done
   local rl2 ren; rl2=$(printf '%s' "$l2" | ls_rate); ren=$(printf '%s' "$en" | ls_rate)
   echo "report: | $name | $order | $layout | $counts |$row | $rl2 | $ren |"
-  at_least "$rl2" "${MIN_L2:-$(awk -v m=$order 'BEGIN { print 0.9 * (m + 1) }')}" "$name p$order $layout: L2 rate"
-  at_least "$ren" "${MIN_EN:-$(awk -v m=$order 'BEGIN { print 0.9 * m }')}" "$name p$order $layout: energy rate"
+  at_least "$rl2" "$(awk -v m=$order 'BEGIN { print 0.9 * (m + 1) }')" "$name p$order $layout: L2 rate"
+  at_least "$ren" "$(awk -v m=$order 'BEGIN { print 0.9 * m }')" "$name p$order $layout: energy rate"
 }
 
 for layout in jittered irregular; do
   for order in 1 2; do
     rates classical2d input/manufactured.cfg $order $layout "9 17 33"
     rates cosserat2d input/cosserat_smooth.cfg $order $layout "9 17 33"
-    [ $order = 1 ] || continue
-    # 3-D irregular, 5 to 9 per side, is short of 0.9 × optimal: the honest bound is asserted (the gap is in
-    # docs/verification.md: pairwise energy rates 0.68, 0.83, 0.87 from 5 to 11, still rising)
-    l2=""; en=""; [ $layout = irregular ] && l2=1.7 en=0.7
-    MIN_L2=$l2 MIN_EN=$en rates classical3d input/manufactured3d.cfg $order $layout "5 7 9"
-    MIN_L2=$l2 MIN_EN=$en rates cosserat3d input/cosserat_smooth3d.cfg $order $layout "5 7 9"
   done
+  rates classical3d input/manufactured3d.cfg 1 $layout "7 9 11"
+  rates cosserat3d input/cosserat_smooth3d.cfg 1 $layout "7 9 11"
+  rates classical3d input/manufactured3d.cfg 2 $layout "7 9 11"
 done

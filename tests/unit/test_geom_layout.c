@@ -9,7 +9,9 @@
  *     particle stays put; same seed → the same particles, another seed → different ones;
  *   - irregular: the boundary particles of the regular layout, interior particles strictly inside and at
  *     least 0.8 regular spacings from every other particle (2-D and 3-D, anisotropic counts); the interior
- *     count reaches the regular one in these cases; deterministic per seed;
+ *     count reaches the regular one in these cases; deterministic per seed; the regular grid of the same counts
+ *     (x_grid, ngrid points) and each particle's nearest grid point (grid_index: within half a spacing per
+ *     axis, a boundary particle's own point), on which the supports are sized;
  *   - errors: jitter outside [0, 0.5), grading ≤ 0.
  */
 #include <math.h>
@@ -263,6 +265,20 @@ static void irregular_box(const MicaShapeSpec *s, long n0, long n1, long n2, dou
   }
   long interior = (n0 - 2) * (n1 - 2) * (dim == 3 ? n2 - 2 : 1);
   assert_int_equal(on_boundary, regular - interior);
+  assert_int_equal(disc->ngrid, regular);
+  assert_non_null(disc->x_grid);
+  assert_non_null(disc->grid_index);
+  for (long p = 0; p < disc->nparticles; p++) {
+    const long k = disc->grid_index[p];
+    assert_true(k >= 0 && k < regular);
+    for (int d = 0; d < dim; d++) {
+      const double g = disc->x_grid[k * dim + d], x = disc->x[p * dim + d];
+      const double steps = (g - s->lower[d]) / h;
+      assert_true(fabs(steps - round(steps)) < 1e-9); /* a grid point */
+      assert_true(fabs(x - g) <= 0.5 * h * (1 + 1e-12)); /* the nearest one */
+      if (x == s->lower[d] || x == s->upper[d]) assert_true(x == g);
+    }
+  }
   MicaDiscretization *again = create(s, &l);
   assert_memory_equal(again->x, disc->x, sizeof(double) * dim * disc->nparticles);
   mica_discretization_destroy(&again);

@@ -11,7 +11,11 @@
  * 3. Scatter: a random symmetric clique matrix added through mica_sparse_add_clique_upper (upper blocks from
  *    the lower rows) and mica_sparse_mirror_upper equals mica_sparse_add_clique of the full matrix to 1e-14,
  *    and the mirrored matrix is exactly symmetric; a union of two cliques whose cross pairs are outside the
- *    pattern is accepted when those blocks are zero and refused (MICA_ERR_ARGUMENT) when one is not. */
+ *    pattern is accepted when those blocks are zero and refused (MICA_ERR_ARGUMENT) when one is not.
+ * 4. Petrov–Galerkin (VCI: test gradients differ from the trial ones): classical 2-D and 3-D and Cosserat 3-D,
+ *    a chunk of three points over a union through mica_kernel_chunk_add_pair (trial entries in the rows, test
+ *    entries in the columns, Aᵀ) and mica_sparse_add_clique_columns equals the general unsymmetric Bᵀ D B
+ *    (rows test, columns trial) scattered with mica_sparse_add_clique, to 1e-12 of max |K|. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -276,6 +280,74 @@ static void test_field_kernel_equals_general(void **state) {
   }
 }
 
+/* ---- Petrov–Galerkin ---- */
+
+/* Test gradients of f's particles (the trial ones perturbed, as VCI's correction does) into dN_test, their β into
+ * beta_test, and f->general recomputed with them in the rows. */
+static void field_case_test_functions(FieldCase *f, double *dN_test, double *beta_test, uint64_t seed) {
+  MicaRandom rng = mica_random_seed(seed);
+  for (long k = 0; k < f->n * f->dim; k++) dN_test[k] = f->dN[k] + 0.3 * symmetric_uniform(&rng);
+  for (long k = 0; k < f->n; k++)
+    for (int i = 0; i < f->nd; i++) {
+      const int slot = field_slot(f, 0, i), grad = slot >= f->nc && slot < f->nc + f->dim;
+      beta_test[k * f->nd + i] = grad ? dN_test[k * f->dim + slot - f->nc] : f->beta[k * f->nd + i];
+    }
+  f->cache.dN_test = dN_test;
+  mica_solid_element_stiffness(&f->solid, &f->cache, 0, f->D, 0.37, f->G, f->general);
+}
+
+static void test_petrov_galerkin(void **state) {
+  (void)state;
+  const struct { const MicaFieldModelOps *ops; int dim; } models[] = {
+      {&mica_field_classical, 2}, {&mica_field_classical, 3}, {&mica_field_cosserat, 3}};
+  for (int v = 0; v < 3; v++) {
+    if (!mica_kernel_use_isa(isas[v])) continue;
+    for (size_t mi = 0; mi < sizeof models / sizeof *models; mi++) {
+      enum { N = 7, U = 2 * N + 1 };
+      const long n = N, u = U, np = mica_kernel_padded(u);
+      static FieldCase f[3];
+      static double dN_test[3][48 * 3], beta_test[3][48 * 10], At[60 * 60];
+      long loc[3][N], nodes[3][N];
+      const long all[U] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14};
+      for (int p = 0; p < 3; p++) {
+        field_case_init(&f[p], models[mi].ops, models[mi].dim, n, 70 + (uint64_t)(10 * mi + p));
+        field_case_test_functions(&f[p], dN_test[p], beta_test[p], 90 + (uint64_t)(10 * mi + p));
+        for (long k = 0; k < n; k++) loc[p][k] = nodes[p][k] = 2 * k + p % 2; /* even or odd members */
+      }
+      const int nc = f[0].nc, nd = f[0].nd, width = nc * nd;
+      const long cliques_ptr[] = {0, N, 2 * N}, cliques[] = {0, 2, 4, 6, 8, 10, 12, 1, 3, 5, 7, 9, 11, 13};
+      MicaSparse *general = NULL, *kernel = NULL;
+      assert_int_equal(mica_sparse_create(u, nc, 2, cliques_ptr, cliques, &general), MICA_SUCCESS);
+      assert_int_equal(mica_sparse_create(u, nc, 2, cliques_ptr, cliques, &kernel), MICA_SUCCESS);
+      double *Kc = calloc((size_t)mica_kernel_ke_size(nc, u), sizeof(double));
+      double *work = malloc(sizeof(double) * (size_t)mica_kernel_chunk_size(nc, nd, u, 2));
+      assert_true(Kc && work);
+      MicaKernelChunk ch;
+      mica_kernel_chunk_init(&ch, nc, nd, u, 2, work);
+      int flags = 0;
+      for (int p = 0; p < 3; p++) {
+        for (int r = 0; r < width; r++)
+          for (int c = 0; c < width; c++) At[r * width + c] = f[p].A[c * width + r];
+        if (ch.count == ch.capacity) mica_kernel_chunk_flush(&ch, flags, Kc), flags = MICA_KERNEL_ADD;
+        mica_kernel_chunk_add_pair(&ch, n, f[p].beta, beta_test[p], loc[p], At, 0.37);
+        assert_int_equal(mica_sparse_add_clique(general, n, nodes[p], f[p].general), MICA_SUCCESS);
+      }
+      mica_kernel_chunk_flush(&ch, flags, Kc);
+      assert_int_equal(mica_sparse_add_clique_columns(kernel, u, all, Kc, np), MICA_SUCCESS);
+      double diff = 0, scale = 0;
+      for (long e = 0; e < general->nnz; e++)
+        diff = fmax(diff, fabs(general->val[e] - kernel->val[e])), scale = fmax(scale, fabs(general->val[e]));
+      print_message("Petrov-Galerkin %s %d-D: chunk of 3 against the general matrices %.1e, asymmetry %.2f (ISA %s)\n",
+                    models[mi].ops->type.name, models[mi].dim, diff / scale, mica_sparse_asymmetry(general),
+                    mica_kernel_isa());
+      assert_true(diff <= 1e-12 * scale);
+      assert_true(mica_sparse_asymmetry(general) > 1e-2); /* the case is unsymmetric */
+      free(Kc), free(work);
+      mica_sparse_destroy(&general), mica_sparse_destroy(&kernel);
+    }
+  }
+}
+
 /* ---- the scatter ---- */
 
 /* Nodes 0..nnodes-1 with ndof = dim, two cliques {0..5} and {4..9}: nodes 0 and 9 are not coupled. */
@@ -337,6 +409,7 @@ int main(void) {
       cmocka_unit_test(test_kernel_mapped),
       cmocka_unit_test(test_field_kernel_equals_general),
       cmocka_unit_test(test_scatter_upper_mirror),
+      cmocka_unit_test(test_petrov_galerkin),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

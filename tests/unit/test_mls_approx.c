@@ -437,6 +437,41 @@ static void test_radii_from_options(void **state) {
   free(x);
 }
 
+/* Supports sized on spacing points of another count (an irregular layout's grid): particle I takes the spacing of
+ * point spacing_index[I]. A 2-D grid with spacings 0.2 and 0.4 along the axes, and particles scattered among its
+ * points, each indexed to one of them: radii = dilation × (0.2, 0.4) whatever the scatter; an index outside the
+ * points, or points of another count without an index, is an error. */
+static void test_spacing_on_other_points(void **state) {
+  (void)state;
+  enum { NX = 11, NY = 6, NP = 40 };
+  double grid[NX * NY * 2], x[NP * 2];
+  long index[NP];
+  for (int j = 0; j < NY; j++)
+    for (int i = 0; i < NX; i++) grid[(j * NX + i) * 2] = 0.2 * i, grid[(j * NX + i) * 2 + 1] = 0.4 * j;
+  uint64_t seed = 7;
+  for (int p = 0; p < NP; p++) {
+    x[p * 2] = 2.0 * rnd(&seed), x[p * 2 + 1] = 2.0 * rnd(&seed);
+    index[p] = lround(x[p * 2 + 1] / 0.4) * NX + lround(x[p * 2] / 0.2);
+  }
+  MlsOptions opt;
+  mls_options_default(&opt);
+  opt.dilation = 2.0;
+  opt.spacing_points = grid, opt.spacing_count = NX * NY, opt.spacing_index = index;
+  MlsApprox *mls;
+  assert_int_equal(mls_create(2, NP, x, &opt, &mls), MICA_SUCCESS);
+  for (int p = 0; p < NP; p++) {
+    assert_true(fabs(mls_spacing(mls)[p * 2] - 0.2) < 1e-12 && fabs(mls_spacing(mls)[p * 2 + 1] - 0.4) < 1e-12);
+    assert_true(fabs(mls_radii(mls)[p * 2] - 0.4) < 1e-12 && fabs(mls_radii(mls)[p * 2 + 1] - 0.8) < 1e-12);
+  }
+  mls_destroy(&mls);
+  index[3] = NX * NY;
+  assert_int_equal(mls_create(2, NP, x, &opt, &mls), MICA_ERR_ARGUMENT);
+  mica_error_clear();
+  opt.spacing_index = NULL;
+  assert_int_equal(mls_create(2, NP, x, &opt, &mls), MICA_ERR_ARGUMENT);
+  mica_error_clear();
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_reproduction_all_configurations),
@@ -446,6 +481,7 @@ int main(void) {
       cmocka_unit_test(test_point_without_support_is_an_error),
       cmocka_unit_test(test_kdtree_and_cells_agree),
       cmocka_unit_test(test_radii_from_options),
+      cmocka_unit_test(test_spacing_on_other_points),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
