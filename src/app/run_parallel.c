@@ -130,7 +130,7 @@ int run_parallel_memory(const RunProblem *rp, MicaJson *summary) {
 
 /* Per rank: what it owns and what its share of the distributed work cost it. */
 enum { RANK_POINTS, RANK_BOUNDARY, RANK_OWNED, RANK_LOCAL, RANK_NNZ, RANK_WALL_CACHE, RANK_CPU_CACHE, RANK_WALL_ASSEMBLE, RANK_CPU_ASSEMBLE,
-       RANK_WAIT_WALL, RANK_WAIT_CPU, RANK_FIELDS };
+       RANK_WAIT_WALL, RANK_WAIT_CPU, RANK_PEAK, RANK_FIELDS };
 
 static int add_rank_array(MicaJson *summary, const char *key, const double *rows, int nranks, int field) {
   MICA_CALL(mica_json_open_array(summary, key));
@@ -170,6 +170,7 @@ int run_parallel_ranks(const RunProblem *rp, const MicaNewtonStats *stats, MicaJ
   mine[RANK_WALL_CACHE] = rp->time_cache_pattern, mine[RANK_CPU_CACHE] = rp->cpu_cache_pattern;
   mine[RANK_WALL_ASSEMBLE] = stats->time_assemble, mine[RANK_CPU_ASSEMBLE] = stats->cpu_assemble;
   mica_parallel_residual_time(&mine[RANK_WAIT_WALL], &mine[RANK_WAIT_CPU], &calls);
+  mine[RANK_PEAK] = (double)mica_parallel_peak_memory(); /* after the solve, before the outputs */
   int ierr = root ? MICA_CALLOC(rows, (long)nranks * RANK_FIELDS) : MICA_SUCCESS;
   MICA_CALL(mica_parallel_agree(ierr));
   MPI_Gather(mine, RANK_FIELDS, MPI_DOUBLE, rows, RANK_FIELDS, MPI_DOUBLE, 0, mica_parallel_comm());
@@ -185,6 +186,7 @@ int run_parallel_ranks(const RunProblem *rp, const MicaNewtonStats *stats, MicaJ
   if (!ierr) ierr = add_rank_array(summary, "rank_cpu_cache_and_pattern", rows, nranks, RANK_CPU_CACHE);
   if (!ierr) ierr = add_rank_array(summary, "rank_cpu_assemble", rows, nranks, RANK_CPU_ASSEMBLE);
   if (!ierr) ierr = add_rank_array(summary, "rank_assemble_wait", rows, nranks, RANK_WAIT_WALL);
+  if (!ierr) ierr = add_rank_array(summary, "rank_peak_memory", rows, nranks, RANK_PEAK);
   free(rows);
   return ierr;
 }

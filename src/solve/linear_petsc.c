@@ -14,8 +14,9 @@
  * block of the CSC values: one MatSetValues per node and rank, no copy. Later factorizations zero the values and
  * add them again into the same pattern; PETSc then sees a changed matrix with the same nonzero structure, and its
  * preconditioners redo only their numeric part (MUMPS and CHOLMOD/UMFPACK in ASM keep their symbolic analysis;
- * GAMG with -pc_gamg_reuse_interpolation keeps its prolongators). MAT_SUBSET_OFF_PROC_ENTRIES reuses the
- * communication pattern of the first assembly.
+ * GAMG with -pc_gamg_reuse_interpolation keeps its prolongators). The stash of rows other ranks own is freed
+ * after each assembly (no MAT_SUBSET_OFF_PROC_ENTRIES: its buffers would stay held through GAMG's setup, where a
+ * rank's memory peaks).
  *
  * Vectors: with parallel.data = "replicated" they are replicated in mica: the right-hand side is copied into
  * each rank's owned rows, the solution gathered to every rank with VecScatterCreateToAll and put back in mica's
@@ -354,7 +355,9 @@ static int create_matrix(PetscSolver *ps, const MicaSparse *L, const MicaKrylovO
   MICA_CALL(ps->size == 1 && !ps->local ? preallocate_serial(ps, L) : preallocate_distributed(ps, L));
   PCALL(MatSetOption(ps->A, MAT_ROW_ORIENTED, PETSC_FALSE));
   PCALL(MatSetOption(ps->A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
-  PCALL(MatSetOption(ps->A, MAT_SUBSET_OFF_PROC_ENTRIES, PETSC_TRUE));
+  /* not MAT_SUBSET_OFF_PROC_ENTRIES: it would keep the stash's receive buffers of the ghost rows between assemblies
+   * (measured: 21 MB a rank at 31³ on 4 ranks, about 5 % of its peak, which it reaches in GAMG's setup while they
+   * are held); without it every assembly sets its communication up again (one rendezvous, docs/performance.md) */
   /* symmetric, not MAT_SPD: a tangent positive definite at the start may turn indefinite under load, and MUMPS's
    * Cholesky is then LDLᵀ with pivoting (its sym = 2), right either way; CG and CHOLMOD say so when it happens */
   if (k->spd) {
