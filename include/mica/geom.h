@@ -100,6 +100,7 @@ typedef struct MicaNodalCells {
   long *ptr;       /* [n+1]: cell I's boundary points are ptr[I] .. ptr[I+1) */
   double *x;       /* [ptr[n]*dim] positions */
   double *wn;      /* [ptr[n]*dim] weight (length/area element included) × outward unit normal */
+  double *moment;  /* [n*dim*dim] second moments ∫_Ω_I (x − x_I) ⊗ (x − x_I) dV about the particle (NSNI) */
 } MicaNodalCells;
 
 /* The background cells (or the mesh's elements) as a mesh for output (src/geom/cell_mesh.c): shared points

@@ -16,8 +16,12 @@ static const MicaType integration_nodal = {
 static const MicaType integration_scni = {
     "scni", "stabilized conforming nodal integration: smoothed gradients on the nodal cells",
     RUN_INTEGRATION_NODAL | RUN_INTEGRATION_SMOOTHED, NULL, NULL};
+static const MicaType integration_nsni = {
+    "nsni", "naturally stabilized nodal integration: one point per particle with the strain's gradient terms from "
+    "the MLS Hessians, and VCI (quadrature.vci = auto) for the patch test of the basis order",
+    RUN_INTEGRATION_NODAL | RUN_INTEGRATION_STABILIZED, NULL, NULL};
 static const MicaType *const builtin_integrations[] = {&integration_gauss, &integration_nodal, &integration_scni,
-                                                       NULL};
+                                                       &integration_nsni, NULL};
 
 MicaRegistry run_integration_registry = {"integration mode", "gauss", builtin_integrations, NULL, 0, NULL};
 
@@ -192,11 +196,31 @@ int run_read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const
  * refused with it: SCNI's trial gradients are cell averages, not the MLS gradients at x_I that VCI's
  * consistency argument assumes (a quadratic patch stays inexact, docs/verification.md), and for a linear basis
  * SCNI already satisfies the linear integration constraint that VCI would impose. */
+/* NSNI (docs/theory.md §NSNI) expands first-order kinematics over the nodal cells: a second-order model would
+ * need third derivatives of the shape functions, and a finite model other than a classical one (whose
+ * stabilization is its linear form) has no quadratic form to stabilize with. Refused with the deck line. */
+static int check_nsni(const MicaDeck *deck, const MicaSolidOptions *opt) {
+  char where[256];
+  const MicaFieldModel *m = &opt->field;
+  mica_deck_where(deck, "quadrature.mode", where, sizeof where);
+  MICA_CHECK(m->ops->order == 1, MICA_ERR_INPUT,
+             "%s: quadrature.mode = \"nsni\" expands the kinematics to first order over each nodal cell, and model "
+             "'%s' uses second derivatives: its expansion needs third derivatives of the MLS shape functions, which "
+             "mica does not compute; use quadrature.mode = \"gauss\" (or \"nodal\")", where, m->ops->type.name);
+  MICA_CHECK(mica_field_model_quadratic(m) || mica_type_has(&m->ops->type, MICA_FIELD_CLASSICAL), MICA_ERR_INPUT,
+             "%s: quadrature.mode = \"nsni\" stabilizes with a quadratic energy (the model's own, or a finite-strain "
+             "classical model's linear form), and model '%s' has none here; use quadrature.mode = \"gauss\"", where,
+             m->ops->type.name);
+  return MICA_SUCCESS;
+}
+
 int run_read_scni(const MicaDeck *deck, RunProblem *rp, MicaSolidOptions *opt) {
   unsigned flags;
   MICA_CALL(mica_deck_string(deck, "quadrature.mode", &rp->integration));
   MICA_CALL(run_integration_flags(deck, &flags));
   opt->scni = (flags & RUN_INTEGRATION_SMOOTHED) != 0;
+  opt->nsni = (flags & RUN_INTEGRATION_STABILIZED) != 0;
+  if (opt->nsni) return check_nsni(deck, opt);
   if (!opt->scni) return MICA_SUCCESS;
   char where[256];
   mica_deck_where(deck, "quadrature.vci", where, sizeof where);

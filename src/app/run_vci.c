@@ -16,7 +16,8 @@ static const char *unavailable(const RunVciFacts *f, unsigned mode, const char *
   if (f->model_order > 1) return "a second-order model: VCI corrects first derivatives only";
   if (f->axisymmetric) return "axisymmetric solid: no VCI for the hoop terms";
   if (mode & RUN_INTEGRATION_SMOOTHED) return "quadrature.mode = \"scni\" passes the linear patch test itself";
-  if (mode & RUN_INTEGRATION_NODAL) return "direct nodal integration is shown as it is";
+  if ((mode & RUN_INTEGRATION_NODAL) && !(mode & RUN_INTEGRATION_STABILIZED))
+    return "direct nodal integration is shown as it is";
   if (f->parallel) return "VCI is not available in parallel runs yet";
   if (f->boundary_uncovered > 0) return "the mesh's boundary sets do not cover the boundary once";
   if (f->symmetric_only) return "this analysis needs the symmetric Galerkin tangent";
@@ -56,6 +57,11 @@ int run_vci_choose(const MicaDeck *deck, const RunVciFacts *facts, RunVciChoice 
   const char *why = unavailable(facts, mode, linear);
   if (why) {
     snprintf(c->reason, sizeof c->reason, "%s", why);
+    return MICA_SUCCESS;
+  }
+  if (mode & RUN_INTEGRATION_STABILIZED) { /* one point per particle misses the patch test on any layout */
+    c->on = 1;
+    snprintf(c->reason, sizeof c->reason, "quadrature.mode = \"nsni\": nodal integration is consistent only with it");
     return MICA_SUCCESS;
   }
   return by_layout(deck, c);

@@ -267,10 +267,11 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
   return MICA_SUCCESS;
 }
 
-/* VCI: corrected test gradients in the volume cache (vci.c), timed for the summary. */
+/* VCI: corrected test gradients in the volume cache (vci.c), with NSNI's stabilization points in the
+ * constraint when there are some, timed for the summary. */
 static int apply_vci(MicaSolid *s) {
   const double start = mica_wtime();
-  MICA_CALL(mica_vci_correct(s->disc, s->mls, s->opt.basis_order, s->volume));
+  MICA_CALL(mica_vci_correct_stabilized(s->disc, s->mls, s->opt.basis_order, s->volume, s->nsni));
   s->time_vci = mica_wtime() - start;
   return MICA_SUCCESS;
 }
@@ -283,6 +284,41 @@ int mica_solid_nearly_symmetric(const MicaSolid *s) {
   return mica_bc_method_has(s->opt.bc_method, MICA_BC_SYMMETRIC_DEFINITE) && s->volume->dN_test;
 }
 
+/* The energy of NSNI's stabilization points (docs/theory.md §NSNI): a quadratic model's own; for a
+ * finite-strain classical model the linear model of the same E, ν (its tangent at F = I), so that the
+ * stabilization stays a fixed quadratic form whose tangent is exact. Other finite models have no such form
+ * here. */
+static int stabilization_model(MicaSolid *s) {
+  const MicaFieldModel *m = &s->opt.field;
+  if (mica_field_model_quadratic(m)) {
+    s->stab_model = *m;
+    return MICA_SUCCESS;
+  }
+  MICA_CHECK(mica_type_has(&m->ops->type, MICA_FIELD_CLASSICAL), MICA_ERR_INPUT,
+             "NSNI stabilizes a quadratic energy, or a finite-strain classical model with its linear form; model "
+             "'%s' has neither (no linearized form of its energy is available for the stabilization terms)",
+             m->ops->type.name);
+  MicaMaterial linear;
+  MICA_CALL(mica_material_set(&mica_model_linear, m->material.E, m->material.nu, m->material.plane, &linear));
+  return mica_field_classical_set(&s->stab_model, &mica_model_linear, &linear);
+}
+
+/* NSNI: the stabilization points at the particles (nsni.c), before VCI, whose constraint includes them. */
+static int build_nsni(MicaSolid *s) {
+  MICA_CHECK(s->mls && s->disc->nodal, MICA_ERR_INPUT, "NSNI needs MLS shape functions on a nodal discretization");
+  MICA_CHECK(s->opt.field.ops->order == 1 && !s->opt.axisymmetric, MICA_ERR_INPUT,
+             "NSNI expands the kinematics to first order over each nodal cell; model '%s'%s", s->opt.field.ops->type.name,
+             s->opt.axisymmetric ? " is axisymmetric (the hoop terms have no expansion here)"
+                                 : " uses second derivatives, whose expansion needs third derivatives of the shape "
+                                   "functions, which mica does not compute");
+  MICA_CALL(stabilization_model(s));
+  const double start = mica_wtime();
+  MICA_CALL(mica_nsni_create(s->disc, s->mls, &s->nsni));
+  s->time_shape += mica_wtime() - start;
+  s->time_search += s->nsni->cache->time_search;
+  return MICA_SUCCESS;
+}
+
 /* The volume cache: the donor's when it was built for the same discretization, approximation, derivative
  * order and test functions (VCI or not); otherwise built, and corrected for VCI. */
 static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
@@ -290,7 +326,7 @@ static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
   const MicaDiscretization *disc = s->disc;
   const int order = opt->field.ops->order >= 2 ? 2 : 1;
   if (same_approximation(s, donor) && donor->volume->order == order && !donor->volume->dN_test == !opt->vci &&
-      !donor->opt.scni == !opt->scni) {
+      !donor->opt.scni == !opt->scni && !donor->opt.nsni == !opt->nsni) {
     s->volume = mica_shape_cache_share(donor->volume);
     s->caches_shared++;
     return MICA_SUCCESS;
@@ -357,6 +393,7 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
   s->traction = traction;
   MICA_CALL_CLEANUP(check_model(opt, approx, s->ncomp, s->nq));
   if (opt->axisymmetric) MICA_CALL_CLEANUP(check_axisymmetric(s));
+  if (opt->nsni) MICA_CALL_CLEANUP(build_nsni(s));
   MICA_CALL_CLEANUP(volume_cache(s, donor));
   MICA_CALL_CLEANUP(build_boundary_caches(s, donor));
   MICA_CALL_CLEANUP(number_multipliers(s));
@@ -395,6 +432,7 @@ int mica_solid_destroy(MicaSolid **solid) {
   if (!s) return MICA_SUCCESS;
   mica_pressure_cells_free(s);
   mica_shape_cache_destroy(&s->volume);
+  mica_nsni_destroy(&s->nsni);
   if (s->boundary)
     for (int set = 0; set < s->disc->nsets; set++) {
       mica_shape_cache_destroy(&s->boundary[set]);

@@ -1,0 +1,116 @@
+/* Naturally stabilized nodal integration, NSNI (docs/theory.md §NSNI; Hillman & Chen, IJNME 107 (2016)): the
+ * kinematics q of every field are expanded to first order over particle I's nodal cell,
+ *   q(x) ≈ q(x_I) + (x − x_I) · ∇q(x_I),
+ * and the cell's energy of a quadratic W(q) = ½ qᵀ D q integrated with the cell's moments about x_I, the first
+ * ones dropped (Hillman–Chen: x_I near the centroid), the second ones M_I = ∫_Ω_I (x − x_I) ⊗ (x − x_I) dV kept:
+ *   ∫_Ω_I W ≈ |Ω_I| W(q(x_I)) + ½ Σ_de M_I,de q_,dᵀ D q_,e.
+ * With M_I = L Lᵀ (Cholesky) the second term is Σ_k w_k W(g_k · ∇q), g_k = L_·k / |L_·k|, w_k = |L_·k|²: dim
+ * stabilization points per particle whose "shape functions" are the directional derivatives of the MLS ones,
+ *   N ← g_k · ∇N_J(x_I),   ∇N ← ∇(g_k · ∇N_J)(x_I) = H_J(x_I) g_k   (H: the MLS Hessian),
+ * so the assembly's generic loop gives their residual and tangent exactly (no body load there). */
+#include <math.h>
+#include <string.h>
+
+#include "mica/solid.h"
+
+/* M = L Lᵀ for a small SPD M (dim ≤ 3), L lower, row-major; a cell whose M is not positive definite is an error. */
+static int cholesky_small(int dim, const double *M, double *L, long particle) {
+  memset(L, 0, sizeof(double) * (size_t)(dim * dim));
+  for (int j = 0; j < dim; j++) {
+    double d = M[j * dim + j];
+    for (int k = 0; k < j; k++) d -= L[j * dim + k] * L[j * dim + k];
+    MICA_CHECK(d > 0 && isfinite(d), MICA_ERR_INPUT,
+               "NSNI: the nodal cell of particle %ld has second moments that are not positive definite", particle + 1);
+    L[j * dim + j] = sqrt(d);
+    for (int i = j + 1; i < dim; i++) {
+      double v = M[i * dim + j];
+      for (int k = 0; k < j; k++) v -= L[i * dim + k] * L[j * dim + k];
+      L[i * dim + j] = v / L[j * dim + j];
+    }
+  }
+  return MICA_SUCCESS;
+}
+
+/* The directions and weights of particle I's dim stabilization points from its cell's second moments. */
+static int particle_directions(const MicaNodalCells *cells, int dim, long I, double *dir, double *w) {
+  double L[9];
+  MICA_CALL(cholesky_small(dim, cells->moment + I * dim * dim, L, I));
+  for (int k = 0; k < dim; k++) {
+    double len2 = 0.0;
+    for (int d = 0; d < dim; d++) len2 += L[d * dim + k] * L[d * dim + k];
+    w[k] = len2;
+    for (int d = 0; d < dim; d++) dir[k * dim + d] = L[d * dim + k] / sqrt(len2);
+  }
+  return MICA_SUCCESS;
+}
+
+static int nsni_alloc(MicaNsni *n, int dim, long np, long nnz) {
+  MicaShapeCache *c = NULL;
+  MICA_CALL(MICA_CALLOC(c, 1));
+  n->cache = c;
+  c->dim = dim, c->order = 1, c->npoints = np * dim;
+  MICA_CALL(MICA_CALLOC(c->ptr, np * dim + 1));
+  MICA_CALL(MICA_MALLOC(c->x, np * dim * dim + 1));
+  MICA_CALL(MICA_MALLOC(c->index, nnz * dim + 1));
+  MICA_CALL(MICA_MALLOC(c->N, nnz * dim + 1));
+  MICA_CALL(MICA_MALLOC(c->dN, nnz * dim * dim + 1));
+  MICA_CALL(MICA_MALLOC(n->w, np * dim));
+  MICA_CALL(MICA_MALLOC(n->dir, np * dim * dim));
+  return MICA_SUCCESS;
+}
+
+/* Point I·dim + k from the MLS values at x_I (cache h, order 2): the entries of every supporting J. */
+static void fill_point(const MicaShapeCache *h, long I, int k, const double *g, MicaShapeCache *c) {
+  const int dim = h->dim, nh = mls_num_hess(dim);
+  const long p = I * dim + k, start = c->ptr[p], n = h->ptr[I + 1] - h->ptr[I];
+  memcpy(c->x + p * dim, h->x + I * dim, sizeof(double) * (size_t)dim);
+  for (long j = 0; j < n; j++) {
+    const long e = h->ptr[I] + j, out = start + j;
+    c->index[out] = h->index[e];
+    double N = 0.0;
+    for (int d = 0; d < dim; d++) N += g[d] * h->dN[e * dim + d];
+    c->N[out] = N;
+    for (int d = 0; d < dim; d++) {
+      double v = 0.0;
+      for (int f = 0; f < dim; f++) v += h->ddN[e * nh + mls_hess_index(dim, d, f)] * g[f];
+      c->dN[out * dim + d] = v;
+    }
+  }
+  c->ptr[p + 1] = start + n;
+}
+
+int mica_nsni_create(const MicaDiscretization *disc, const MlsApprox *mls, MicaNsni **out) {
+  *out = NULL;
+  MICA_CHECK(disc->nodal && disc->nodal->moment && disc->nquad == disc->nparticles, MICA_ERR_ARGUMENT,
+             "mica_nsni_create: the discretization has no nodal cells (mica_discretization_nodal)");
+  const int dim = disc->dim;
+  const long np = disc->nparticles;
+  MicaShapeCache *h = NULL;
+  MicaNsni *n = NULL;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL(mica_shape_cache_create(mls, np, disc->qx, 2, "NSNI: particle", &h));
+  MICA_CALL_CLEANUP(MICA_CALLOC(n, 1));
+  MICA_CALL_CLEANUP(nsni_alloc(n, dim, np, h->ptr[np]));
+  for (long I = 0; I < np; I++) {
+    MICA_CALL_CLEANUP(particle_directions(disc->nodal, dim, I, n->dir + I * dim * dim, n->w + I * dim));
+    for (int k = 0; k < dim; k++) fill_point(h, I, k, n->dir + (I * dim + k) * dim, n->cache);
+  }
+  n->cache->max_support = h->max_support;
+  n->cache->rcond_min = h->rcond_min;
+  n->cache->time_search = h->time_search;
+  *out = n;
+  n = NULL;
+cleanup:
+  mica_shape_cache_destroy(&h);
+  mica_nsni_destroy(&n);
+  return ierr;
+}
+
+int mica_nsni_destroy(MicaNsni **nsni) {
+  if (!nsni || !*nsni) return MICA_SUCCESS;
+  mica_shape_cache_destroy(&(*nsni)->cache);
+  MICA_FREE((*nsni)->w);
+  MICA_FREE((*nsni)->dir);
+  MICA_FREE(*nsni);
+  return MICA_SUCCESS;
+}
