@@ -227,6 +227,28 @@ static int add_body_force(const MicaSolid *s, long p, double t, double scale, do
   return MICA_SUCCESS;
 }
 
+/* NSNI's expansion of the body load at stabilization point p (docs/theory.md §NSNI): R_J −= w (g·∇N_J)(g·∇b)(x_I),
+ * the load's derivative along g by a central difference over 10⁻³ of the cell's length ℓ = (w/|Ω_I|)^½ (exact for
+ * the linear loads of the patch tests up to round-off). Without it the value terms of a Cosserat model, whose
+ * balance N_J (s_φ − c) = 0 holds pointwise, would not cancel at these points. */
+static int add_body_derivative(const MicaSolid *s, long p, double t, double scale, double *R) {
+  const MicaNsni *n = s->nsni;
+  const MicaShapeCache *c = n->cache;
+  const int dim = s->dim, ncomp = s->ncomp;
+  const double *g = n->dir + p * dim, step = 1e-3 * sqrt(n->w[p] / s->disc->qw[p / dim]);
+  double xp[3] = {0, 0, 0}, xm[3] = {0, 0, 0}, db[MICA_MAX_COMP];
+  for (int d = 0; d < dim; d++) xp[d] = c->x[p * dim + d] + step * g[d], xm[d] = c->x[p * dim + d] - step * g[d];
+  for (int a = 0; a < ncomp; a++) {
+    double bp, bm;
+    MICA_CALL(load_value(s->opt.body[a], "in the whole body", dim, xp, t, scale, &bp));
+    MICA_CALL(load_value(s->opt.body[a], "in the whole body", dim, xm, t, scale, &bm));
+    db[a] = (bp - bm) / (2 * step);
+  }
+  for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
+    for (int a = 0; a < ncomp; a++) R[c->index[e] * ncomp + a] -= n->w[p] * c->N[e] * db[a];
+  return MICA_SUCCESS;
+}
+
 /* What every volume point contributes before its stiffness: the model at q(u), the internal force and body load
  * into R, and (with_tangent) D into s->work. The points: the volume cache with the quadrature weights and the
  * solid's model, or NSNI's stabilization points with their weights and energy (no body load). */
@@ -249,7 +271,8 @@ static int point_residual(MicaSolid *s, const VolumeTerms *v, long p, const doub
     return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
   }
   add_internal_force(v->L, c, p, sq, v->w[p], R);
-  if (v->has_body) MICA_CALL(add_body_force(s, p, v->t, v->scale, R));
+  if (v->has_body && c == s->volume) MICA_CALL(add_body_force(s, p, v->t, v->scale, R));
+  if (v->has_body && c != s->volume) MICA_CALL(add_body_derivative(s, p, v->t, v->scale, R));
   return MICA_SUCCESS;
 }
 
@@ -469,7 +492,7 @@ static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, M
   for (int a = 0; a < s->ncomp; a++) v.has_body |= s->opt.body[a] != NULL;
   if (mica_solid_pressure_cells(s)) return assemble_volume_cells(s, &v, u, R, K);
   if (s->nsni) { /* first: its grouped path mirrors K's upper half, which a Petrov–Galerkin volume's would not be */
-    const VolumeTerms stab = {&L, t, 1.0, 0, s->nsni->cache, s->nsni->w, &s->stab_model};
+    const VolumeTerms stab = {&L, t, v.scale, v.has_body, s->nsni->cache, s->nsni->w, &s->stab_model};
     MICA_CALL(assemble_point_set(s, &stab, u, R, K));
   }
   return assemble_point_set(s, &v, u, R, K);
