@@ -210,6 +210,11 @@ int mica_discretization_grid(const MicaShapeSpec *shape, const MicaLayoutSpec *l
  * MICA_ERR_INPUT for a Gmsh mesh, an irregular layout, or a cell that folds (volume ≤ 0). */
 int mica_discretization_nodal(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                               MicaDiscretization *disc);
+/* NSNI's points (docs/theory.md §NSNI): the volume points of a nodal discretization moved from the particles to
+ * their cells' centroids x_I + S_I/|Ω_I| (S_I = ∫ (x − x_I) dV, by the divergence theorem on the cells' boundary
+ * points), and the second moments taken about them (M − S Sᵀ/|Ω_I|), so that the first moments of the
+ * expansion vanish exactly. */
+int mica_discretization_nodal_centroids(MicaDiscretization *disc);
 int mica_nodal_cells_destroy(MicaNodalCells **cells);
 /* Turns a 2-D section in the (r, z) = (x, y) half-plane into the body of revolution it sweeps about the
  * y axis: every volume and boundary weight is multiplied by 2πr, so Σ qw is the body's volume and boundary

@@ -183,6 +183,7 @@ int run_read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const
   }
   MICA_CALL(check_nodal_mode(deck, rp->integration, shape, layout));
   int ierr = mica_discretization_nodal(shape, layout, cells, rp->disc);
+  if (!ierr && (flags & RUN_INTEGRATION_STABILIZED)) ierr = mica_discretization_nodal_centroids(rp->disc);
   if (ierr) {
     char where[256];
     mica_deck_where(deck, "quadrature.mode", where, sizeof where);

@@ -291,6 +291,26 @@ static int cell_moments(MicaNodalCells *c, int dim, const double *particles) {
   return MICA_SUCCESS;
 }
 
+int mica_discretization_nodal_centroids(MicaDiscretization *disc) {
+  MICA_CHECK(disc->nodal && disc->nodal->moment && disc->nquad == disc->nparticles, MICA_ERR_ARGUMENT,
+             "mica_discretization_nodal_centroids: no nodal cells");
+  const int dim = disc->dim;
+  const MicaNodalCells *c = disc->nodal;
+  for (long i = 0; i < c->n; i++) {
+    double first[3] = {0, 0, 0}, *M = c->moment + i * dim * dim;
+    for (long b = c->ptr[i]; b < c->ptr[i + 1]; b++) {
+      double y[3] = {0, 0, 0}, flux = 0.0;
+      for (int d = 0; d < dim; d++) y[d] = c->x[b * dim + d] - disc->x[i * dim + d], flux += y[d] * c->wn[b * dim + d];
+      for (int d = 0; d < dim; d++) first[d] += y[d] * flux / (dim + 1); /* div(y_d y) = (dim + 1) y_d */
+    }
+    const double V = disc->qw[i];
+    for (int d = 0; d < dim; d++) disc->qx[i * dim + d] = disc->x[i * dim + d] + first[d] / V;
+    for (int d = 0; d < dim; d++) /* about the centroid: M − S Sᵀ / V */
+      for (int e = 0; e < dim; e++) M[d * dim + e] -= first[d] * first[e] / V;
+  }
+  return MICA_SUCCESS;
+}
+
 /* ---- boundary sets on the cells' boundary faces ---------------------------------------------------------- */
 
 static int compare_point(const void *pa, const void *pb) {
