@@ -1,0 +1,64 @@
+# quadrature.mode = "nsni" (naturally stabilized nodal integration with VCI; docs/theory.md §NSNI,
+# docs/verification.md §NSNI):
+# - patch tests to round-off (L2 and energy ≤ 1e-10; measured 1e-16 – 1e-12), UMFPACK (cholmod-sym, auto's
+#   choice, stops at its 1e-10 residual tolerance: 1e-9 on the quadratic patch): linear (input/patch_linear.cfg)
+#   and quadratic (input/patch_quadratic.cfg, mls.order 2) in 2-D, the 3-D cube in tension (linear), the
+#   Cosserat linear patch (tests/decks/cosserat/patch_nitsche.cfg) and quadratic fields
+#   (input/cosserat_manufactured.cfg, mls.order 2); regular and jittered particles each;
+# - convergence (input/manufactured.cfg, 11², 21², 41², least-squares slopes): regular order 1 L2 ≥ 1.8
+#   (measured 2.38), energy ≥ 0.9 (1.37); regular order 2 L2 ≥ 2.7 (2.82), energy ≥ 1.8 (2.19); jittered
+#   order 2 L2 ≥ 2.1 (2.36), energy ≥ 1.6 (1.82): the jittered bounds are below 0.9 × optimal for L2 — the
+#   measured limit, kept honest (docs/verification.md §NSNI says what remains); order 1 jittered is reported,
+#   not asserted (its L2 error stalls at 1.5e-2, docs);
+# - bad input, exit 2 with the deck line: a second-order model, and cosserat-finite (no quadratic form).
+source "$(dirname "$0")/common.bash"
+work="$OUT_DIR/nsni"
+rm -rf "$work" && mkdir -p "$work"
+err() { json_value "$2" "$work/$1/summary.json"; }
+
+patch() { # NAME DECK [--set ...]: both errors ≤ 1e-10
+  local name=$1 deck=$2; shift 2
+  run_deck "$work/$name" "$deck" --set quadrature.mode=nsni --set solver.linear=umfpack "$@"
+  less_than "$(err $name error_l2)" 1e-10 || fail "$name: L2 $(err $name error_l2) > 1e-10"
+  less_than "$(err $name error_energy)" 1e-10 || fail "$name: energy $(err $name error_energy) > 1e-10"
+  grep -q '"vci": true' "$work/$name/summary.json" || grep -q 'quadrature.vci = auto: on' "$work/$name.log" \
+    || fail "$name: VCI not on"
+  ok "patch, NSNI, $name: L2 $(err $name error_l2), energy $(err $name error_energy)"
+}
+for layout in regular jittered; do
+  patch linear_$layout input/patch_linear.cfg --set particles.layout=$layout
+  patch quadratic_$layout input/patch_quadratic.cfg --set particles.layout=$layout
+  patch cube_$layout input/cube3d.cfg --set particles.layout=$layout
+  patch cosserat_linear_$layout tests/decks/cosserat/patch_nitsche.cfg --set particles.layout=$layout
+  patch cosserat_quadratic_$layout input/cosserat_manufactured.cfg --set particles.layout=$layout
+done
+
+rates() { # ORDER LAYOUT: "l2 energy" slopes over 11², 21², 41²
+  local l2="" en="" name
+  for n in 11 21 41; do
+    name=mms_$1_$2_$n
+    run_deck "$work/$name" input/manufactured.cfg --set quadrature.mode=nsni --set solver.linear=umfpack \
+      --set mls.order=$1 --set mls.dilation=$(($1 + 1)).0 --set particles.layout=$2 --set "particles.count=[$n, $n]"
+    h=$(awk -v n=$n 'BEGIN { print 2 / (n - 1) }')
+    l2+="$h $(err $name error_l2)"$'\n'
+    en+="$h $(err $name error_energy)"$'\n'
+    echo "report: manufactured, NSNI, order $1, $2, $n²: L2 $(err $name error_l2), energy $(err $name error_energy)" >&2
+  done
+  echo "$(printf '%s' "$l2" | ls_rate) $(printf '%s' "$en" | ls_rate)"
+}
+read -r l2 en <<<"$(rates 1 regular)"
+at_least "$l2" 1.8 "NSNI order 1 regular: L2 rate"
+at_least "$en" 0.9 "NSNI order 1 regular: energy rate"
+read -r l2 en <<<"$(rates 2 regular)"
+at_least "$l2" 2.7 "NSNI order 2 regular: L2 rate"
+at_least "$en" 1.8 "NSNI order 2 regular: energy rate"
+read -r l2 en <<<"$(rates 2 jittered)"
+at_least "$l2" 2.1 "NSNI order 2 jittered: L2 rate"
+at_least "$en" 1.6 "NSNI order 2 jittered: energy rate"
+read -r l2 en <<<"$(rates 1 jittered)"
+echo "report: NSNI order 1 jittered: L2 rate $l2, energy rate $en (not asserted: the L2 error stalls, docs)"
+
+expect_failure 2 "quadrature.mode = \"nsni\" expands the kinematics" -- "$MICA" run input/beam_gradient.cfg \
+  -o "$work/x" --set material.model=strain-gradient --set material.l=0.1 --set quadrature.mode=nsni
+expect_failure 2 "model 'cosserat-finite' has none here" -- "$MICA" run tests/decks/cosserat/patch_nitsche.cfg -o "$work/x" \
+  --set material.model=cosserat-finite --set quadrature.mode=nsni
