@@ -79,6 +79,24 @@ static void fill_point(const MicaShapeCache *h, long I, int k, const double *g, 
   c->ptr[p + 1] = start + n;
 }
 
+/* The Hessians the stabilization points take: the MLS ones for a basis of order ≥ 2; for order 1 those of a
+ * quadratic basis on the same particles, weight and supports (radii copied). A linear basis's own second
+ * derivatives do not converge (order 2 of an order-1 approximation) and on jittered particles they left an L2
+ * floor (7e-4 on manufactured.cfg, docs/verification.md §NSNI); the quadratic fit's is consistent, and zero on
+ * linear fields as the linear basis's is, so the linear patch test is unaffected. */
+static int hessian_cache(const MicaDiscretization *disc, const MlsApprox *mls, MicaShapeCache **h) {
+  if (mls_options(mls)->order >= 2) return mica_shape_cache_create(mls, disc->nparticles, disc->qx, 2, "NSNI: point", h);
+  MlsOptions opt = *mls_options(mls);
+  MlsApprox *quadratic = NULL;
+  opt.order = 2;
+  MICA_CALL(mls_create(disc->dim, mls_num_particles(mls), mls_particles(mls), &opt, &quadratic));
+  int ierr = mls_set_radii(quadratic, mls_radii(mls));
+  if (!ierr) ierr = mls_set_spacing(quadratic, mls_spacing(mls));
+  if (!ierr) ierr = mica_shape_cache_create(quadratic, disc->nparticles, disc->qx, 2, "NSNI (quadratic Hessians): point", h);
+  mls_destroy(&quadratic);
+  return ierr;
+}
+
 int mica_nsni_create(const MicaDiscretization *disc, const MlsApprox *mls, MicaNsni **out) {
   *out = NULL;
   MICA_CHECK(disc->nodal && disc->nodal->moment && disc->nquad == disc->nparticles, MICA_ERR_ARGUMENT,
@@ -88,7 +106,7 @@ int mica_nsni_create(const MicaDiscretization *disc, const MlsApprox *mls, MicaN
   MicaShapeCache *h = NULL;
   MicaNsni *n = NULL;
   int ierr = MICA_SUCCESS;
-  MICA_CALL(mica_shape_cache_create(mls, np, disc->qx, 2, "NSNI: particle", &h));
+  MICA_CALL(hessian_cache(disc, mls, &h));
   MICA_CALL_CLEANUP(MICA_CALLOC(n, 1));
   MICA_CALL_CLEANUP(nsni_alloc(n, dim, np, h->ptr[np]));
   for (long I = 0; I < np; I++) {
