@@ -33,9 +33,9 @@ for layout in regular jittered; do
   patch cosserat_quadratic_$layout input/cosserat_manufactured.cfg --set particles.layout=$layout
 done
 
-rates() { # ORDER LAYOUT: "l2 energy" slopes over 11², 21², 41²
+rates() { # ORDER LAYOUT: "l2 energy" slopes over 21², 41², 81²
   local l2="" en="" name
-  for n in 11 21 41; do
+  for n in 21 41 81; do
     name=mms_$1_$2_$n
     run_deck "$work/$name" input/manufactured.cfg --set quadrature.mode=nsni --set solver.linear=umfpack \
       --set mls.order=$1 --set mls.dilation=$(($1 + 1)).0 --set particles.layout=$2 --set "particles.count=[$n, $n]"
@@ -53,10 +53,11 @@ read -r l2 en <<<"$(rates 2 regular)"
 at_least "$l2" 2.7 "NSNI order 2 regular: L2 rate"
 at_least "$en" 1.8 "NSNI order 2 regular: energy rate"
 read -r l2 en <<<"$(rates 2 jittered)"
-at_least "$l2" 2.1 "NSNI order 2 jittered: L2 rate"
-at_least "$en" 1.6 "NSNI order 2 jittered: energy rate"
+at_least "$l2" 2.1 "NSNI order 2 jittered: L2 rate (below 0.9 × 3: the measured limit)"
+at_least "$en" 1.8 "NSNI order 2 jittered: energy rate"
 read -r l2 en <<<"$(rates 1 jittered)"
-echo "report: NSNI order 1 jittered: L2 rate $l2, energy rate $en (not asserted: the L2 error stalls, docs)"
+at_least "$en" 0.9 "NSNI order 1 jittered: energy rate"
+echo "report: NSNI order 1 jittered: L2 rate $l2 (not asserted: the L2 error stalls at 6e-4, docs)"
 
 expect_failure 2 "quadrature.mode = \"nsni\" expands the kinematics" -- "$MICA" run input/beam_gradient.cfg \
   -o "$work/x" --set material.model=strain-gradient --set material.l=0.1 --set quadrature.mode=nsni
