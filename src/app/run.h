@@ -49,6 +49,7 @@ typedef struct RunVciFacts {
 typedef struct RunVciChoice {
   int on;           /* VCI applies */
   int automatic;    /* quadrature.vci = "auto" */
+  int nodal;        /* auto turned it on for a nodal mode (nsni), not for the layout */
   char reason[128]; /* auto: why on or off */
 } RunVciChoice;
 int run_vci_choose(const MicaDeck *deck, const RunVciFacts *facts, RunVciChoice *c);

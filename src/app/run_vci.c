@@ -60,7 +60,7 @@ int run_vci_choose(const MicaDeck *deck, const RunVciFacts *facts, RunVciChoice 
     return MICA_SUCCESS;
   }
   if (mode & RUN_INTEGRATION_STABILIZED) { /* one point per particle misses the patch test on any layout */
-    c->on = 1;
+    c->on = c->nodal = 1;
     snprintf(c->reason, sizeof c->reason, "quadrature.mode = \"nsni\": nodal integration is consistent only with it");
     return MICA_SUCCESS;
   }
@@ -75,10 +75,11 @@ int run_vci_report(const RunVciChoice *c, const MicaSolidOptions *opt) {
   }
   const int spd = mica_bc_method_has(opt->bc_method, MICA_BC_SYMMETRIC_DEFINITE);
   /* the figures: docs/verification.md §"VCI by default", cost (min of 3, alternating) */
-  printf("quadrature.vci = auto: on (%s): Gauss cells off a grid lose the patch test and the rates; VCI corrects "
-         "the test gradients (Petrov–Galerkin): the tangent is unsymmetric, %s, and its assembly takes 4-6× the "
-         "symmetric kernel's; quadrature.vci = false keeps the uncorrected rule\n",
-         c->reason, spd ? "solver.linear = auto factors its symmetric part with CHOLMOD and refines (cholmod-sym: "
+  printf("quadrature.vci = auto: on (%s): %s; VCI corrects the test gradients (Petrov–Galerkin): the tangent is "
+         "unsymmetric, %s, and its assembly takes 4-6× the symmetric kernel's; quadrature.vci = false keeps the "
+         "uncorrected rule\n",
+         c->reason, c->nodal ? "one point per particle fails the patch test on any layout"
+                         : "Gauss cells off a grid lose the patch test and the rates", spd ? "solver.linear = auto factors its symmetric part with CHOLMOD and refines (cholmod-sym: "
                           "1.4-1.6× CHOLMOD's factorization time without VCI, UMFPACK's LU 2.7-4.1×)"
                         : "factored by UMFPACK as the multipliers' tangent is anyway");
   fflush(stdout);
