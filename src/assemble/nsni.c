@@ -8,33 +8,28 @@
  * stabilization points per particle whose "shape functions" are the directional derivatives of the MLS ones,
  *   N ← g_k · ∇N_J(x_I),   ∇N ← ∇(g_k · ∇N_J)(x_I) = H_J(x_I) g_k   (H: the MLS Hessian),
  * so the assembly's generic loop gives their residual and tangent exactly (no body load there). */
+#include <lapacke.h> /* it includes complex.h, whose macro I rules out that name: particles are `part` */
 #include <math.h>
 #include <string.h>
 
 #include "mica/solid.h"
 
-/* M = L Lᵀ for a small SPD M (dim ≤ 3), L lower, row-major; a cell whose M is not positive definite is an error. */
+/* M = L Lᵀ (LAPACK, lower, row-major) for the cell's SPD second moments; a cell whose M is not positive definite is
+ * an error. */
 static int cholesky_small(int dim, const double *M, double *L, long particle) {
-  memset(L, 0, sizeof(double) * (size_t)(dim * dim));
-  for (int j = 0; j < dim; j++) {
-    double d = M[j * dim + j];
-    for (int k = 0; k < j; k++) d -= L[j * dim + k] * L[j * dim + k];
-    MICA_CHECK(d > 0 && isfinite(d), MICA_ERR_INPUT,
-               "NSNI: the nodal cell of particle %ld has second moments that are not positive definite", particle + 1);
-    L[j * dim + j] = sqrt(d);
-    for (int i = j + 1; i < dim; i++) {
-      double v = M[i * dim + j];
-      for (int k = 0; k < j; k++) v -= L[i * dim + k] * L[j * dim + k];
-      L[i * dim + j] = v / L[j * dim + j];
-    }
-  }
+  memcpy(L, M, sizeof(double) * (size_t)(dim * dim));
+  const lapack_int info = LAPACKE_dpotrf_work(LAPACK_ROW_MAJOR, 'L', dim, L, dim);
+  MICA_CHECK(info == 0, MICA_ERR_INPUT,
+             "NSNI: the nodal cell of particle %ld has second moments that are not positive definite", particle + 1);
+  for (int i = 0; i < dim; i++)
+    for (int j = i + 1; j < dim; j++) L[i * dim + j] = 0.0; /* the upper part is M's */
   return MICA_SUCCESS;
 }
 
 /* The directions and weights of particle I's dim stabilization points from its cell's second moments. */
-static int particle_directions(const MicaNodalCells *cells, int dim, long I, double *dir, double *w) {
+static int particle_directions(const MicaNodalCells *cells, int dim, long part, double *dir, double *w) {
   double L[9];
-  MICA_CALL(cholesky_small(dim, cells->moment + I * dim * dim, L, I));
+  MICA_CALL(cholesky_small(dim, cells->moment + part * dim * dim, L, part));
   for (int k = 0; k < dim; k++) {
     double len2 = 0.0;
     for (int d = 0; d < dim; d++) len2 += L[d * dim + k] * L[d * dim + k];
@@ -60,12 +55,12 @@ static int nsni_alloc(MicaNsni *n, int dim, long np, long nnz) {
 }
 
 /* Point I·dim + k from the MLS values at x_I (cache h, order 2): the entries of every supporting J. */
-static void fill_point(const MicaShapeCache *h, long I, int k, const double *g, MicaShapeCache *c) {
+static void fill_point(const MicaShapeCache *h, long part, int k, const double *g, MicaShapeCache *c) {
   const int dim = h->dim, nh = mls_num_hess(dim);
-  const long p = I * dim + k, start = c->ptr[p], n = h->ptr[I + 1] - h->ptr[I];
-  memcpy(c->x + p * dim, h->x + I * dim, sizeof(double) * (size_t)dim);
+  const long p = part * dim + k, start = c->ptr[p], n = h->ptr[part + 1] - h->ptr[part];
+  memcpy(c->x + p * dim, h->x + part * dim, sizeof(double) * (size_t)dim);
   for (long j = 0; j < n; j++) {
-    const long e = h->ptr[I] + j, out = start + j;
+    const long e = h->ptr[part] + j, out = start + j;
     c->index[out] = h->index[e];
     double N = 0.0;
     for (int d = 0; d < dim; d++) N += g[d] * h->dN[e * dim + d];
@@ -109,9 +104,9 @@ int mica_nsni_create(const MicaDiscretization *disc, const MlsApprox *mls, MicaN
   MICA_CALL(hessian_cache(disc, mls, &h));
   MICA_CALL_CLEANUP(MICA_CALLOC(n, 1));
   MICA_CALL_CLEANUP(nsni_alloc(n, dim, np, h->ptr[np]));
-  for (long I = 0; I < np; I++) {
-    MICA_CALL_CLEANUP(particle_directions(disc->nodal, dim, I, n->dir + I * dim * dim, n->w + I * dim));
-    for (int k = 0; k < dim; k++) fill_point(h, I, k, n->dir + (I * dim + k) * dim, n->cache);
+  for (long part = 0; part < np; part++) {
+    MICA_CALL_CLEANUP(particle_directions(disc->nodal, dim, part, n->dir + part * dim * dim, n->w + part * dim));
+    for (int k = 0; k < dim; k++) fill_point(h, part, k, n->dir + (part * dim + k) * dim, n->cache);
   }
   n->cache->max_support = h->max_support;
   n->cache->rcond_min = h->rcond_min;
