@@ -215,6 +215,11 @@ int mica_discretization_nodal(const MicaShapeSpec *shape, const MicaLayoutSpec *
  * points), and the second moments taken about them (M − S Sᵀ/|Ω_I|), so that the first moments of the
  * expansion vanish exactly. */
 int mica_discretization_nodal_centroids(MicaDiscretization *disc);
+/* NSNI's points without a particle grid (irregular layouts, Gmsh meshes; src/geom/nodal_points.c): cell I is the
+ * set of the background Gauss points nearest to particle I; its volume, centroid (the new volume point) and
+ * central second moments are their weighted sums. The cells have no boundary points (not for SCNI); the Gauss
+ * points are kept for the error norms. MICA_ERR_INPUT if a particle is the nearest to no Gauss point. */
+int mica_discretization_nodal_points(MicaDiscretization *disc);
 int mica_nodal_cells_destroy(MicaNodalCells **cells);
 /* Turns a 2-D section in the (r, z) = (x, y) half-plane into the body of revolution it sweeps about the
  * y axis: every volume and boundary weight is multiplied by 2πr, so Σ qw is the body's volume and boundary

@@ -148,21 +148,23 @@ int run_check_fe_multipliers(const MicaDeck *deck, const RunProblem *rp, const M
  * (built-in shapes; regular, graded or jittered layouts) on a plane or 3-D body. Checked with the deck's line
  * before the cells are built. */
 static int check_nodal_mode(const MicaDeck *deck, const char *mode, const MicaShapeSpec *shape,
-                            const MicaLayoutSpec *layout) {
+                            const MicaLayoutSpec *layout, int from_points) {
   char where[256];
   int axisymmetric;
   mica_deck_where(deck, "quadrature.mode", where, sizeof where);
   MICA_CALL(mica_deck_bool(deck, "geometry.axisymmetric", &axisymmetric));
+  MICA_CHECK(!axisymmetric, MICA_ERR_INPUT,
+             "%s: quadrature.mode = \"%s\" needs a plane or 3-D body (axisymmetric sections have particles on the "
+             "axis, where the nodal weight 2πr vanishes and the hoop strain u_r/r is not defined); use "
+             "quadrature.mode = \"gauss\"", where, mode);
+  if (from_points) return MICA_SUCCESS; /* NSNI: cells from the Gauss points where there is no grid */
   MICA_CHECK(shape->kind != MICA_SHAPE_GMSH, MICA_ERR_INPUT,
              "%s: quadrature.mode = \"%s\" needs a built-in shape (its nodal cells are the dual cells of the particle "
              "grid, which a Gmsh mesh does not have); use quadrature.mode = \"gauss\" with a mesh", where, mode);
   MICA_CHECK(layout->kind != MICA_LAYOUT_IRREGULAR, MICA_ERR_INPUT,
              "%s: quadrature.mode = \"%s\" needs particles on a logical grid for its nodal cells; use "
-             "particles.layout = \"jittered\", \"regular\" or \"graded\"", where, mode);
-  MICA_CHECK(!axisymmetric, MICA_ERR_INPUT,
-             "%s: quadrature.mode = \"%s\" needs a plane or 3-D body (axisymmetric sections have particles on the "
-             "axis, where the nodal weight 2πr vanishes and the hoop strain u_r/r is not defined); use "
-             "quadrature.mode = \"gauss\"", where, mode);
+             "particles.layout = \"jittered\", \"regular\" or \"graded\" (or quadrature.mode = \"nsni\", whose cells "
+             "may come from the Gauss points)", where, mode);
   return MICA_SUCCESS;
 }
 
@@ -181,9 +183,17 @@ int run_read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const
                "problem.method = \"fe\" uses the elements' Gauss points: use quadrature.mode = \"gauss\"", where,
                rp->integration);
   }
-  MICA_CALL(check_nodal_mode(deck, rp->integration, shape, layout));
-  int ierr = mica_discretization_nodal(shape, layout, cells, rp->disc);
-  if (!ierr && (flags & RUN_INTEGRATION_STABILIZED)) ierr = mica_discretization_nodal_centroids(rp->disc);
+  /* NSNI: the dual cells of the particle grid where there is one, else the Gauss points nearest to each particle */
+  const int from_points = (flags & RUN_INTEGRATION_STABILIZED) &&
+                          (shape->kind == MICA_SHAPE_GMSH || layout->kind == MICA_LAYOUT_IRREGULAR);
+  MICA_CALL(check_nodal_mode(deck, rp->integration, shape, layout, from_points));
+  int ierr;
+  if (from_points) {
+    ierr = mica_discretization_nodal_points(rp->disc);
+  } else {
+    ierr = mica_discretization_nodal(shape, layout, cells, rp->disc);
+    if (!ierr && (flags & RUN_INTEGRATION_STABILIZED)) ierr = mica_discretization_nodal_centroids(rp->disc);
+  }
   if (ierr) {
     char where[256];
     mica_deck_where(deck, "quadrature.mode", where, sizeof where);
@@ -193,10 +203,6 @@ int run_read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const
   return MICA_SUCCESS;
 }
 
-/* SCNI smooths first derivatives: second-gradient models need "nodal" (MLS Hessians) or "gauss". VCI is
- * refused with it: SCNI's trial gradients are cell averages, not the MLS gradients at x_I that VCI's
- * consistency argument assumes (a quadratic patch stays inexact, docs/verification.md), and for a linear basis
- * SCNI already satisfies the linear integration constraint that VCI would impose. */
 /* NSNI (docs/theory.md §NSNI) expands first-order kinematics over the nodal cells: a second-order model would
  * need third derivatives of the shape functions, and a finite model other than a classical one (whose
  * stabilization is its linear form) has no quadratic form to stabilize with. Refused with the deck line. */
@@ -215,6 +221,10 @@ static int check_nsni(const MicaDeck *deck, const MicaSolidOptions *opt) {
   return MICA_SUCCESS;
 }
 
+/* SCNI smooths first derivatives: second-gradient models need "nodal" (MLS Hessians) or "gauss". VCI is
+ * refused with it: SCNI's trial gradients are cell averages, not the MLS gradients at x_I that VCI's
+ * consistency argument assumes (a quadratic patch stays inexact, docs/verification.md), and for a linear basis
+ * SCNI already satisfies the linear integration constraint that VCI would impose. */
 int run_read_scni(const MicaDeck *deck, RunProblem *rp, MicaSolidOptions *opt) {
   unsigned flags;
   MICA_CALL(mica_deck_string(deck, "quadrature.mode", &rp->integration));
