@@ -111,7 +111,7 @@ int mica_scni_cache_create(const MicaDiscretization *disc, const MlsApprox *mls,
  * per particle of a nodal discretization (mica_discretization_nodal), point I·dim + k at x_I with weight w and
  * unit direction g = dir + (I·dim + k)·dim from the Cholesky factor of the cell's second moments
  * (Σ_k w_k g_k ⊗ g_k = M_I), and as shape functions the directional derivatives of the MLS ones: N = g·∇N_J(x_I),
- * dN = H_J(x_I) g. The supports are those of x_I. */
+ * dN = H_J(x_I) g. The supports are those of x_I (a linear basis: of a quadratic fit with radii 3/2 as wide). */
 typedef struct MicaNsni {
   MicaShapeCache *cache; /* order 1, npoints = nparticles × dim */
   double *w;             /* [npoints] */

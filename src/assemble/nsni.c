@@ -75,19 +75,26 @@ static void fill_point(const MicaShapeCache *h, long part, int k, const double *
 }
 
 /* The Hessians the stabilization points take: the MLS ones for a basis of order ≥ 2; for order 1 those of a
- * quadratic basis on the same particles, weight and supports (radii copied). A linear basis's own second
- * derivatives do not converge (order 2 of an order-1 approximation) and on jittered particles they left an L2
- * floor (7e-4 on manufactured.cfg, docs/verification.md §NSNI); the quadratic fit's is consistent, and zero on
- * linear fields as the linear basis's is, so the linear patch test is unaffected. */
+ * quadratic basis on the same particles and weight, with the radii 3/2 as wide (the default dilations' ratio,
+ * 3 : 2: a quadratic fit needs six particles in 2-D, which a linear basis's supports do not always hold on
+ * irregular particles). A linear basis's own second derivatives do not converge (order 2 of an order-1
+ * approximation) and on jittered particles they left an L2 floor (7e-4 on manufactured.cfg, docs/verification.md
+ * §NSNI); the quadratic fit's is consistent, and zero on linear fields as the linear basis's is, so the linear
+ * patch test is unaffected. Its supports are wider than the volume points': the solid's pattern includes them. */
 static int hessian_cache(const MicaDiscretization *disc, const MlsApprox *mls, MicaShapeCache **h) {
-  if (mls_options(mls)->order >= 2) return mica_shape_cache_create(mls, disc->nparticles, disc->qx, 2, "NSNI: point", h);
+  if (mls_options(mls)->order >= 2) return mica_shape_cache_create(mls, disc->nparticles, disc->qx, 2, "NSNI", h);
   MlsOptions opt = *mls_options(mls);
   MlsApprox *quadratic = NULL;
   opt.order = 2;
   MICA_CALL(mls_create(disc->dim, mls_num_particles(mls), mls_particles(mls), &opt, &quadratic));
-  int ierr = mls_set_radii(quadratic, mls_radii(mls));
+  const long n = mls_num_particles(mls) * disc->dim;
+  double *radii = NULL;
+  int ierr = MICA_MALLOC(radii, n);
+  for (long i = 0; !ierr && i < n; i++) radii[i] = 1.5 * mls_radii(mls)[i];
+  if (!ierr) ierr = mls_set_radii(quadratic, radii);
   if (!ierr) ierr = mls_set_spacing(quadratic, mls_spacing(mls));
-  if (!ierr) ierr = mica_shape_cache_create(quadratic, disc->nparticles, disc->qx, 2, "NSNI (quadratic Hessians): point", h);
+  if (!ierr) ierr = mica_shape_cache_create(quadratic, disc->nparticles, disc->qx, 2, "NSNI (quadratic Hessians)", h);
+  MICA_FREE(radii);
   mls_destroy(&quadratic);
   return ierr;
 }

@@ -163,6 +163,8 @@ static int build_pattern(MicaSolid *s) {
   /* a cell pressure couples every point of a cell: the cell's points' supports are one clique */
   const int cells = mica_solid_pressure_cells(s);
   long ncliques = cells ? s->npcells : s->volume->npoints, total = s->volume->ptr[s->volume->npoints];
+  const MicaShapeCache *stab = s->nsni ? s->nsni->cache : NULL; /* NSNI's points: their own supports */
+  if (stab) ncliques += stab->npoints, total += stab->ptr[stab->npoints];
   /* parallel: every multiplier node's own block, which rank 0 pins whether or not its points touch the node */
   const long nsingle = s->opt.parallel ? s->nmultiplier_nodes : 0;
   ncliques += nsingle, total += nsingle;
@@ -188,6 +190,10 @@ static int build_pattern(MicaSolid *s) {
       ptr[q + 1] += clique_size(s, s->volume, p, -1);
     }
   }
+  for (long p = 0; stab && p < stab->npoints; p++, q++) {
+    clique_fill(s, stab, p, -1, nodes + ptr[q]);
+    ptr[q + 1] = ptr[q] + clique_size(s, stab, p, -1);
+  }
   for (int c = 0; c < s->ndirichlet; c++) {
     const MicaShapeCache *b = s->boundary[s->dirichlet[c].set];
     const int cond = with_multipliers ? c : -1;
@@ -211,8 +217,14 @@ cleanup:
   return ierr;
 }
 
+/* The largest support of a volume or NSNI point. */
+static long largest_volume_support(const MicaSolid *s) {
+  const long stab = s->nsni ? s->nsni->cache->max_support : 0;
+  return s->volume->max_support > stab ? s->volume->max_support : stab;
+}
+
 static long largest_clique(const MicaSolid *s) {
-  long largest = s->volume->max_support;
+  long largest = largest_volume_support(s);
   for (int set = 0; set < s->disc->nsets; set++)
     if (s->boundary[set] && s->boundary[set]->max_support > largest) largest = s->boundary[set]->max_support;
   for (int c = 0; s->collocation && c < s->ndirichlet; c++)
@@ -352,7 +364,7 @@ static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
  * support), in the planar layout of mica/kernel.h over ncomp unknowns, then the kernel's scratch, its tangent A
  * and the shape-function entries β of one point. */
 static int cell_scratch(MicaSolid *s) {
-  s->cell_cap = s->volume->max_support + s->volume->max_support / 8 + 1;
+  s->cell_cap = largest_volume_support(s) + largest_volume_support(s) / 8 + 1;
   if (s->cell_cap > s->nparticles) s->cell_cap = s->nparticles;
   if (s->cell_cap < 1) s->cell_cap = 1;
   const long u = s->cell_cap;
