@@ -20,7 +20,8 @@ static int cholesky_small(int dim, const double *M, double *L, long particle) {
   memcpy(L, M, sizeof(double) * (size_t)(dim * dim));
   const lapack_int info = LAPACKE_dpotrf_work(LAPACK_ROW_MAJOR, 'L', dim, L, dim);
   MICA_CHECK(info == 0, MICA_ERR_INPUT,
-             "NSNI: the nodal cell of particle %ld has second moments that are not positive definite", particle + 1);
+             "NSNI: the nodal cell of particle %ld has second moments that are not positive definite (a cell sampled "
+             "by too few background Gauss points: raise quadrature.order or quadrature.cells)", particle + 1);
   for (int i = 0; i < dim; i++)
     for (int j = i + 1; j < dim; j++) L[i * dim + j] = 0.0; /* the upper part is M's */
   return MICA_SUCCESS;

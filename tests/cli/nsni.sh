@@ -5,12 +5,14 @@
 #   and quadratic (input/patch_quadratic.cfg, mls.order 2) in 2-D, the 3-D cube in tension (linear) and the 3-D
 #   quadratic patch (tests/decks/nsni/patch_quadratic3d.cfg), the Cosserat linear patch in 2-D
 #   (tests/decks/cosserat/patch_nitsche.cfg) and 3-D (tests/decks/nsni/cosserat_patch3d.cfg) and quadratic
-#   fields in 2-D (input/cosserat_manufactured.cfg, mls.order 2); regular and jittered particles each;
+#   fields in 2-D (input/cosserat_manufactured.cfg, mls.order 2); regular, jittered and irregular particles
+#   each (irregular: cells from the Gauss points nearest to each particle);
 # - convergence (input/manufactured.cfg, 21², 41², 81², least-squares slopes): regular order 1 L2 ≥ 1.8
 #   (measured 2.10), energy ≥ 0.9 (1.30); regular order 2 L2 ≥ 2.7 (2.85), energy ≥ 1.8 (2.34); jittered
-#   order 2 L2 ≥ 2.1 (2.31), energy ≥ 1.8 (2.05); jittered order 1 energy ≥ 0.9 (1.06). The jittered L2 rates
-#   are below 0.9 × optimal — the measured limit, kept honest (docs/verification.md §NSNI says what remains):
-#   order 2's bound is below the target, order 1's L2 (it stalls at 6e-4) is reported, not asserted;
+#   order 2 L2 ≥ 2.1 (2.31), energy ≥ 1.8 (2.05); jittered order 1 energy ≥ 0.9 (1.17); irregular order 1
+#   energy ≥ 0.9 (1.01), order 2 L2 ≥ 1.8 (2.03), energy ≥ 1.8 (2.01). The L2 rates off the grid are below
+#   0.9 × optimal — the measured limit, kept honest (docs/verification.md §NSNI says what remains): order 2's
+#   bounds are below the target, order 1's L2 (flattening) is reported, not asserted;
 # - bad input, exit 2 with the deck line: a second-order model, and cosserat-finite (no quadratic form).
 source "$(dirname "$0")/common.bash"
 work="$OUT_DIR/nsni"
@@ -26,7 +28,7 @@ patch() { # NAME DECK [--set ...]: both errors ≤ 1e-10
     || fail "$name: VCI not on"
   ok "patch, NSNI, $name: L2 $(err $name error_l2), energy $(err $name error_energy)"
 }
-for layout in regular jittered; do
+for layout in regular jittered irregular; do
   patch linear_$layout input/patch_linear.cfg --set particles.layout=$layout
   patch quadratic_$layout input/patch_quadratic.cfg --set particles.layout=$layout
   patch cube_$layout input/cube3d.cfg --set particles.layout=$layout
@@ -60,7 +62,13 @@ at_least "$l2" 2.1 "NSNI order 2 jittered: L2 rate (below 0.9 × 3: the measured
 at_least "$en" 1.8 "NSNI order 2 jittered: energy rate"
 read -r l2 en <<<"$(rates 1 jittered)"
 at_least "$en" 0.9 "NSNI order 1 jittered: energy rate"
-echo "report: NSNI order 1 jittered: L2 rate $l2 (not asserted: the L2 error stalls at 6e-4, docs)"
+echo "report: NSNI order 1 jittered: L2 rate $l2 (not asserted: the L2 error flattens, docs)"
+read -r l2 en <<<"$(rates 1 irregular)"
+at_least "$en" 0.9 "NSNI order 1 irregular: energy rate"
+echo "report: NSNI order 1 irregular: L2 rate $l2 (not asserted, docs)"
+read -r l2 en <<<"$(rates 2 irregular)"
+at_least "$l2" 1.8 "NSNI order 2 irregular: L2 rate (below 0.9 × 3: the measured limit)"
+at_least "$en" 1.8 "NSNI order 2 irregular: energy rate"
 
 expect_failure 2 "quadrature.mode = \"nsni\" expands the kinematics" -- "$MICA" run input/beam_gradient.cfg \
   -o "$work/x" --set material.model=strain-gradient --set material.l=0.1 --set quadrature.mode=nsni
