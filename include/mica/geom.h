@@ -103,6 +103,7 @@ typedef struct MicaNodalCells {
   long *ptr;       /* [n+1]: cell I's boundary points are ptr[I] .. ptr[I+1) */
   double *x;       /* [ptr[n]*dim] positions */
   double *wn;      /* [ptr[n]*dim] weight (length/area element included) × outward unit normal */
+  double *moment;  /* [n*dim*dim] second moments ∫_Ω_I (x − x_I) ⊗ (x − x_I) dV about the particle (NSNI) */
 } MicaNodalCells;
 
 /* The background cells (or the mesh's elements) as a mesh for output (src/geom/cell_mesh.c): shared points
@@ -216,6 +217,16 @@ int mica_discretization_grid(const MicaShapeSpec *shape, const MicaLayoutSpec *l
  * MICA_ERR_INPUT for a Gmsh mesh, an irregular layout, or a cell that folds (volume ≤ 0). */
 int mica_discretization_nodal(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                               MicaDiscretization *disc);
+/* NSNI's points (docs/theory.md §NSNI): the volume points of a nodal discretization moved from the particles to
+ * their cells' centroids x_I + S_I/|Ω_I| (S_I = ∫ (x − x_I) dV, by the divergence theorem on the cells' boundary
+ * points), and the second moments taken about them (M − S Sᵀ/|Ω_I|), so that the first moments of the
+ * expansion vanish exactly. */
+int mica_discretization_nodal_centroids(MicaDiscretization *disc);
+/* NSNI's points without a particle grid (irregular layouts, Gmsh meshes; src/geom/nodal_points.c): cell I is the
+ * set of the background Gauss points nearest to particle I; its volume, centroid (the new volume point) and
+ * central second moments are their weighted sums. The cells have no boundary points (not for SCNI); the Gauss
+ * points are kept for the error norms. MICA_ERR_INPUT if a particle is the nearest to no Gauss point. */
+int mica_discretization_nodal_points(MicaDiscretization *disc);
 int mica_nodal_cells_destroy(MicaNodalCells **cells);
 /* Turns a 2-D section in the (r, z) = (x, y) half-plane into the body of revolution it sweeps about the
  * y axis: every volume and boundary weight is multiplied by 2πr, so Σ qw is the body's volume and boundary

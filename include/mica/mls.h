@@ -172,6 +172,7 @@ long mls_num_particles(const MlsApprox *mls);
 int mls_num_terms(const MlsApprox *mls);
 const double *mls_particles(const MlsApprox *mls); /* [n*dim] */
 const double *mls_radii(const MlsApprox *mls);     /* [n*dim] */
+const MlsOptions *mls_options(const MlsApprox *mls); /* as created (spacing_points NULL: it was read then) */
 const double *mls_spacing(const MlsApprox *mls);   /* [n*dim], local spacing h */
 /* The neighbor search with the supports set, and the support kind (src/parallel finds supports with them). */
 const MlsSearch *mls_search(const MlsApprox *mls);

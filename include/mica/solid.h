@@ -101,12 +101,30 @@ struct MicaDistribution;
  * exchange), solved there, and ξ copied into the ghosts before the rank's points are corrected. */
 int mica_vci_correct_owned(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
                            struct MicaDistribution *dist);
+/* The same with NSNI's stabilization points (nsni may be NULL) in the constraint: their terms of the Galerkin
+ * residual, Σ w (H_I g)·∂_g σ, join the volume sum (docs/theory.md §NSNI). */
+struct MicaNsni;
+int mica_vci_correct_stabilized(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
+                                const struct MicaNsni *nsni);
 
 /* Stabilized conforming nodal integration (docs/theory.md §nodal integration; Chen, Wu, Yoon & You 2001): a
  * cache of order 1 at the particles (disc's volume points after mica_discretization_nodal) whose dN is the
  * smoothed gradient ∇̃N_J(x_I) = (1/|Ω_I|) Σ_b N_J(x_b) (w n)_b over the boundary points of particle I's nodal
  * cell, whose supports are the union of the supports of x_I and of those points, and whose N is N_J(x_I). */
 int mica_scni_cache_create(const MicaDiscretization *disc, const MlsApprox *mls, MicaShapeCache **cache);
+
+/* Naturally stabilized nodal integration (docs/theory.md §NSNI; Hillman & Chen 2016): dim stabilization points
+ * per particle of a nodal discretization (mica_discretization_nodal), point I·dim + k at x_I with weight w and
+ * unit direction g = dir + (I·dim + k)·dim from the Cholesky factor of the cell's second moments
+ * (Σ_k w_k g_k ⊗ g_k = M_I), and as shape functions the directional derivatives of the MLS ones: N = g·∇N_J(x_I),
+ * dN = H_J(x_I) g. The supports are those of x_I (a linear basis: of a quadratic fit with radii 3/2 as wide). */
+typedef struct MicaNsni {
+  MicaShapeCache *cache; /* order 1, npoints = nparticles × dim */
+  double *w;             /* [npoints] */
+  double *dir;           /* [npoints × dim] */
+} MicaNsni;
+int mica_nsni_create(const MicaDiscretization *disc, const MlsApprox *mls, MicaNsni **nsni);
+int mica_nsni_destroy(MicaNsni **nsni);
 
 /* ---- Boundary conditions ------------------------------------------------------------------------------- */
 
@@ -181,6 +199,9 @@ typedef struct MicaSolidOptions {
                                    the tangent is unsymmetric), first-order models only */
   int scni;                     /* 1: smoothed (SCNI) gradients at the particles: disc must be nodal
                                    (mica_discretization_nodal); first-order, non-axisymmetric models only */
+  int nsni;                     /* 1: NSNI's stabilization points (mica_nsni_create): disc must be nodal;
+                                   first-order plane or 3-D models; finite-strain classical ones are stabilized
+                                   with the linear model of their E, ν (docs/theory.md §NSNI) */
   int general_kernel;           /* 1: the slot-based element stiffness even where the classical kernel applies
                                    (mica/kernel.h; tests and benchmarks compare the two) */
   struct MicaDistribution *parallel; /* NULL: serial. Else (src/parallel, mica/parallel.h) the discretization
@@ -201,6 +222,8 @@ typedef struct MicaSolid {
   long nparticles;
   long ndof;                      /* ncomp × (particles + multiplier nodes) */
   MicaShapeCache *volume;         /* at the volume quadrature points */
+  MicaNsni *nsni;                 /* NSNI's stabilization points, or NULL */
+  MicaFieldModel stab_model;      /* the quadratic energy of those points (opt.nsni): the model, or its linear form */
   MicaShapeCache **boundary;      /* [nsets], at each set's boundary quadrature points (NULL if unused) */
   double **boundary_h;            /* [nsets][n]: local particle spacing at each boundary point */
   int ndirichlet, ntraction;

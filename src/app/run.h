@@ -50,6 +50,7 @@ typedef struct RunVciFacts {
 typedef struct RunVciChoice {
   int on;           /* VCI applies */
   int automatic;    /* quadrature.vci = "auto" */
+  int nodal;        /* auto turned it on for a nodal mode (nsni), not for the layout */
   char reason[128]; /* auto: why on or off */
 } RunVciChoice;
 int run_vci_choose(const MicaDeck *deck, const RunVciFacts *facts, RunVciChoice *c);
@@ -125,10 +126,11 @@ int run_read_pressure(const MicaDeck *deck, const RunProblem *rp, MicaSolidOptio
  * "nodal" and "scni" (run_read_integration, with the discretization), opt->scni and its restrictions
  * (run_read_scni). run_check_serial_only refuses both measuring sticks under MPI. All with the deck line. */
 int run_is_fe(const MicaDeck *deck, int *fe);
-/* quadrature.mode: a registry of types (gauss, the default; nodal; scni), flags RUN_INTEGRATION_*. */
+/* quadrature.mode: a registry of types (gauss, the default; nodal; scni; nsni), flags RUN_INTEGRATION_*. */
 enum {
   RUN_INTEGRATION_NODAL = 1u << 0,   /* at the particles, weighted by their nodal cells (needs a logical grid) */
-  RUN_INTEGRATION_SMOOTHED = 1u << 1 /* smoothed (SCNI) gradients on the nodal cells: first derivatives only */
+  RUN_INTEGRATION_SMOOTHED = 1u << 1,  /* smoothed (SCNI) gradients on the nodal cells: first derivatives only */
+  RUN_INTEGRATION_STABILIZED = 1u << 2 /* NSNI's gradient terms from the MLS Hessians (docs/theory.md §NSNI) */
 };
 extern MicaRegistry run_integration_registry;
 /* The flags of the deck's quadrature.mode. */

@@ -16,8 +16,12 @@ static const MicaType integration_nodal = {
 static const MicaType integration_scni = {
     "scni", "stabilized conforming nodal integration: smoothed gradients on the nodal cells",
     RUN_INTEGRATION_NODAL | RUN_INTEGRATION_SMOOTHED, NULL, NULL};
+static const MicaType integration_nsni = {
+    "nsni", "naturally stabilized nodal integration: one point per particle with the strain's gradient terms from "
+    "the MLS Hessians, and VCI (quadrature.vci = auto) for the patch test of the basis order",
+    RUN_INTEGRATION_NODAL | RUN_INTEGRATION_STABILIZED, NULL, NULL};
 static const MicaType *const builtin_integrations[] = {&integration_gauss, &integration_nodal, &integration_scni,
-                                                       NULL};
+                                                       &integration_nsni, NULL};
 
 MicaRegistry run_integration_registry = {"integration mode", "gauss", builtin_integrations, NULL, 0, NULL};
 
@@ -144,21 +148,23 @@ int run_check_fe_multipliers(const MicaDeck *deck, const RunProblem *rp, const M
  * (built-in shapes; regular, graded or jittered layouts) on a plane or 3-D body. Checked with the deck's line
  * before the cells are built. */
 static int check_nodal_mode(const MicaDeck *deck, const char *mode, const MicaShapeSpec *shape,
-                            const MicaLayoutSpec *layout) {
+                            const MicaLayoutSpec *layout, int from_points) {
   char where[256];
   int axisymmetric;
   mica_deck_where(deck, "quadrature.mode", where, sizeof where);
   MICA_CALL(mica_deck_bool(deck, "geometry.axisymmetric", &axisymmetric));
+  MICA_CHECK(!axisymmetric, MICA_ERR_INPUT,
+             "%s: quadrature.mode = \"%s\" needs a plane or 3-D body (axisymmetric sections have particles on the "
+             "axis, where the nodal weight 2πr vanishes and the hoop strain u_r/r is not defined); use "
+             "quadrature.mode = \"gauss\"", where, mode);
+  if (from_points) return MICA_SUCCESS; /* NSNI: cells from the Gauss points where there is no grid */
   MICA_CHECK(shape->kind != MICA_SHAPE_GMSH, MICA_ERR_INPUT,
              "%s: quadrature.mode = \"%s\" needs a built-in shape (its nodal cells are the dual cells of the particle "
              "grid, which a Gmsh mesh does not have); use quadrature.mode = \"gauss\" with a mesh", where, mode);
   MICA_CHECK(layout->kind != MICA_LAYOUT_IRREGULAR, MICA_ERR_INPUT,
              "%s: quadrature.mode = \"%s\" needs particles on a logical grid for its nodal cells; use "
-             "particles.layout = \"jittered\", \"regular\" or \"graded\"", where, mode);
-  MICA_CHECK(!axisymmetric, MICA_ERR_INPUT,
-             "%s: quadrature.mode = \"%s\" needs a plane or 3-D body (axisymmetric sections have particles on the "
-             "axis, where the nodal weight 2πr vanishes and the hoop strain u_r/r is not defined); use "
-             "quadrature.mode = \"gauss\"", where, mode);
+             "particles.layout = \"jittered\", \"regular\" or \"graded\" (or quadrature.mode = \"nsni\", whose cells "
+             "may come from the Gauss points)", where, mode);
   return MICA_SUCCESS;
 }
 
@@ -177,14 +183,41 @@ int run_read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const
                "problem.method = \"fe\" uses the elements' Gauss points: use quadrature.mode = \"gauss\"", where,
                rp->integration);
   }
-  MICA_CALL(check_nodal_mode(deck, rp->integration, shape, layout));
-  int ierr = mica_discretization_nodal(shape, layout, cells, rp->disc);
+  /* NSNI: the dual cells of the particle grid where there is one, else the Gauss points nearest to each particle */
+  const int from_points = (flags & RUN_INTEGRATION_STABILIZED) &&
+                          (shape->kind == MICA_SHAPE_GMSH || layout->kind == MICA_LAYOUT_IRREGULAR);
+  MICA_CALL(check_nodal_mode(deck, rp->integration, shape, layout, from_points));
+  int ierr;
+  if (from_points) {
+    ierr = mica_discretization_nodal_points(rp->disc);
+  } else {
+    ierr = mica_discretization_nodal(shape, layout, cells, rp->disc);
+    if (!ierr && (flags & RUN_INTEGRATION_STABILIZED)) ierr = mica_discretization_nodal_centroids(rp->disc);
+  }
   if (ierr) {
     char where[256];
     mica_deck_where(deck, "quadrature.mode", where, sizeof where);
     mica_error_prefix("%s: quadrature.mode = \"%s\"", where, rp->integration);
     return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
   }
+  return MICA_SUCCESS;
+}
+
+/* NSNI (docs/theory.md §NSNI) expands first-order kinematics over the nodal cells: a second-order model would
+ * need third derivatives of the shape functions, and a finite model other than a classical one (whose
+ * stabilization is its linear form) has no quadratic form to stabilize with. Refused with the deck line. */
+static int check_nsni(const MicaDeck *deck, const MicaSolidOptions *opt) {
+  char where[256];
+  const MicaFieldModel *m = &opt->field;
+  mica_deck_where(deck, "quadrature.mode", where, sizeof where);
+  MICA_CHECK(m->ops->order == 1, MICA_ERR_INPUT,
+             "%s: quadrature.mode = \"nsni\" expands the kinematics to first order over each nodal cell, and model "
+             "'%s' uses second derivatives: its expansion needs third derivatives of the MLS shape functions, which "
+             "mica does not compute; use quadrature.mode = \"gauss\" (or \"nodal\")", where, m->ops->type.name);
+  MICA_CHECK(mica_field_model_quadratic(m) || mica_type_has(&m->ops->type, MICA_FIELD_CLASSICAL), MICA_ERR_INPUT,
+             "%s: quadrature.mode = \"nsni\" stabilizes with a quadratic energy (the model's own, or a finite-strain "
+             "classical model's linear form), and model '%s' has none here; use quadrature.mode = \"gauss\"", where,
+             m->ops->type.name);
   return MICA_SUCCESS;
 }
 
@@ -197,6 +230,8 @@ int run_read_scni(const MicaDeck *deck, RunProblem *rp, MicaSolidOptions *opt) {
   MICA_CALL(mica_deck_string(deck, "quadrature.mode", &rp->integration));
   MICA_CALL(run_integration_flags(deck, &flags));
   opt->scni = (flags & RUN_INTEGRATION_SMOOTHED) != 0;
+  opt->nsni = (flags & RUN_INTEGRATION_STABILIZED) != 0;
+  if (opt->nsni) return check_nsni(deck, opt);
   if (!opt->scni) return MICA_SUCCESS;
   char where[256];
   mica_deck_where(deck, "quadrature.vci", where, sizeof where);

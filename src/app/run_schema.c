@@ -76,7 +76,9 @@ const MicaDeckKey mica_run_schema[] = {
      .help = "gauss: Gauss points of the background cells; nodal: direct nodal integration at the particles, "
      "weighted by their nodal cells' volumes (fails the patch test, a low-energy mode on the free block; shown, not cured); scni: stabilized "
      "conforming nodal integration, smoothed gradients on the nodal cells (passes the linear patch test; "
-     "first-order models). nodal and scni need a built-in shape with a regular, graded or jittered layout; error "
+     "first-order models); nsni: naturally stabilized nodal integration, one point per particle plus the strain's "
+     "gradient terms from the MLS Hessians, with VCI (auto) of the basis order: the production nodal mode (passes "
+     "the linear and quadratic patch tests, no low-energy modes; first-order models). nodal, scni and nsni need a built-in shape with a regular, graded or jittered layout; error "
      "norms stay on the background Gauss points"},
     {"quadrature.cells", MICA_KEY_INTS, NULL, 1, 1e6, NULL, 2, 3,
      "background cells per parameter axis (default: particles.count − 1; other counts are placed along the particle lines, so k (count − 1) splits every spacing in k and a graded layout stays graded)"},

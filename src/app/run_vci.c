@@ -16,7 +16,8 @@ static const char *unavailable(const RunVciFacts *f, unsigned mode, const char *
   if (f->model_order > 1) return "a second-order model: VCI corrects first derivatives only";
   if (f->axisymmetric) return "axisymmetric solid: no VCI for the hoop terms";
   if (mode & RUN_INTEGRATION_SMOOTHED) return "quadrature.mode = \"scni\" passes the linear patch test itself";
-  if (mode & RUN_INTEGRATION_NODAL) return "direct nodal integration is shown as it is";
+  if ((mode & RUN_INTEGRATION_NODAL) && !(mode & RUN_INTEGRATION_STABILIZED))
+    return "direct nodal integration is shown as it is";
   if (f->parallel) return "VCI is not available in parallel runs with parallel.data = replicated";
   if (f->boundary_uncovered > 0) return "the mesh's boundary sets do not cover the boundary once";
   if (f->symmetric_only) return "this analysis needs the symmetric Galerkin tangent";
@@ -65,6 +66,11 @@ int run_vci_choose(const MicaDeck *deck, const RunVciFacts *facts, RunVciChoice 
     snprintf(c->reason, sizeof c->reason, "%s", why);
     return MICA_SUCCESS;
   }
+  if (mode & RUN_INTEGRATION_STABILIZED) { /* one point per particle misses the patch test on any layout */
+    c->on = c->nodal = 1;
+    snprintf(c->reason, sizeof c->reason, "quadrature.mode = \"nsni\": nodal integration is consistent only with it");
+    return MICA_SUCCESS;
+  }
   return by_layout(deck, c);
 }
 
@@ -76,10 +82,11 @@ int run_vci_report(const RunVciChoice *c, const MicaSolidOptions *opt) {
   }
   const int spd = mica_bc_method_has(opt->bc_method, MICA_BC_SYMMETRIC_DEFINITE);
   /* the figures: docs/verification.md §"VCI by default", cost (min of 3, alternating) */
-  printf("quadrature.vci = auto: on (%s): Gauss cells off a grid lose the patch test and the rates; VCI corrects "
-         "the test gradients (Petrov–Galerkin): the tangent is unsymmetric, %s, and its assembly takes 4-6× the "
-         "symmetric kernel's; quadrature.vci = false keeps the uncorrected rule\n",
-         c->reason, spd ? "solver.linear = auto factors its symmetric part with CHOLMOD and refines (cholmod-sym: "
+  printf("quadrature.vci = auto: on (%s): %s; VCI corrects the test gradients (Petrov–Galerkin): the tangent is "
+         "unsymmetric, %s, and its assembly takes 4-6× the symmetric kernel's; quadrature.vci = false keeps the "
+         "uncorrected rule\n",
+         c->reason, c->nodal ? "one point per particle fails the patch test on any layout"
+                         : "Gauss cells off a grid lose the patch test and the rates", spd ? "solver.linear = auto factors its symmetric part with CHOLMOD and refines (cholmod-sym: "
                           "1.4-1.6× CHOLMOD's factorization time without VCI, UMFPACK's LU 2.7-4.1×)"
                         : "factored by UMFPACK as the multipliers' tangent is anyway");
   fflush(stdout);

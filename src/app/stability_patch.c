@@ -116,6 +116,7 @@ static int patch_solid(const RunProblem *rp, const Polynomial *p, const MicaMate
   opt.basis_order = deck_solid->opt.basis_order;
   opt.vci = deck_solid->opt.vci;
   opt.scni = deck_solid->opt.scni;
+  opt.nsni = deck_solid->opt.nsni;
   opt.ramp = 0;
   MICA_CALL_CLEANUP(MICA_CALLOC(dirichlet, disc->nsets));
   MICA_CALL_CLEANUP(MICA_CALLOC(traction, 1));

@@ -227,39 +227,66 @@ static int add_body_force(const MicaSolid *s, long p, double t, double scale, do
   return MICA_SUCCESS;
 }
 
+/* NSNI's expansion of the body load at stabilization point p (docs/theory.md §NSNI): R_J −= w (g·∇N_J)(g·∇b)(x_I),
+ * the load's derivative along g by a central difference over 10⁻³ of the cell's length ℓ = (w/|Ω_I|)^½ (exact for
+ * the linear loads of the patch tests up to round-off). Without it the value terms of a Cosserat model, whose
+ * balance N_J (s_φ − c) = 0 holds pointwise, would not cancel at these points. */
+static int add_body_derivative(const MicaSolid *s, long p, double t, double scale, double *R) {
+  const MicaNsni *n = s->nsni;
+  const MicaShapeCache *c = n->cache;
+  const int dim = s->dim, ncomp = s->ncomp;
+  const double *g = n->dir + p * dim, step = 1e-3 * sqrt(n->w[p] / s->disc->qw[p / dim]);
+  double xp[3] = {0, 0, 0}, xm[3] = {0, 0, 0}, db[MICA_MAX_COMP];
+  for (int d = 0; d < dim; d++) xp[d] = c->x[p * dim + d] + step * g[d], xm[d] = c->x[p * dim + d] - step * g[d];
+  for (int a = 0; a < ncomp; a++) {
+    double bp, bm;
+    MICA_CALL(load_value(s->opt.body[a], "in the whole body", dim, xp, t, scale, &bp));
+    MICA_CALL(load_value(s->opt.body[a], "in the whole body", dim, xm, t, scale, &bm));
+    db[a] = (bp - bm) / (2 * step);
+  }
+  for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
+    for (int a = 0; a < ncomp; a++) R[c->index[e] * ncomp + a] -= n->w[p] * c->N[e] * db[a];
+  return MICA_SUCCESS;
+}
+
 /* What every volume point contributes before its stiffness: the model at q(u), the internal force and body load
- * into R, and (with_tangent) D into s->work. */
+ * into R, and (with_tangent) D into s->work. The points: the volume cache with the quadrature weights and the
+ * solid's model, or NSNI's stabilization points with their weights and energy (no body load). */
 typedef struct {
   const Layout *L;
   double t, scale;
   int has_body;
+  const MicaShapeCache *c;
+  const double *w;
+  const MicaFieldModel *model;
 } VolumeTerms;
 
 static int point_residual(MicaSolid *s, const VolumeTerms *v, long p, const double *u, double *R, int with_tangent) {
-  const MicaShapeCache *c = s->volume;
+  const MicaShapeCache *c = v->c;
   double q[128], sq[128], W;
   mica_solid_kinematics(s, c, p, u, q);
-  const int ierr = s->opt.field.ops->eval(&s->opt.field, v->L->dim, q, &W, sq, with_tangent ? s->work : NULL);
+  const int ierr = v->model->ops->eval(v->model, v->L->dim, q, &W, sq, with_tangent ? s->work : NULL);
   if (ierr) {
-    mica_error_prefix("volume quadrature point %ld", p + 1);
+    mica_error_prefix(c == s->volume ? "volume quadrature point %ld" : "NSNI stabilization point %ld", p + 1);
     return mica_error_trace(__FILE__, __LINE__, __func__, ierr);
   }
-  add_internal_force(v->L, c, p, sq, s->disc->qw[p], R);
-  if (v->has_body) MICA_CALL(add_body_force(s, p, v->t, v->scale, R));
+  add_internal_force(v->L, c, p, sq, v->w[p], R);
+  if (v->has_body && c == s->volume) MICA_CALL(add_body_force(s, p, v->t, v->scale, R));
+  if (v->has_body && c != s->volume) MICA_CALL(add_body_derivative(s, p, v->t, v->scale, R));
   return MICA_SUCCESS;
 }
 
 /* ---- the general path: one full element matrix per point (VCI: Petrov–Galerkin, unsymmetric) ---- */
 
 static int assemble_points_general(MicaSolid *s, const VolumeTerms *v, const double *u, double *R, MicaSparse *K) {
-  const MicaShapeCache *c = s->volume;
+  const MicaShapeCache *c = v->c;
   const int nq = s->nq;
   for (long p = 0; p < c->npoints; p++) {
     MICA_CALL(point_residual(s, v, p, u, R, K != NULL));
     if (!K) continue;
     const long n = c->ptr[p + 1] - c->ptr[p], m = n * v->L->ncomp;
     double *D = s->work, *Ke = D + nq * nq, *G = Ke + m * m;
-    element_stiffness(v->L, c, p, nq, D, s->disc->qw[p], 0, G, Ke);
+    element_stiffness(v->L, c, p, nq, D, v->w[p], 0, G, Ke);
     MICA_CALL(mica_sparse_add_clique(K, n, c->index + c->ptr[p], Ke));
   }
   return MICA_SUCCESS;
@@ -331,8 +358,7 @@ static const double *point_entries(const Layout *L, const MicaShapeCache *c, con
  * scattered once instead of once per point (25 or 64 times), and the scatter is what costs; the bound keeps
  * each point's share of the group matrix (rows over the union) close to its own support
  * (docs/performance.md §kernel). */
-static long cell_group(MicaSolid *s, long first, long *nunion_out) {
-  const MicaShapeCache *c = s->volume;
+static long cell_group(MicaSolid *s, const MicaShapeCache *c, long first, long *nunion_out) {
   const long n_first = c->ptr[first + 1] - c->ptr[first];
   const long bound = n_first + n_first / 8 < s->cell_cap ? n_first + n_first / 8 : s->cell_cap;
   long nunion = 0, p = first;
@@ -377,12 +403,12 @@ static int check_symmetric(const double *D, int nq, long p) {
  * column of K (mica_sparse_add_clique_columns' contiguous runs). */
 static int assemble_cell(MicaSolid *s, const VolumeTerms *v, long first, long last, long nunion, const double *u,
                          double *R, MicaSparse *K) {
-  const MicaShapeCache *c = s->volume;
+  const MicaShapeCache *c = v->c;
   const int nc = s->ncomp, nd = shape_entries(v->L), width = nc * nd, pg = petrov_galerkin(c);
   double *Kc = s->cell_matrix, *staging = Kc + mica_kernel_ke_size(nc, nunion);
   double *A = staging + mica_kernel_chunk_size(nc, nd, nunion, s->chunk_points), *beta = A + width * width;
   double *beta_test = beta + s->cell_cap * nd;
-  const int classical = mica_type_has(&s->opt.field.ops->type, MICA_FIELD_CLASSICAL);
+  const int classical = mica_type_has(&v->model->ops->type, MICA_FIELD_CLASSICAL);
   int slot[MICA_MAX_COMP * 10];
   long *loc = s->work_nodes;
   MicaKernelChunk chunk;
@@ -402,10 +428,9 @@ static int assemble_cell(MicaSolid *s, const VolumeTerms *v, long first, long la
     }
     const double *trial = point_entries(v->L, c, c->dN, p, beta);
     if (pg)
-      mica_kernel_chunk_add_pair(&chunk, n, trial, point_entries(v->L, c, c->dN_test, p, beta_test), loc, A,
-                                 s->disc->qw[p]);
+      mica_kernel_chunk_add_pair(&chunk, n, trial, point_entries(v->L, c, c->dN_test, p, beta_test), loc, A, v->w[p]);
     else
-      mica_kernel_chunk_add(&chunk, n, trial, loc, A, s->disc->qw[p]);
+      mica_kernel_chunk_add(&chunk, n, trial, loc, A, v->w[p]);
   }
   mica_kernel_chunk_flush(&chunk, flags, Kc);
   const long np = mica_kernel_padded(nunion);
@@ -429,7 +454,7 @@ static void add_lower_blocks(int nc, long n, const long *loc, long npu, const do
  * axisymmetric solids (test = trial functions), whose hoop entries differ per component. */
 static int assemble_cell_general(MicaSolid *s, const VolumeTerms *v, long first, long last, long nunion, const double *u,
                                  double *R, MicaSparse *K) {
-  const MicaShapeCache *c = s->volume;
+  const MicaShapeCache *c = v->c;
   const int nc = s->ncomp, nq = s->nq;
   const long npu = mica_kernel_padded(nunion);
   double *Kc = s->cell_matrix;
@@ -440,7 +465,7 @@ static int assemble_cell_general(MicaSolid *s, const VolumeTerms *v, long first,
     MICA_CALL(check_symmetric(s->work, nq, p));
     const long n = c->ptr[p + 1] - c->ptr[p], m = n * nc;
     double *D = s->work, *Ke = D + nq * nq, *G = Ke + m * m;
-    element_stiffness(v->L, c, p, nq, D, s->disc->qw[p], 1, G, Ke);
+    element_stiffness(v->L, c, p, nq, D, v->w[p], 1, G, Ke);
     for (long k = 0; k < n; k++) loc[k] = s->cell_slot[c->index[c->ptr[p] + k]];
     add_lower_blocks(nc, n, loc, npu, Ke, Kc);
   }
@@ -449,9 +474,9 @@ static int assemble_cell_general(MicaSolid *s, const VolumeTerms *v, long first,
 
 static int assemble_points_grouped(MicaSolid *s, const VolumeTerms *v, int kernel, const double *u, double *R,
                                    MicaSparse *K) {
-  const MicaShapeCache *c = s->volume;
+  const MicaShapeCache *c = v->c;
   for (long first = 0, last, nunion; first < c->npoints; first = last) {
-    last = cell_group(s, first, &nunion);
+    last = cell_group(s, c, first, &nunion);
     const int ierr = kernel ? assemble_cell(s, v, first, last, nunion, u, R, K)
                                : assemble_cell_general(s, v, first, last, nunion, u, R, K);
     for (long i = 0; i < nunion; i++) s->cell_slot[s->cell_nodes[i]] = -1;
@@ -469,15 +494,24 @@ static int assemble_volume_cells(MicaSolid *s, const VolumeTerms *v, const doubl
   return MICA_SUCCESS;
 }
 
+/* One set of points: through the kernel, grouped, or point by point (VCI's Petrov–Galerkin, residual only). */
+static int assemble_point_set(MicaSolid *s, const VolumeTerms *v, const double *u, double *R, MicaSparse *K) {
+  if (K && kernel_applies(s)) return assemble_points_grouped(s, v, 1, u, R, K);
+  /* symmetric (test = trial functions) and one scatter per group, unless VCI's Petrov–Galerkin */
+  if (K && !v->c->dN_test && !s->opt.general_kernel) return assemble_points_grouped(s, v, 0, u, R, K);
+  return assemble_points_general(s, v, u, R, K);
+}
+
 static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, MicaSparse *K) {
   const Layout L = layout_of(s);
-  VolumeTerms v = {&L, t, load_scale(s, t), 0};
+  VolumeTerms v = {&L, t, load_scale(s, t), 0, s->volume, s->disc->qw, &s->opt.field};
   for (int a = 0; a < s->ncomp; a++) v.has_body |= s->opt.body[a] != NULL;
   if (mica_solid_pressure_cells(s)) return assemble_volume_cells(s, &v, u, R, K);
-  if (K && kernel_applies(s)) return assemble_points_grouped(s, &v, 1, u, R, K);
-  /* symmetric (test = trial functions) and one scatter per group, unless VCI's Petrov–Galerkin */
-  if (K && !s->volume->dN_test && !s->opt.general_kernel) return assemble_points_grouped(s, &v, 0, u, R, K);
-  return assemble_points_general(s, &v, u, R, K);
+  if (s->nsni) { /* first: its grouped path mirrors K's upper half, which a Petrov–Galerkin volume's would not be */
+    const VolumeTerms stab = {&L, t, v.scale, v.has_body, s->nsni->cache, s->nsni->w, &s->stab_model};
+    MICA_CALL(assemble_point_set(s, &stab, u, R, K));
+  }
+  return assemble_point_set(s, &v, u, R, K);
 }
 
 /* Dead generalized tractions (forces on displacements, couples on rotations): R_kc −= ∫ t̄_c N_k dΓ. */

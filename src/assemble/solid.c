@@ -164,6 +164,8 @@ static int build_pattern(MicaSolid *s) {
   /* a cell pressure couples every point of a cell: the cell's points' supports are one clique */
   const int cells = mica_solid_pressure_cells(s);
   long ncliques = cells ? s->npcells : s->volume->npoints, total = s->volume->ptr[s->volume->npoints];
+  const MicaShapeCache *stab = s->nsni ? s->nsni->cache : NULL; /* NSNI's points: their own supports */
+  if (stab) ncliques += stab->npoints, total += stab->ptr[stab->npoints];
   /* parallel: every multiplier node's own block, which rank 0 pins whether or not its points touch the node */
   const long nsingle = s->opt.parallel ? s->nmultiplier_nodes : 0;
   ncliques += nsingle, total += nsingle;
@@ -189,6 +191,10 @@ static int build_pattern(MicaSolid *s) {
       ptr[q + 1] += clique_size(s, s->volume, p, -1);
     }
   }
+  for (long p = 0; stab && p < stab->npoints; p++, q++) {
+    clique_fill(s, stab, p, -1, nodes + ptr[q]);
+    ptr[q + 1] = ptr[q] + clique_size(s, stab, p, -1);
+  }
   for (int c = 0; c < s->ndirichlet; c++) {
     const MicaShapeCache *b = s->boundary[s->dirichlet[c].set];
     const int cond = with_multipliers ? c : -1;
@@ -212,8 +218,14 @@ cleanup:
   return ierr;
 }
 
+/* The largest support of a volume or NSNI point. */
+static long largest_volume_support(const MicaSolid *s) {
+  const long stab = s->nsni ? s->nsni->cache->max_support : 0;
+  return s->volume->max_support > stab ? s->volume->max_support : stab;
+}
+
 static long largest_clique(const MicaSolid *s) {
-  long largest = s->volume->max_support;
+  long largest = largest_volume_support(s);
   for (int set = 0; set < s->disc->nsets; set++)
     if (s->boundary[set] && s->boundary[set]->max_support > largest) largest = s->boundary[set]->max_support;
   for (int c = 0; s->collocation && c < s->ndirichlet; c++)
@@ -268,13 +280,18 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
   return MICA_SUCCESS;
 }
 
-/* VCI: corrected test gradients in the volume cache (vci.c), timed for the summary; over the ranks with
- * distributed data (collective: at the end of the solid's creation, owned_collectives). */
+/* VCI: corrected test gradients in the volume cache (vci.c), with NSNI's stabilization points in the constraint
+ * when there are some, timed for the summary; over the ranks with distributed data (collective: at the end of the
+ * solid's creation, owned_collectives; NSNI runs in one process). */
 static int apply_vci(MicaSolid *s) {
   const double start = mica_wtime();
   MicaDistribution *dist = s->opt.parallel;
-  if (dist && dist->owned) MICA_CALL(mica_vci_correct_owned(s->disc, s->mls, s->opt.basis_order, s->volume, dist));
-  else MICA_CALL(mica_vci_correct(s->disc, s->mls, s->opt.basis_order, s->volume));
+  /* NSNI: one degree more than the basis. One point per cell integrates ∇N_J·σ for σ of the basis's degree n
+   * with an O(1) defect on jittered particles (Gauss cells do not), and the L2 error stalled (docs/theory.md
+   * §NSNI, "one degree more"); the patch tests of degree ≤ n hold either way. */
+  const int order = s->opt.basis_order + (s->nsni ? 1 : 0);
+  if (dist && dist->owned) MICA_CALL(mica_vci_correct_owned(s->disc, s->mls, order, s->volume, dist));
+  else MICA_CALL(mica_vci_correct_stabilized(s->disc, s->mls, order, s->volume, s->nsni));
   s->time_vci = mica_wtime() - start;
   return MICA_SUCCESS;
 }
@@ -287,6 +304,41 @@ int mica_solid_nearly_symmetric(const MicaSolid *s) {
   return mica_bc_method_has(s->opt.bc_method, MICA_BC_SYMMETRIC_DEFINITE) && s->volume->dN_test;
 }
 
+/* The energy of NSNI's stabilization points (docs/theory.md §NSNI): a quadratic model's own; for a
+ * finite-strain classical model the linear model of the same E, ν (its tangent at F = I), so that the
+ * stabilization stays a fixed quadratic form whose tangent is exact. Other finite models have no such form
+ * here. */
+static int stabilization_model(MicaSolid *s) {
+  const MicaFieldModel *m = &s->opt.field;
+  if (mica_field_model_quadratic(m)) {
+    s->stab_model = *m;
+    return MICA_SUCCESS;
+  }
+  MICA_CHECK(mica_type_has(&m->ops->type, MICA_FIELD_CLASSICAL), MICA_ERR_INPUT,
+             "NSNI stabilizes a quadratic energy, or a finite-strain classical model with its linear form; model "
+             "'%s' has neither (no linearized form of its energy is available for the stabilization terms)",
+             m->ops->type.name);
+  MicaMaterial linear;
+  MICA_CALL(mica_material_set(&mica_model_linear, m->material.E, m->material.nu, m->material.plane, &linear));
+  return mica_field_classical_set(&s->stab_model, &mica_model_linear, &linear);
+}
+
+/* NSNI: the stabilization points at the particles (nsni.c), before VCI, whose constraint includes them. */
+static int build_nsni(MicaSolid *s) {
+  MICA_CHECK(s->mls && s->disc->nodal, MICA_ERR_INPUT, "NSNI needs MLS shape functions on a nodal discretization");
+  MICA_CHECK(s->opt.field.ops->order == 1 && !s->opt.axisymmetric, MICA_ERR_INPUT,
+             "NSNI expands the kinematics to first order over each nodal cell; model '%s'%s", s->opt.field.ops->type.name,
+             s->opt.axisymmetric ? " is axisymmetric (the hoop terms have no expansion here)"
+                                 : " uses second derivatives, whose expansion needs third derivatives of the shape "
+                                   "functions, which mica does not compute");
+  MICA_CALL(stabilization_model(s));
+  const double start = mica_wtime();
+  MICA_CALL(mica_nsni_create(s->disc, s->mls, &s->nsni));
+  s->time_shape += mica_wtime() - start;
+  s->time_search += s->nsni->cache->time_search;
+  return MICA_SUCCESS;
+}
+
 /* The volume cache: the donor's when it was built for the same discretization, approximation, derivative
  * order and test functions (VCI or not); otherwise built, and corrected for VCI. */
 static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
@@ -294,7 +346,7 @@ static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
   const MicaDiscretization *disc = s->disc;
   const int order = opt->field.ops->order >= 2 ? 2 : 1;
   if (same_approximation(s, donor) && donor->volume->order == order && !donor->volume->dN_test == !opt->vci &&
-      !donor->opt.scni == !opt->scni) {
+      !donor->opt.scni == !opt->scni && !donor->opt.nsni == !opt->nsni) {
     s->volume = mica_shape_cache_share(donor->volume);
     s->caches_shared++;
     return MICA_SUCCESS;
@@ -316,7 +368,7 @@ static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
  * support), in the planar layout of mica/kernel.h over ncomp unknowns, then the kernel's scratch, its tangent A
  * and the shape-function entries β of one point, trial and (VCI) test. */
 static int cell_scratch(MicaSolid *s) {
-  s->cell_cap = s->volume->max_support + s->volume->max_support / 8 + 1;
+  s->cell_cap = largest_volume_support(s) + largest_volume_support(s) / 8 + 1;
   if (s->cell_cap > s->nparticles) s->cell_cap = s->nparticles;
   if (s->cell_cap < 1) s->cell_cap = 1;
   const long u = s->cell_cap;
@@ -388,6 +440,7 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
   s->traction = traction;
   MICA_CALL_CLEANUP(check_model(opt, approx, s->ncomp, s->nq));
   if (opt->axisymmetric) MICA_CALL_CLEANUP(check_axisymmetric(s));
+  if (opt->nsni) MICA_CALL_CLEANUP(build_nsni(s));
   MICA_CALL_CLEANUP(volume_cache(s, donor));
   MICA_CALL_CLEANUP(build_boundary_caches(s, donor));
   MICA_CALL_CLEANUP(number_multipliers(s));
@@ -433,6 +486,7 @@ int mica_solid_destroy(MicaSolid **solid) {
   if (!s) return MICA_SUCCESS;
   mica_pressure_cells_free(s);
   mica_shape_cache_destroy(&s->volume);
+  mica_nsni_destroy(&s->nsni);
   if (s->boundary)
     for (int set = 0; set < s->disc->nsets; set++) {
       mica_shape_cache_destroy(&s->boundary[set]);

@@ -97,6 +97,32 @@ static void add_volume(const MicaDiscretization *disc, const MlsApprox *mls, con
   }
 }
 
+/* NSNI's stabilization points (nsni.c) enter the Galerkin residual of test function I with the derivative of
+ * the stress along their direction g: for σ_·d = q_α that term is w ∂_g∇_d N_I ∂_g q_α, which the constraint
+ * must hold too (docs/theory.md §NSNI, "consistency"): r_Id −= w (H_I g)_d ∂_g q_α. No Gram term: the correction
+ * lives at the volume points only. */
+static void add_stabilization(const MlsApprox *mls, const MicaNsni *nsni, Systems *sys) {
+  const MicaShapeCache *c = nsni->cache;
+  const int dim = c->dim, m = sys->basis.m;
+  const double *radii = mls_radii(mls);
+  double s[3], q[VCI_MAX_TERMS], dq[3 * VCI_MAX_TERMS];
+  for (long p = 0; p < c->npoints; p++) {
+    const double w = nsni->w[p], *g = nsni->dir + p * dim;
+    for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) {
+      const long part = c->index[e];
+      double *r = sys->r + part * m * dim, dgq[VCI_MAX_TERMS];
+      local_coordinates(mls, part, c->x + p * dim, s);
+      monomials_eval(&sys->basis, s, q, dq);
+      for (int a = 0; a < m; a++) {
+        dgq[a] = 0.0;
+        for (int f = 0; f < dim; f++) dgq[a] += g[f] * dq[f * m + a] / radii[part * dim + f];
+      }
+      for (int d = 0; d < dim; d++)
+        for (int a = 0; a < m; a++) r[d * m + a] -= w * c->dN[e * dim + d] * dgq[a];
+    }
+  }
+}
+
 /* r_Id += w N_I q n_d at every point of every boundary set (together: the whole boundary, once). */
 static int add_boundary(const MicaDiscretization *disc, const MlsApprox *mls, Systems *sys) {
   const int dim = disc->dim, m = sys->basis.m;
@@ -176,8 +202,9 @@ static int owned_sums(MicaDistribution *dist, int ierr, Systems *sys, int dim) {
   return mica_ghost_reduce(dist, MICA_SUCCESS, sys->npoints, 1);
 }
 
+/* nsni: NSNI's stabilization points in the constraint (NULL: none); dist: distributed data (NULL: the whole). */
 static int vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
-                       MicaDistribution *dist) {
+                       const MicaNsni *nsni, MicaDistribution *dist) {
   MICA_CHECK(volume->npoints == disc->nquad && volume->dim == disc->dim, MICA_ERR_ARGUMENT,
              "mica_vci_correct: the cache is not at the discretization's volume points");
   MICA_CHECK(disc->boundary_uncovered == 0, MICA_ERR_INPUT,
@@ -193,6 +220,7 @@ static int vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int
   if (!ierr) ierr = MICA_CALLOC(sys.r, np * m * dim);
   if (!ierr) ierr = MICA_CALLOC(sys.npoints, np);
   if (!ierr) add_volume(disc, mls, volume, &sys);
+  if (!ierr && nsni) add_stabilization(mls, nsni, &sys);
   if (!ierr) ierr = add_boundary(disc, mls, &sys);
   if (dist) MICA_CALL_CLEANUP(owned_sums(dist, ierr, &sys, dim));
   MICA_CALL_CLEANUP(ierr);
@@ -212,10 +240,15 @@ cleanup:
 }
 
 int mica_vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume) {
-  return vci_correct(disc, mls, n, volume, NULL);
+  return vci_correct(disc, mls, n, volume, NULL, NULL);
+}
+
+int mica_vci_correct_stabilized(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
+                                const MicaNsni *nsni) {
+  return vci_correct(disc, mls, n, volume, nsni, NULL);
 }
 
 int mica_vci_correct_owned(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
                            MicaDistribution *dist) {
-  return vci_correct(disc, mls, n, volume, dist);
+  return vci_correct(disc, mls, n, volume, NULL, dist);
 }

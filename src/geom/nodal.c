@@ -273,6 +273,44 @@ static int cell_volumes(const MicaNodalCells *c, int dim, const double *particle
   return MICA_SUCCESS;
 }
 
+/* Second moments about the particle by the divergence theorem on the cell's boundary points (NSNI's
+ * stabilization, docs/theory.md §NSNI): with y = x − x_I, div(y_d y_e y) = (dim + 2) y_d y_e, so
+ *   M_I,de = ∫_Ω_I y_d y_e dV = (1/(dim + 2)) Σ_b y_d y_e (y · (w n)_b),
+ * exact where the faces' integrands are polynomials of the rule's degree (straight 2-D faces: cubic in s). */
+static int cell_moments(MicaNodalCells *c, int dim, const double *particles) {
+  MICA_CALL(MICA_CALLOC(c->moment, c->n * dim * dim));
+  for (long i = 0; i < c->n; i++) {
+    double *M = c->moment + i * dim * dim;
+    for (long b = c->ptr[i]; b < c->ptr[i + 1]; b++) {
+      double y[3] = {0, 0, 0}, flux = 0.0;
+      for (int d = 0; d < dim; d++) y[d] = c->x[b * dim + d] - particles[i * dim + d], flux += y[d] * c->wn[b * dim + d];
+      for (int d = 0; d < dim; d++)
+        for (int e = 0; e < dim; e++) M[d * dim + e] += y[d] * y[e] * flux / (dim + 2);
+    }
+  }
+  return MICA_SUCCESS;
+}
+
+int mica_discretization_nodal_centroids(MicaDiscretization *disc) {
+  MICA_CHECK(disc->nodal && disc->nodal->moment && disc->nquad == disc->nparticles, MICA_ERR_ARGUMENT,
+             "mica_discretization_nodal_centroids: no nodal cells");
+  const int dim = disc->dim;
+  const MicaNodalCells *c = disc->nodal;
+  for (long i = 0; i < c->n; i++) {
+    double first[3] = {0, 0, 0}, *M = c->moment + i * dim * dim;
+    for (long b = c->ptr[i]; b < c->ptr[i + 1]; b++) {
+      double y[3] = {0, 0, 0}, flux = 0.0;
+      for (int d = 0; d < dim; d++) y[d] = c->x[b * dim + d] - disc->x[i * dim + d], flux += y[d] * c->wn[b * dim + d];
+      for (int d = 0; d < dim; d++) first[d] += y[d] * flux / (dim + 1); /* div(y_d y) = (dim + 1) y_d */
+    }
+    const double V = disc->qw[i];
+    for (int d = 0; d < dim; d++) disc->qx[i * dim + d] = disc->x[i * dim + d] + first[d] / V;
+    for (int d = 0; d < dim; d++) /* about the centroid: M − S Sᵀ / V */
+      for (int e = 0; e < dim; e++) M[d * dim + e] -= first[d] * first[e] / V;
+  }
+  return MICA_SUCCESS;
+}
+
 /* ---- boundary sets on the cells' boundary faces ---------------------------------------------------------- */
 
 static int compare_point(const void *pa, const void *pb) {
@@ -403,6 +441,7 @@ int mica_discretization_nodal(const MicaShapeSpec *shape, const MicaLayoutSpec *
   MICA_CALL_CLEANUP(nodal_cells_create(&map, &rule, faces, nfaces, np, &disc->nodal));
   MICA_CALL_CLEANUP(MICA_MALLOC(volume, np));
   MICA_CALL_CLEANUP(cell_volumes(disc->nodal, map.dim, disc->x, volume));
+  MICA_CALL_CLEANUP(cell_moments(disc->nodal, map.dim, disc->x));
   MICA_CALL_CLEANUP(build_sets(&map, &rule, faces, nfaces, disc));
   MICA_CALL_CLEANUP(use_particles(disc, &volume));
 cleanup:
@@ -419,6 +458,7 @@ int mica_nodal_cells_destroy(MicaNodalCells **cells) {
   MICA_FREE((*cells)->ptr);
   MICA_FREE((*cells)->x);
   MICA_FREE((*cells)->wn);
+  MICA_FREE((*cells)->moment);
   MICA_FREE(*cells);
   return MICA_SUCCESS;
 }

@@ -191,5 +191,6 @@ long mls_num_particles(const MlsApprox *mls) { return mls->n; }
 int mls_num_terms(const MlsApprox *mls) { return mls->m; }
 const double *mls_particles(const MlsApprox *mls) { return mls->x; }
 const double *mls_radii(const MlsApprox *mls) { return mls->radii; }
+const MlsOptions *mls_options(const MlsApprox *mls) { return &mls->opt; }
 const double *mls_spacing(const MlsApprox *mls) { return mls->spacing; }
 

@@ -6,7 +6,7 @@
 #   solver.petsc (petsc's own) with solver.linear = "umfpack" or "auto" in one process.
 # - the choice lists and defaults come from the registries: `mica help run` lists bc.method
 #   penalty|nitsche|lagrange|collocation (default "nitsche"), solver.linear auto|cholmod|umfpack|cholmod-sym|petsc (default "auto"),
-#   problem.method efg|fe, quadrature.mode gauss|nodal|scni, and bc.alpha's two defaults.
+#   problem.method efg|fe, quadrature.mode gauss|nodal|scni|nsni, and bc.alpha's two defaults.
 source "$(dirname "$0")/common.bash"
 work="$OUT_DIR/registry_types"
 rm -rf "$work" && mkdir -p "$work"
@@ -34,7 +34,7 @@ expect_failure 2 'solver.linear is "auto" here' -- "$MICA" run $deck -o "$work/x
 help=$("$MICA" help run)
 for line in 'bc.method +choice +"nitsche" +penalty\|nitsche\|lagrange\|collocation$' \
             'solver.linear +choice +"auto" +auto\|cholmod\|umfpack\|cholmod-sym\|petsc$' \
-            'problem.method +choice +"efg" +efg\|fe$' 'quadrature.mode +choice +"gauss" +gauss\|nodal\|scni$' \
+            'problem.method +choice +"efg" +efg\|fe$' 'quadrature.mode +choice +"gauss" +gauss\|nodal\|scni\|nsni$' \
             'solver.petsc +choice +"mumps" +mumps\|gamg\|hypre\|asm-cholmod\|asm-umfpack\|$' \
             'bc.alpha +float +- '; do
   grep -Eq "^$line" <<<"$help" || fail "mica help run lacks /$line/"

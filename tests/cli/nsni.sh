@@ -1,0 +1,76 @@
+# quadrature.mode = "nsni" (naturally stabilized nodal integration with VCI; docs/theory.md §NSNI,
+# docs/verification.md §NSNI):
+# - patch tests to round-off (L2 and energy ≤ 1e-10; measured 1e-16 – 1e-12), UMFPACK (cholmod-sym, auto's
+#   choice, stops at its 1e-10 residual tolerance: 1e-9 on the quadratic patch): linear (input/patch_linear.cfg)
+#   and quadratic (input/patch_quadratic.cfg, mls.order 2) in 2-D, the 3-D cube in tension (linear) and the 3-D
+#   quadratic patch (tests/decks/nsni/patch_quadratic3d.cfg), the Cosserat linear patch in 2-D
+#   (tests/decks/cosserat/patch_nitsche.cfg) and 3-D (tests/decks/nsni/cosserat_patch3d.cfg) and quadratic
+#   fields in 2-D (input/cosserat_manufactured.cfg, mls.order 2); regular, jittered and irregular particles
+#   each (irregular: cells from the Gauss points nearest to each particle);
+# - convergence (input/manufactured.cfg, 21², 41², 81², least-squares slopes): regular order 1 L2 ≥ 1.8
+#   (measured 2.10), energy ≥ 0.9 (1.30); regular order 2 L2 ≥ 2.7 (2.85), energy ≥ 1.8 (2.34); jittered
+#   order 2 L2 ≥ 2.1 (2.31), energy ≥ 1.8 (2.05); jittered order 1 energy ≥ 0.9 (1.17); irregular order 1
+#   energy ≥ 0.9 (1.01), order 2 L2 ≥ 1.8 (2.03), energy ≥ 1.8 (2.01). The L2 rates off the grid are below
+#   0.9 × optimal — the measured limit, kept honest (docs/verification.md §NSNI says what remains): order 2's
+#   bounds are below the target, order 1's L2 (flattening) is reported, not asserted;
+# - bad input, exit 2 with the deck line: a second-order model, and cosserat-finite (no quadratic form).
+source "$(dirname "$0")/common.bash"
+work="$OUT_DIR/nsni"
+rm -rf "$work" && mkdir -p "$work"
+err() { json_value "$2" "$work/$1/summary.json"; }
+
+patch() { # NAME DECK [--set ...]: both errors ≤ 1e-10
+  local name=$1 deck=$2; shift 2
+  run_deck "$work/$name" "$deck" --set quadrature.mode=nsni --set solver.linear=umfpack "$@"
+  less_than "$(err $name error_l2)" 1e-10 || fail "$name: L2 $(err $name error_l2) > 1e-10"
+  less_than "$(err $name error_energy)" 1e-10 || fail "$name: energy $(err $name error_energy) > 1e-10"
+  grep -q '"vci": true' "$work/$name/summary.json" || grep -q 'quadrature.vci = auto: on' "$work/$name.log" \
+    || fail "$name: VCI not on"
+  ok "patch, NSNI, $name: L2 $(err $name error_l2), energy $(err $name error_energy)"
+}
+for layout in regular jittered irregular; do
+  patch linear_$layout input/patch_linear.cfg --set particles.layout=$layout
+  patch quadratic_$layout input/patch_quadratic.cfg --set particles.layout=$layout
+  patch cube_$layout input/cube3d.cfg --set particles.layout=$layout
+  patch cosserat_linear_$layout tests/decks/cosserat/patch_nitsche.cfg --set particles.layout=$layout
+  patch cosserat_quadratic_$layout input/cosserat_manufactured.cfg --set particles.layout=$layout
+  patch quadratic3d_$layout tests/decks/nsni/patch_quadratic3d.cfg --set particles.layout=$layout
+  patch cosserat_linear3d_$layout tests/decks/nsni/cosserat_patch3d.cfg --set particles.layout=$layout
+done
+
+rates() { # ORDER LAYOUT: "l2 energy" slopes over 21², 41², 81²
+  local l2="" en="" name
+  for n in 21 41 81; do
+    name=mms_$1_$2_$n
+    run_deck "$work/$name" input/manufactured.cfg --set quadrature.mode=nsni --set solver.linear=umfpack \
+      --set mls.order=$1 --set mls.dilation=$(($1 + 1)).0 --set particles.layout=$2 --set "particles.count=[$n, $n]"
+    h=$(awk -v n=$n 'BEGIN { print 2 / (n - 1) }')
+    l2+="$h $(err $name error_l2)"$'\n'
+    en+="$h $(err $name error_energy)"$'\n'
+    echo "report: manufactured, NSNI, order $1, $2, $n²: L2 $(err $name error_l2), energy $(err $name error_energy)" >&2
+  done
+  echo "$(printf '%s' "$l2" | ls_rate) $(printf '%s' "$en" | ls_rate)"
+}
+read -r l2 en <<<"$(rates 1 regular)"
+at_least "$l2" 1.8 "NSNI order 1 regular: L2 rate"
+at_least "$en" 0.9 "NSNI order 1 regular: energy rate"
+read -r l2 en <<<"$(rates 2 regular)"
+at_least "$l2" 2.7 "NSNI order 2 regular: L2 rate"
+at_least "$en" 1.8 "NSNI order 2 regular: energy rate"
+read -r l2 en <<<"$(rates 2 jittered)"
+at_least "$l2" 2.1 "NSNI order 2 jittered: L2 rate (below 0.9 × 3: the measured limit)"
+at_least "$en" 1.8 "NSNI order 2 jittered: energy rate"
+read -r l2 en <<<"$(rates 1 jittered)"
+at_least "$en" 0.9 "NSNI order 1 jittered: energy rate"
+echo "report: NSNI order 1 jittered: L2 rate $l2 (not asserted: the L2 error flattens, docs)"
+read -r l2 en <<<"$(rates 1 irregular)"
+at_least "$en" 0.9 "NSNI order 1 irregular: energy rate"
+echo "report: NSNI order 1 irregular: L2 rate $l2 (not asserted, docs)"
+read -r l2 en <<<"$(rates 2 irregular)"
+at_least "$l2" 1.8 "NSNI order 2 irregular: L2 rate (below 0.9 × 3: the measured limit)"
+at_least "$en" 1.8 "NSNI order 2 irregular: energy rate"
+
+expect_failure 2 "quadrature.mode = \"nsni\" expands the kinematics" -- "$MICA" run input/beam_gradient.cfg \
+  -o "$work/x" --set material.model=strain-gradient --set material.l=0.1 --set quadrature.mode=nsni
+expect_failure 2 "model 'cosserat-finite' has none here" -- "$MICA" run tests/decks/cosserat/patch_nitsche.cfg -o "$work/x" \
+  --set material.model=cosserat-finite --set quadrature.mode=nsni

@@ -1,0 +1,265 @@
+/* Unit tests of naturally stabilized nodal integration (quadrature.mode = "nsni"; src/geom/nodal.c: the cells'
+ * second moments, src/assemble/nsni.c: the stabilization points; docs/theory.md §NSNI):
+ * - Moments: on the regular 2-D box an interior cell is the h₀ × h₁ box around its particle, M = diag(h₀³h₁,
+ *   h₀h₁³)/12; the corner cell [0, a] × [0, b] (a = h₀/2, b = h₁/2) about its corner particle has M₀₀ = a³b/3,
+ *   M₀₁ = a²b²/4, M₁₁ = ab³/3; to 1e-12 relative (the faces' Gauss rule is exact). The points' weights and directions
+ *   factor it: Σ_k w_k g_k ⊗ g_k = M_I, |g_k| = 1, on jittered 2-D and 3-D cells, to 1e-12.
+ * - The stabilization points' shape functions are the directional derivatives: for a quadratic u and a
+ *   quadratic basis, Σ_J N_J^k u(x_J) = g_k·∇u(x_I) and Σ_J ∇N_J^k u(x_J) = H_u g_k, to 1e-9 relative, on
+ *   jittered particles in 2-D and 3-D.
+ * - The tangent against central differences of the residual, K v vs (R(u + εv) − R(u − εv))/2ε, three random
+ *   v at a random state of amplitude 0.05, for every classical model of the registry (finite strain: the
+ *   stabilization is the linear model's) and small-strain Cosserat, 2-D and 3-D, with and without VCI:
+ *   1e-6 relative (ε = 1e-6: truncation ~1e-12, round-off ~1e-10). Without VCI the tangent is symmetric
+ *   (1e-12).
+ * - Refusals: a second-order model (strain gradient), and a finite model with no linear form (cosserat-finite),
+ *   are MICA_ERR_INPUT.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "mica/bc.h"
+#include "mica/cosserat.h"
+#include "field_check.h"
+
+static void check_ok(int ierr) {
+  if (ierr != MICA_SUCCESS) {
+    print_error("unexpected error %d: %s\n", ierr, mica_error_message());
+    fail();
+  }
+}
+
+typedef struct {
+  MicaDiscretization *disc;
+  MlsApprox *mls;
+  MicaSolid *solid;
+} Fixture;
+
+static const MicaShapeSpec box2 = {.kind = MICA_SHAPE_BOX, .dim = 2, .lower = {0, 0, 0}, .upper = {2, 1, 1}};
+static const MicaShapeSpec box3 = {.kind = MICA_SHAPE_BOX, .dim = 3, .lower = {0, 0, 0}, .upper = {2, 1, 1}};
+
+static void discretize(Fixture *f, const MicaShapeSpec *shape, MicaLayoutKind kind, int order) {
+  const MicaLayoutSpec layout = {.kind = kind, .count = {7, 5, 4}, .jitter = 0.25, .grading = {1, 1, 1}, .seed = 5};
+  const MicaCellSpec cells = {.order = 4};
+  check_ok(mica_discretization_create(shape, &layout, &cells, &f->disc));
+  check_ok(mica_discretization_nodal(shape, &layout, &cells, f->disc));
+  MlsOptions mo;
+  mls_options_default(&mo);
+  mo.order = order, mo.dilation = order + 1.5;
+  check_ok(mls_create(shape->dim, f->disc->nparticles, f->disc->x, &mo, &f->mls));
+}
+
+static void release(Fixture *f) {
+  mica_solid_destroy(&f->solid);
+  mls_destroy(&f->mls);
+  mica_discretization_destroy(&f->disc);
+}
+
+static void test_moments_regular(void **state) {
+  (void)state;
+  Fixture f = {0};
+  discretize(&f, &box2, MICA_LAYOUT_REGULAR, 1);
+  const double h0 = 2.0 / 6, h1 = 1.0 / 4;
+  const double *interior = f.disc->nodal->moment + (2 * 7 + 3) * 4, *corner = f.disc->nodal->moment;
+  const double want_i[4] = {h0 * h0 * h0 * h1 / 12, 0, 0, h0 * h1 * h1 * h1 / 12};
+  const double want_c[4] = {pow(h0 / 2, 3) * (h1 / 2) / 3, pow(h0 / 2, 2) * pow(h1 / 2, 2) / 4, 0,
+                            (h0 / 2) * pow(h1 / 2, 3) / 3};
+  for (int k = 0; k < 4; k++) {
+    assert_true(fabs(interior[k] - want_i[k]) <= 1e-12 * want_i[0]);
+    const double wc = k == 2 ? want_c[1] : want_c[k]; /* symmetric: M_01 = M_10 */
+    assert_true(fabs(corner[k] - wc) <= 1e-12 * want_c[0]);
+  }
+  release(&f);
+}
+
+/* Σ_k w g gᵀ = M_I and |g| = 1 at every particle. */
+static void check_factor(const MicaShapeSpec *shape) {
+  Fixture f = {0};
+  discretize(&f, shape, MICA_LAYOUT_JITTERED, 2);
+  MicaNsni *n = NULL;
+  check_ok(mica_nsni_create(f.disc, f.mls, &n));
+  const int dim = shape->dim;
+  assert_int_equal(n->cache->npoints, f.disc->nparticles * dim);
+  double worst = 0;
+  for (long I = 0; I < f.disc->nparticles; I++) {
+    const double *M = f.disc->nodal->moment + I * dim * dim;
+    for (int d = 0; d < dim; d++)
+      for (int e = 0; e < dim; e++) {
+        double sum = 0;
+        for (int k = 0; k < dim; k++) {
+          const double *g = n->dir + (I * dim + k) * dim;
+          sum += n->w[I * dim + k] * g[d] * g[e];
+        }
+        worst = fmax(worst, fabs(sum - M[d * dim + e]) / M[0]);
+      }
+    for (int k = 0; k < dim; k++) {
+      const double *g = n->dir + (I * dim + k) * dim;
+      double len = 0;
+      for (int d = 0; d < dim; d++) len += g[d] * g[d];
+      assert_true(fabs(len - 1) <= 1e-14);
+    }
+  }
+  print_message("%d-D jittered: Σ w g gᵀ − M: %.2e relative\n", dim, worst);
+  assert_true(worst <= 1e-12);
+  mica_nsni_destroy(&n);
+  release(&f);
+}
+
+static void test_moments_factor(void **state) {
+  (void)state;
+  check_factor(&box2);
+  check_factor(&box3);
+}
+
+/* u = Σ_de A_de x_d x_e + b·x with A symmetric: ∇u = 2 A x + b, H = 2 A. */
+static void check_directional(const MicaShapeSpec *shape) {
+  Fixture f = {0};
+  discretize(&f, shape, MICA_LAYOUT_JITTERED, 2);
+  MicaNsni *n = NULL;
+  check_ok(mica_nsni_create(f.disc, f.mls, &n));
+  const int dim = shape->dim;
+  const double A[9] = {0.3, -0.2, 0.1, -0.2, 0.5, 0.25, 0.1, 0.25, -0.4}, b[3] = {0.7, -1.1, 0.4};
+  double worst = 0;
+  for (long p = 0; p < n->cache->npoints; p++) {
+    const double *g = n->dir + p * dim, *x = n->cache->x + p * dim;
+    double val = 0, grad[3] = {0, 0, 0}, want_val = 0, want_grad[3] = {0, 0, 0};
+    for (long e = n->cache->ptr[p]; e < n->cache->ptr[p + 1]; e++) {
+      const double *xj = f.disc->x + n->cache->index[e] * dim;
+      double u = 0;
+      for (int d = 0; d < dim; d++) {
+        u += b[d] * xj[d];
+        for (int k = 0; k < dim; k++) u += A[d * 3 + k] * xj[d] * xj[k];
+      }
+      val += n->cache->N[e] * u;
+      for (int d = 0; d < dim; d++) grad[d] += n->cache->dN[e * dim + d] * u;
+    }
+    for (int d = 0; d < dim; d++) {
+      double du = b[d];
+      for (int k = 0; k < dim; k++) du += 2 * A[d * 3 + k] * x[k], want_grad[d] += 2 * A[d * 3 + k] * g[k];
+      want_val += g[d] * du;
+    }
+    worst = fmax(worst, fabs(val - want_val));
+    for (int d = 0; d < dim; d++) worst = fmax(worst, fabs(grad[d] - want_grad[d]));
+  }
+  print_message("%d-D jittered, quadratic u: directional derivatives off by %.2e\n", dim, worst);
+  assert_true(worst <= 1e-9);
+  mica_nsni_destroy(&n);
+  release(&f);
+}
+
+static void test_directional(void **state) {
+  (void)state;
+  check_directional(&box2);
+  check_directional(&box3);
+}
+
+static double norm_inf(long n, const double *v) {
+  double m = 0;
+  for (long i = 0; i < n; i++) m = fmax(m, fabs(v[i]));
+  return m;
+}
+
+/* max |K v − (R(u + εv) − R(u − εv))/2ε| / max |K v| over three random v at a random u. */
+static double tangent_defect(MicaSolid *s, uint64_t *seed) {
+  const long n = s->ndof;
+  const double step = 1e-6;
+  double *u = calloc((size_t)n, sizeof(double)), *R = calloc((size_t)n, sizeof(double)),
+         *Rp = calloc((size_t)n, sizeof(double)), *Rm = calloc((size_t)n, sizeof(double)),
+         *v = calloc((size_t)n, sizeof(double)), *up = calloc((size_t)n, sizeof(double)),
+         *Kv = calloc((size_t)n, sizeof(double));
+  assert_true(u && R && Rp && Rm && v && up && Kv);
+  for (long i = 0; i < n; i++) u[i] = 0.05 * rnd(seed);
+  check_ok(mica_solid_assemble(s, 0.0, u, R, s->K));
+  double worst = 0;
+  for (int trial = 0; trial < 3; trial++) {
+    for (long i = 0; i < n; i++) v[i] = rnd(seed);
+    mica_sparse_matvec(s->K, v, Kv);
+    for (long i = 0; i < n; i++) up[i] = u[i] + step * v[i];
+    check_ok(mica_solid_assemble(s, 0.0, up, Rp, NULL));
+    for (long i = 0; i < n; i++) up[i] = u[i] - step * v[i];
+    check_ok(mica_solid_assemble(s, 0.0, up, Rm, NULL));
+    double diff = 0;
+    for (long i = 0; i < n; i++) diff = fmax(diff, fabs((Rp[i] - Rm[i]) / (2 * step) - Kv[i]));
+    worst = fmax(worst, diff / norm_inf(n, Kv));
+  }
+  free(u), free(R), free(Rp), free(Rm), free(v), free(up), free(Kv);
+  return worst;
+}
+
+static int build_solid(Fixture *f, const MicaFieldModel *model, int vci) {
+  MicaSolidOptions opt;
+  memset(&opt, 0, sizeof opt);
+  opt.field = *model;
+  opt.bc_method = &mica_bc_penalty;
+  opt.bc_alpha = 1.0;
+  opt.basis_order = 2;
+  opt.vci = vci;
+  opt.nsni = 1;
+  const MicaApprox approx = {&mica_approx_mls, f->mls};
+  return mica_solid_create(f->disc, &approx, &opt, 0, NULL, 0, NULL, &f->solid);
+}
+
+static void check_tangent(const char *name, const MicaShapeSpec *shape, const MicaFieldModel *model) {
+  uint64_t seed = 42;
+  for (int vci = 0; vci < 2; vci++) {
+    Fixture f = {0};
+    discretize(&f, shape, MICA_LAYOUT_JITTERED, 2);
+    check_ok(build_solid(&f, model, vci));
+    assert_non_null(f.solid->nsni);
+    const double defect = tangent_defect(f.solid, &seed), asym = mica_sparse_asymmetry(f.solid->K);
+    print_message("%-14s %d-D, vci %d: tangent vs central differences %.2e, asymmetry %.2e\n", name, shape->dim, vci,
+                  defect, asym);
+    assert_true(defect <= 1e-6);
+    if (!vci) assert_true(asym <= 1e-12);
+    release(&f);
+  }
+}
+
+static void test_tangent(void **state) {
+  (void)state;
+  for (int dim = 2; dim <= 3; dim++) {
+    const MicaShapeSpec *shape = dim == 2 ? &box2 : &box3;
+    for (int i = 0; mica_model_at(i); i++) {
+      const MicaModelOps *model = mica_model_at(i);
+      MicaMaterial mat;
+      MicaFieldModel field;
+      check_ok(mica_material_set(model, 1.0, 0.3, dim == 2 ? MICA_PLANE_STRAIN : MICA_PLANE_NONE, &mat));
+      check_ok(mica_field_classical_set(&field, model, &mat));
+      check_tangent(model->type.name, shape, &field);
+    }
+    MicaFieldModel cosserat;
+    check_ok(mica_cosserat_set_technical(&cosserat, dim, 1.0, 0.3, 0.5, 0.2, 0.2, 1.0));
+    check_tangent("cosserat", shape, &cosserat);
+  }
+}
+
+static void test_refused(void **state) {
+  (void)state;
+  Fixture f = {0};
+  discretize(&f, &box2, MICA_LAYOUT_REGULAR, 2);
+  MicaMaterial mat;
+  check_ok(mica_material_set(&mica_model_linear, 1.0, 0.3, MICA_PLANE_STRAIN, &mat));
+  MicaFieldModel gradient, finite;
+  check_ok(mica_strain_gradient_set(&gradient, &mat, 0.1, 0));
+  assert_int_equal(build_solid(&f, &gradient, 0), MICA_ERR_INPUT);
+  check_ok(mica_cosserat_set_technical(&finite, 2, 1.0, 0.3, 0.5, 0.2, 0.2, 1.0));
+  check_ok(mica_cosserat_finite_set(&finite));
+  assert_int_equal(build_solid(&f, &finite, 0), MICA_ERR_INPUT);
+  release(&f);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_moments_regular), cmocka_unit_test(test_moments_factor),
+      cmocka_unit_test(test_directional),     cmocka_unit_test(test_tangent),
+      cmocka_unit_test(test_refused),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
