@@ -81,14 +81,19 @@ int run_vci_report(const RunVciChoice *c, const MicaSolidOptions *opt) {
     return MICA_SUCCESS;
   }
   const int spd = mica_bc_method_has(opt->bc_method, MICA_BC_SYMMETRIC_DEFINITE);
-  /* the figures: docs/verification.md §"VCI by default", cost (min of 3, alternating) */
+  /* the figures: docs/verification.md §"VCI by default", docs/performance.md (the Petrov–Galerkin kernel) */
+  const char *solve = !mica_parallel_active() ? (spd ? "in one process solver.linear = auto factors its symmetric part with "
+                                              "CHOLMOD and refines (cholmod-sym: 1.4-1.6× CHOLMOD's factorization "
+                                              "time without VCI, UMFPACK's LU 2.7-4.1×)"
+                                            : "factored by UMFPACK as the multipliers' tangent is anyway")
+                                             : "under mpirun PETSc takes MUMPS's LU (or GMRES with the iterative presets)";
   printf("quadrature.vci = auto: on (%s): %s; VCI corrects the test gradients (Petrov–Galerkin): the tangent is "
-         "unsymmetric, %s, and its assembly takes 4-6× the symmetric kernel's; quadrature.vci = false keeps the "
-         "uncorrected rule\n",
-         c->reason, c->nodal ? "one point per particle fails the patch test on any layout"
-                         : "Gauss cells off a grid lose the patch test and the rates", spd ? "solver.linear = auto factors its symmetric part with CHOLMOD and refines (cholmod-sym: "
-                          "1.4-1.6× CHOLMOD's factorization time without VCI, UMFPACK's LU 2.7-4.1×)"
-                        : "factored by UMFPACK as the multipliers' tangent is anyway");
+         "unsymmetric, %s, and its assembly takes about 1.2× the symmetric one's; quadrature.vci = false keeps "
+         "the uncorrected rule\n",
+         c->reason,
+         c->nodal ? "one point per particle fails the patch test on any layout"
+                  : "Gauss cells off a grid lose the patch test and the rates",
+         solve);
   fflush(stdout);
   return MICA_SUCCESS;
 }
