@@ -2,8 +2,8 @@
 # The speed-up of two ranks over one (issue 19; figures only, never pass/fail): a 2-D and a 3-D deck of about 10⁵
 # unknowns, `mica run` with parallel.data = "distributed" and the same PETSc solver at P = 1 and P = 2, alternating
 # (1, 2, 1, 2, ...), SPEEDUP_REPEAT times (default 3), the minimum of each phase kept:
-#   2-D: tests/decks/parallel/cook.cfg (Cook's membrane, Neo-Hooke, quadratic basis) at COOK_N² particles
-#        (default 224: 100 352 dofs), quadrature order 3, one load step, MUMPS;
+#   2-D: tests/decks/parallel/cook.cfg (Cook's membrane, Neo-Hooke) at COOK_N² particles (default 224: 100 352
+#        dofs), linear basis of dilation 2, quadrature order 3, one load step, MUMPS;
 #   3-D: tests/decks/parallel/cube.cfg (linear elasticity, linear basis) at CUBE_N³ particles (default 33:
 #        107 811 dofs), quadrature order 2, CG + GAMG with the rigid motions.
 # Per phase (summary.json): shape functions and pattern (time_cache_and_pattern), assembly (time_assemble, with the
@@ -69,7 +69,8 @@ deck() {
     awk '{ r[NR] = ($2 > 0) ? $1 / $2 : 0 } END { printf "%-6s %12.2f %10.2f %10.2f %10.2f %10.2f\n", "1/2", r[1], r[2], r[3], r[4], r[5] }'
 }
 
-deck cook2d tests/decks/parallel/cook.cfg --set "particles.count=[$COOK_N,$COOK_N]" --set quadrature.order=3 --set solver.steps=1 \
+deck cook2d tests/decks/parallel/cook.cfg --set "particles.count=[$COOK_N,$COOK_N]" --set mls.order=1 --set mls.dilation=2.0 \
+  --set quadrature.order=3 --set solver.steps=1 \
   --set solver.linear=petsc
 deck cube3d tests/decks/parallel/cube.cfg --set "particles.count=[$CUBE_N,$CUBE_N,$CUBE_N]" --set quadrature.order=2 \
   --set solver.linear=petsc --set solver.petsc=gamg
