@@ -101,9 +101,9 @@ static const Preset presets[] = {
      "-ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps", 0},
     {"gamg",
      "-ksp_type cg -ksp_norm_type unpreconditioned -pc_type gamg -pc_gamg_reuse_interpolation true "
-     "-pc_gamg_threshold 0.01 -pc_gamg_square_graph 1 -mg_levels_ksp_type chebyshev -mg_levels_pc_type jacobi",
+     "-pc_gamg_threshold -1 -pc_gamg_square_graph 1 -mg_levels_ksp_type chebyshev -mg_levels_pc_type jacobi",
      "-ksp_type gmres -ksp_pc_side right -ksp_gmres_restart 100 -pc_type gamg -pc_gamg_reuse_interpolation true "
-     "-pc_gamg_threshold 0.01 -pc_gamg_square_graph 1 -mg_levels_ksp_type gmres -mg_levels_pc_type jacobi",
+     "-pc_gamg_threshold -1 -pc_gamg_square_graph 1 -mg_levels_ksp_type gmres -mg_levels_pc_type jacobi",
      1},
     {"hypre", "-ksp_type cg -ksp_norm_type unpreconditioned -pc_type hypre -pc_hypre_type boomeramg",
      "-ksp_type gmres -ksp_pc_side right -ksp_gmres_restart 100 -pc_type hypre -pc_hypre_type boomeramg", 1},
