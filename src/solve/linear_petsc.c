@@ -497,7 +497,12 @@ static int petsc_factor(MicaLinearSolver *solver, const MicaSparse *L) {
     PCALL(MatGetGhosts(ps->A, &nghosts, &ghosts));
     solver->stats.halo_dofs = (long)nghosts;
   }
-  PCALL(KSPSetUp(ps->ksp)); /* the preconditioner (factorization, multigrid hierarchy) for these values */
+  /* the preconditioner (factorization, multigrid hierarchy) for these values, here and not in the solve: KSPSetUp
+   * sets it up only once per KSPSetOperators, PCSetUp again whenever the matrix changed since */
+  PCALL(KSPSetUp(ps->ksp));
+  PC pc;
+  PCALL(KSPGetPC(ps->ksp, &pc));
+  PCALL(PCSetUp(pc));
   ps->ready = 1;
   return MICA_SUCCESS;
 }
