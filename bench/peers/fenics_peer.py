@@ -3,21 +3,26 @@
 
     /usr/bin/python3 bench/peers/fenics_peer.py PROBLEM VARIANT N
 
-PROBLEM VARIANT: timoshenko P1|P2, cook P2|P3, cosserat P2P1|P2P2|P3P2 (suffix r: half the cells along the
-hole), block3d P1|P2|P3. N is the refinement
-parameter (the same k as the mica side uses, see peers.py). Prints one JSON object on the last line:
+PROBLEM VARIANT: timoshenko P1|P2|P3, cook P2|P3, cosserat P2P1|P2P2|P3P2 (suffix r: half the cells along the
+hole), block3d P1|P2|P3, manufactured2d P1|P2|P3, manufactured3d P1|P2|P3. N is the refinement parameter (the
+same k as the mica side uses, see peers.py). Prints one JSON object on the last line:
 dofs, cells, qoi (the quantity each problem measures: see below), error (only where an exact solution
 exists), and the times
 
     time_mesh      mesh creation (and, for the hole, writing/reading the quadratic XDMF mesh and the space)
     time_jit       function spaces, expressions, Form objects: the FFC/dijitso JIT, a cache lookup when warm
     time_assemble  assembly of matrix and right-hand side (assemble_system: sparsity pattern included)
-    time_factor    LU factorization (MUMPS through PETSc); time_solve_lin its triangular solves
+    time_factor    the factorization: MUMPS through PETSc, Cholesky (every problem's matrix is symmetric: Dirichlet
+                   conditions applied symmetrically by assemble_system), positive definite (MUMPS's SYM = 1)
+                   except Cook's Neo-Hooke tangent (SYM = 2, LDLᵀ with pivoting); Cook's Newton iterations
+                   assemble into the same matrix, so PETSc reuses the symbolic analysis and refactors only
+    time_solve_lin the triangular solves
     time_solve     time_assemble + time_factor + time_solve_lin: "the solve phases", as counted for mica
     time_post      error norms, energies, probes
 
 The problems are those of the mica decks (same geometry, material, boundary conditions, loads); Dirichlet
-conditions are imposed strongly here (weakly in mica).
+conditions are imposed strongly here (weakly in mica). The manufactured fields (input/manufactured.cfg,
+input/manufactured3d.cfg) have no polynomial part: no element holds them exactly.
 """
 import json
 import math
@@ -29,11 +34,12 @@ import numpy as np
 
 T_START = time.perf_counter()
 from dolfin import (MPI, XDMFFile, Constant, DirichletBC, Expression, FacetNormal, Form, Function,  # noqa: E402
-                    FunctionSpace, Identity, LUSolver, Mesh, MeshFunction, MixedElement, PETScMatrix,
+                    FunctionSpace, Identity, Mesh, MeshFunction, MixedElement, PETScMatrix,
                     PETScVector, Point, RectangleMesh, BoxMesh, SubDomain, TestFunction, TrialFunction,
                     VectorElement, FiniteElement, VectorFunctionSpace, as_matrix, as_vector, assemble,
                     assemble_system, derivative, det, diff, dot, ds, dx, grad, inner, ln, parameters, split, tr,
-                    variable, Measure, near, set_log_level, LogLevel)
+                    variable, Measure, near, set_log_level, LogLevel, as_backend_type)
+from petsc4py import PETSc  # noqa: E402
 
 set_log_level(LogLevel.WARNING)
 parameters["form_compiler"]["optimize"] = True
@@ -59,16 +65,41 @@ class Timer:
         self.t[key] = self.t.get(key, 0.0) + dt
 
 
-def lu_solve(A, b, x, timer, solver=None):
-    """Factor A and solve; MUMPS through PETSc, the factorization timed apart from the solve."""
-    t0 = time.perf_counter()
-    if solver is None:
-        solver = LUSolver(A, LINEAR_SOLVER)
-    # DOLFIN's LUSolver factors inside the first solve; time a solve with the factors reused to split them.
-    solver.solve(x, b)
-    t1 = time.perf_counter()
-    timer.add("time_factor", t1 - t0)
-    return solver
+class DirectSolver:
+    """MUMPS through PETSc's KSP (preonly): Cholesky, positive definite unless told otherwise. The same object
+    factors every matrix a problem hands it; a matrix reassembled in place (the same PETSc Mat, the same
+    nonzero pattern) keeps its symbolic analysis: PCSetUp then refactors numerically only."""
+
+    def __init__(self, spd=True):
+        self.ksp = PETSc.KSP().create(PETSc.COMM_SELF)
+        self.ksp.setType("preonly")
+        pc = self.ksp.getPC()
+        pc.setType("cholesky")
+        pc.setFactorSolverType(LINEAR_SOLVER)
+        self.spd = spd
+
+    def solve(self, A, b, x, timer):
+        """Factor A (timed as time_factor) and solve A x = b (time_solve_lin)."""
+        M = as_backend_type(A).mat()
+        M.setOption(PETSc.Mat.Option.SYMMETRIC, True)
+        if self.spd:
+            M.setOption(PETSc.Mat.Option.SPD, True)
+        t0 = time.perf_counter()
+        self.ksp.setOperators(M)
+        self.ksp.getPC().setUp()  # the factorization (KSPSetUp alone would skip it for a refilled matrix)
+        t1 = time.perf_counter()
+        self.ksp.solve(as_backend_type(b).vec(), as_backend_type(x).vec())
+        t2 = time.perf_counter()
+        if self.ksp.getConvergedReason() < 0:
+            raise RuntimeError("MUMPS solve failed: reason %d" % self.ksp.getConvergedReason())
+        timer.add("time_factor", t1 - t0)
+        timer.add("time_solve_lin", t2 - t1)
+        return self
+
+
+def spd_solve(A, b, x, timer):
+    """One symmetric positive definite solve (DirectSolver)."""
+    return DirectSolver().solve(A, b, x, timer)
 
 
 # ---- Timoshenko cantilever (input/timoshenko.cfg) --------------------------------------------------------------
@@ -115,7 +146,7 @@ def timoshenko(variant, k, timer):
     A, b = assemble_system(a, Lf, bc)
     t3 = time.perf_counter()
     timer.add("time_assemble", t3 - t2)
-    lu_solve(A, b, uh.vector(), timer)
+    spd_solve(A, b, uh.vector(), timer)
     t4 = time.perf_counter()
     err = math.sqrt(abs(assemble(err_form)) / assemble(ref_form))
     tip = uh(Point(L, 0.0))[1]
@@ -165,12 +196,15 @@ def cook(variant, k, timer):
     bc = DirichletBC(V, Constant((0.0, 0.0)), lambda x, on: on and near(x[0], 0.0))
     t2 = time.perf_counter()
     iters = 0
+    A, b = PETScMatrix(), PETScVector()
+    solver = DirectSolver(spd=False)  # the Neo-Hooke tangent: symmetric, definiteness not assumed
+    dx_ = Function(V)
     for step in range(1, 11):  # 10 load steps, Newton to |R| <= 1e-10 |R0| of the step (mica's default rtol)
         load.assign(step / 10.0)
         r0 = None
         for it in range(30):
             ta = time.perf_counter()
-            A, b = assemble_system(Kf, Rf, bc)
+            assemble_system(Kf, Rf, bc, A_tensor=A, b_tensor=b)  # in place: the pattern and analysis reused
             tb = time.perf_counter()
             timer.add("time_assemble", tb - ta)
             rn = b.norm("l2")
@@ -178,8 +212,7 @@ def cook(variant, k, timer):
                 r0 = rn
             if rn <= 1e-10 * r0 or rn == 0.0:
                 break
-            dx_ = Function(V)
-            lu_solve(A, b, dx_.vector(), timer)
+            solver.solve(A, b, dx_.vector(), timer)
             u.vector().axpy(-1.0, dx_.vector())
             iters += 1
         else:
@@ -331,7 +364,7 @@ def cosserat(variant, k, timer):
     A, bb = assemble_system(aform, Lform, bcs)
     t3 = time.perf_counter()
     timer.add("time_assemble", t3 - t2)
-    lu_solve(A, bb, wh.vector(), timer)
+    spd_solve(A, bb, wh.vector(), timer)
     t4 = time.perf_counter()
     U = assemble(Uform)
     if os.environ.get("PEERS_SAVE_SOLUTION"):
@@ -387,7 +420,7 @@ def block3d(variant, k, timer):
     A, b = assemble_system(a, Lf, bc)
     t3 = time.perf_counter()
     timer.add("time_assemble", t3 - t2)
-    lu_solve(A, b, uh.vector(), timer)
+    spd_solve(A, b, uh.vector(), timer)
     t4 = time.perf_counter()
     U = assemble(Uform)
     tip = uh(Point(L, B / 2, H / 2))[2]
@@ -397,7 +430,64 @@ def block3d(variant, k, timer):
     return dict(dofs=V.dim(), cells=mesh.num_cells(), qoi=U, qoi_name="strain_energy", tip_uz=tip)
 
 
-PROBLEMS = dict(timoshenko=timoshenko, cook=cook, cosserat=cosserat, block3d=block3d)
+# ---- manufactured fields (input/manufactured.cfg, input/manufactured3d.cfg) -------------------------------------
+
+MANUFACTURED = dict(E=100.0, nu=0.3)
+
+
+def manufactured(dim, variant, k, timer):
+    """Linear elasticity on [−1, 1]^dim (plane strain in 2-D), u_i = sin(π x_i / 2) Π_{j≠i} cos(π x_j / 2), the
+    body force b = (dim π² / 4)(λ + 2μ) u that makes it exact (−μ Δu − (λ + μ) ∇(∇·u), both dim π²/4 u), Dirichlet
+    u on the whole boundary; a k^dim grid of cells (each split into triangles / tetrahedra). The relative
+    energy-norm error against the exact field: its expression interpolated at degree + 3, the error form
+    integrated at 2 (degree + 3)."""
+    deg = int(variant[1:])
+    E, nu = MANUFACTURED["E"], MANUFACTURED["nu"]
+    mu = E / (2 * (1 + nu))
+    lam = E * nu / ((1 + nu) * (1 - 2 * nu))
+    t0 = time.perf_counter()
+    if dim == 2:
+        mesh = RectangleMesh(Point(-1.0, -1.0), Point(1.0, 1.0), k, k)
+        comps = ("sin(pi*x[0]/2)*cos(pi*x[1]/2)", "cos(pi*x[0]/2)*sin(pi*x[1]/2)")
+    else:
+        mesh = BoxMesh(Point(-1.0, -1.0, -1.0), Point(1.0, 1.0, 1.0), k, k, k)
+        comps = ("sin(pi*x[0]/2)*cos(pi*x[1]/2)*cos(pi*x[2]/2)", "cos(pi*x[0]/2)*sin(pi*x[1]/2)*cos(pi*x[2]/2)",
+                 "cos(pi*x[0]/2)*cos(pi*x[1]/2)*sin(pi*x[2]/2)")
+    t1 = time.perf_counter()
+    V = VectorFunctionSpace(mesh, "P", deg)
+    ue = Expression(comps, degree=deg + 3, domain=mesh)
+    f = Expression(tuple("%.17g*(%s)" % (dim * math.pi ** 2 / 4 * (lam + 2 * mu), c) for c in comps),
+                   degree=deg + 3, domain=mesh)
+
+    def eps(w):
+        return 0.5 * (grad(w) + grad(w).T)
+
+    def sig(w):
+        return lam * tr(eps(w)) * Identity(dim) + 2 * mu * eps(w)
+    u, v = TrialFunction(V), TestFunction(V)
+    a = compiled(inner(sig(u), eps(v)) * dx)
+    Lf = compiled(dot(f, v) * dx)
+    bc = DirichletBC(V, ue, lambda x, on: on)
+    uh = Function(V)
+    e = uh - ue
+    err_form = compiled(inner(sig(e), eps(e)) * dx(degree=2 * (deg + 3)))
+    ref_form = compiled(inner(sig(ue), eps(ue)) * dx(degree=2 * (deg + 3)))
+    t2 = time.perf_counter()
+    A, b = assemble_system(a, Lf, bc)
+    t3 = time.perf_counter()
+    timer.add("time_assemble", t3 - t2)
+    spd_solve(A, b, uh.vector(), timer)
+    t4 = time.perf_counter()
+    err = math.sqrt(abs(assemble(err_form)) / assemble(ref_form))
+    timer.add("time_post", time.perf_counter() - t4)
+    timer.add("time_mesh", t1 - t0)
+    timer.add("time_jit", t2 - t1)
+    return dict(dofs=V.dim(), cells=mesh.num_cells(), error=err, qoi=err, qoi_name="error_energy")
+
+
+PROBLEMS = dict(timoshenko=timoshenko, cook=cook, cosserat=cosserat, block3d=block3d,
+                manufactured2d=lambda v, k, t: manufactured(2, v, k, t),
+                manufactured3d=lambda v, k, t: manufactured(3, v, k, t))
 
 
 def main():
@@ -408,8 +498,8 @@ def main():
     out = PROBLEMS[problem](variant, k, timer)
     t = timer.t
     t.setdefault("time_factor", 0.0)
-    t["time_solve_lin"] = 0.0  # inside time_factor: DOLFIN's LUSolver factors and solves in one call
-    t["time_solve"] = t.get("time_assemble", 0.0) + t["time_factor"]
+    t.setdefault("time_solve_lin", 0.0)
+    t["time_solve"] = t.get("time_assemble", 0.0) + t["time_factor"] + t["time_solve_lin"]
     t["time_import"] = T_IMPORT
     t["time_script"] = time.perf_counter() - T_START
     out.update(t)

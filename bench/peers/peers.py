@@ -77,8 +77,8 @@ PROBLEMS = [
          measure="relative error of the tip deflection u_y(48, 60) against FEniCS P3, k = 16, 24, 32, extrapolated",
          mica={"quadratic": (["input/cook_neohooke.cfg"], lambda k: "particles.count=[%d,%d]" % (k + 1, k + 1),
                              [4, 8, 12, 16])},
-         fenics={"P2": [4, 8, 16, 24, 32]}, reference=("P3", [16, 24, 32]),
-         pairs=["quadratic:P2"], levels=[1e-2, 3e-3, 1e-3]),
+         fenics={"P2": [4, 8, 16, 24, 32], "P3": [2, 4, 8, 12]}, reference=("P3", [16, 24, 32]),
+         pairs=["quadratic:P2", "quadratic:P3"], levels=[1e-2, 3e-3, 1e-3]),
     dict(name="cosserat", title="Cosserat plate with a hole, a/l = 1.063, N = 0.93",
          # mica: the relative energy-norm error against the FEniCS reference at 8 x 8 Gauss points per cell
          # (energy_norm.py); FEniCS: sqrt(|U - U_ref| / U_ref), the same number by Galerkin orthogonality
@@ -113,10 +113,11 @@ PROBLEMS = [
                "lagrange": (["input/cosserat_hole.cfg", HOLE_PROBES, "bc.method=lagrange"],
                             hole_particles(8), [3, 4, 5, 6, 8])},
          fenics={"P2P1": [1, 2, 4, 8, 16, 32], "P2P2": [1, 2, 4, 8, 16], "P2P1r": [1, 2, 4, 8, 16, 32],
-                 "P2P2r": [1, 2, 4, 8, 16]}, reference=("P3P2", [8, 16]),
+                 "P2P2r": [1, 2, 4, 8, 16], "P3P2r": [1, 2, 4, 6]}, reference=("P3P2", [8, 16]),
          pairs=["nitsche-q8:P2P1", "nitsche-q8:P2P2", "nitsche-q8r:P2P1r", "nitsche-q8r:P2P2r", "nitsche-q4r:P2P1r",
                 "nitsche-q4r:P2P2r", "nitsche-q5r:P2P1r", "nitsche-q5r:P2P2r", "nitsche-q4f:P2P1r",
-                "nitsche-q4f:P2P2r", "nitsche-q4fb:P2P1r", "nitsche-q4fb:P2P2r", "*:*", "lagrange:P2P1"],
+                "nitsche-q4f:P2P2r", "nitsche-q4fb:P2P1r", "nitsche-q4fb:P2P2r", "nitsche-q4fb:P3P2r", "*:*",
+                "lagrange:P2P1"],
          levels=[5e-3, 3e-3, 1e-3, 3e-4]),
     dict(name="block3d", title="3-D cantilever block, clamped, end shear",
          measure="sqrt(|U - U_ref| / U_ref), U the strain energy, U_ref from FEniCS P3, k = 4, 6, 8, extrapolated",
@@ -124,8 +125,38 @@ PROBLEMS = [
                           lambda k: "particles.count=[%d,%d,%d]" % (4 * k + 1, k + 1, k + 1), [2, 3, 4, 5]),
                "quadratic": (["bench/peers/block3d.cfg", "mls.order=2", "mls.dilation=3.0", "quadrature.order=5"],
                              lambda k: "particles.count=[%d,%d,%d]" % (4 * k + 1, k + 1, k + 1), [2, 3])},
-         fenics={"P1": [2, 4, 8, 12, 16], "P2": [1, 2, 3, 4, 5]}, reference=("P3", [4, 6, 8]),
-         pairs=["linear:P1", "quadratic:P2", "*:*"], levels=[1.5e-1, 1e-1, 7e-2]),
+         fenics={"P1": [2, 4, 8, 12, 16], "P2": [1, 2, 3, 4, 5], "P3": [1, 2, 3, 4]}, reference=("P3", [4, 6, 8]),
+         pairs=["linear:P1", "quadratic:P2", "quadratic:P3", "*:*"], levels=[1.5e-1, 1e-1, 7e-2]),
+    # smooth fields with no polynomial part (fenics_peer.manufactured): mica's error_energy against the exact
+    # field on its own error points; mica's k: particles per side; FEniCS's k: cells per side
+    dict(name="manufactured2d", title="manufactured 2-D field, sin cos on [-1, 1]^2, plane strain",
+         measure="relative energy-norm error against the exact solution",
+         mica={"linear": (["input/manufactured.cfg", "mls.order=1", "mls.dilation=2.0", "quadrature.order=4"],
+                          lambda k: "particles.count=[%d,%d]" % (k, k), [11, 21, 41, 81, 161]),
+               "quadratic": (["input/manufactured.cfg", "mls.order=2", "mls.dilation=3.0", "quadrature.order=4"],
+                             lambda k: "particles.count=[%d,%d]" % (k, k), [11, 16, 21, 31, 41, 61]),
+               "quadratic-d4": (["input/manufactured.cfg", "mls.order=2", "mls.dilation=4.0", "quadrature.order=4"],
+                                lambda k: "particles.count=[%d,%d]" % (k, k), [11, 16, 21, 31, 41, 61]),
+               "nsni-linear": (["input/manufactured.cfg", "quadrature.mode=nsni", "mls.order=1", "mls.dilation=2.0"],
+                               lambda k: "particles.count=[%d,%d]" % (k, k), [11, 21, 41, 81, 161]),
+               "nsni-quadratic": (["input/manufactured.cfg", "quadrature.mode=nsni", "mls.order=2",
+                                   "mls.dilation=3.0"], lambda k: "particles.count=[%d,%d]" % (k, k),
+                                  [11, 21, 31, 41, 61, 81])},
+         fenics={"P1": [8, 16, 32, 64, 128, 256], "P2": [4, 8, 16, 32, 64], "P3": [2, 4, 8, 16, 32]},
+         pairs=["linear:P1", "quadratic:P2", "quadratic-d4:P2", "nsni-quadratic:P2", "quadratic-d4:P3", "*:*"],
+         levels=[1e-2, 3e-3, 1e-3, 3e-4, 1e-4]),
+    dict(name="manufactured3d", title="manufactured 3-D field, sin cos cos on [-1, 1]^3",
+         measure="relative energy-norm error against the exact solution",
+         mica={"linear": (["input/manufactured3d.cfg", "mls.order=1", "mls.dilation=2.0", "quadrature.order=3"],
+                          lambda k: "particles.count=[%d,%d,%d]" % (k, k, k), [7, 11, 15, 21]),
+               "quadratic": (["input/manufactured3d.cfg", "mls.order=2", "mls.dilation=3.0", "quadrature.order=3"],
+                             lambda k: "particles.count=[%d,%d,%d]" % (k, k, k), [7, 9, 11, 13, 15]),
+               "nsni-quadratic": (["input/manufactured3d.cfg", "quadrature.mode=nsni", "mls.order=2",
+                                   "mls.dilation=3.0"], lambda k: "particles.count=[%d,%d,%d]" % (k, k, k),
+                                  [9, 13, 17])},
+         fenics={"P1": [4, 8, 16, 24], "P2": [2, 4, 8, 12, 16], "P3": [2, 3, 4, 6, 8, 10]},
+         pairs=["linear:P1", "quadratic:P2", "quadratic:P3", "nsni-quadratic:P3", "*:*"],
+         levels=[3e-2, 1e-2, 3e-3, 1e-3]),
 ]
 
 
@@ -199,7 +230,7 @@ def run_fenics(problem, variant, k, save=None):
 
 def error_of(problem, code, d, ref):
     name = problem["name"]
-    if name == "timoshenko":
+    if name in ("timoshenko", "manufactured2d", "manufactured3d"):
         return d["error_energy"] if code == "mica" else d["error"]
     if name == "cook":
         tip = d["tip_uy"] if code == "mica" else d["qoi"]
