@@ -106,6 +106,13 @@ int mica_vci_correct_owned(const MicaDiscretization *disc, const MlsApprox *mls,
 struct MicaNsni;
 int mica_vci_correct_stabilized(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
                                 const struct MicaNsni *nsni);
+/* NSNI with a linear basis: one correction of the gradients, for trial and test functions alike (volume->dN is
+ * corrected in place, no dN_test: the tangent stays symmetric), that satisfies the constraint above for the
+ * monomials of degree ≤ 1 with the stabilization points' terms and keeps the corrected gradients reproducing
+ * linear fields at every point (docs/theory.md §NSNI, "symmetric VCI"). MICA_ERR_NUMERIC if a point's support
+ * does not determine a linear field or the constraints cannot be met to 1e-10 relative. */
+int mica_vci_correct_symmetric(const MicaDiscretization *disc, const MlsApprox *mls, MicaShapeCache *volume,
+                               const struct MicaNsni *nsni);
 
 /* Stabilized conforming nodal integration (docs/theory.md §nodal integration; Chen, Wu, Yoon & You 2001): a
  * cache of order 1 at the particles (disc's volume points after mica_discretization_nodal) whose dN is the
@@ -223,6 +230,8 @@ typedef struct MicaSolid {
   long ndof;                      /* ncomp × (particles + multiplier nodes) */
   MicaShapeCache *volume;         /* at the volume quadrature points */
   MicaNsni *nsni;                 /* NSNI's stabilization points, or NULL */
+  int vci_symmetric;              /* 1: VCI corrected trial and test gradients alike (NSNI, linear basis:
+                                     mica_vci_correct_symmetric); 0: test gradients only, or no VCI */
   MicaFieldModel stab_model;      /* the quadratic energy of those points (opt.nsni): the model, or its linear form */
   MicaShapeCache **boundary;      /* [nsets], at each set's boundary quadrature points (NULL if unused) */
   double **boundary_h;            /* [nsets][n]: local particle spacing at each boundary point */

@@ -125,6 +125,9 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
                                                         traction, donor, &rp->solid));
   rp->time_cache_pattern = mica_wtime() - start;
   rp->cpu_cache_pattern = mica_cputime() - cpu;
+  if (!ierr && rp->solid->vci_symmetric && !mica_parallel_rank())
+    printf("VCI: symmetric (NSNI, linear basis: trial and test gradients corrected alike, docs/theory.md §NSNI): "
+           "the tangent is symmetric\n");
   return ierr; /* the solid owns the conditions now, whether or not it was built */
 cleanup:
   mica_solid_conditions_free(opt.body, ndirichlet, &dirichlet, ntraction, &traction);

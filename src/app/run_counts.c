@@ -82,6 +82,7 @@ static int add_counts(RunProblem *rp, const RunTotals *c, MicaJson *summary) {
   MICA_CALL(mica_json_number(summary, "time_mls_setup", rp->time_mls));
   MICA_CALL(mica_json_number(summary, "time_cache_and_pattern", rp->time_cache_pattern));
   MICA_CALL(mica_json_bool(summary, "vci", s->opt.vci));
+  MICA_CALL(mica_json_bool(summary, "vci_symmetric", s->vci_symmetric));
   MICA_CALL(run_vci_summary(&rp->vci, summary));
   MICA_CALL(mica_json_number(summary, "time_vci", s->time_vci)); /* part of time_cache_and_pattern */
   /* the split of time_cache_and_pattern: shape functions (without their neighbor search), search, pattern */

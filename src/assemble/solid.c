@@ -291,7 +291,20 @@ static int apply_vci(MicaSolid *s) {
    * §NSNI, "one degree more"); the patch tests of degree ≤ n hold either way. */
   const int order = s->opt.basis_order + (s->nsni ? 1 : 0);
   if (dist && dist->owned) MICA_CALL(mica_vci_correct_owned(s->disc, s->mls, order, s->volume, dist));
-  else MICA_CALL(mica_vci_correct_stabilized(s->disc, s->mls, order, s->volume, s->nsni));
+  else {
+    /* NSNI, linear basis: trial and test gradients corrected alike where the supports admit it (symmetric VCI;
+     * the Petrov–Galerkin form's trial gradients violate the constraint by O(1) on jittered cells and its L2
+     * error flattened). On a regular grid the boundary rows' supports make (a) and (b) incompatible; there the
+     * uncorrected trial gradients nearly meet the constraint, and the Petrov–Galerkin form is kept. */
+    int ierr = MICA_ERR_NUMERIC;
+    if (s->nsni && s->opt.basis_order == 1) {
+      ierr = mica_vci_correct_symmetric(s->disc, s->mls, s->volume, s->nsni);
+      if (ierr != MICA_SUCCESS && ierr != MICA_ERR_NUMERIC) MICA_CALL(ierr);
+      if (ierr) mica_error_clear();
+    }
+    s->vci_symmetric = ierr == MICA_SUCCESS;
+    if (ierr) MICA_CALL(mica_vci_correct_stabilized(s->disc, s->mls, order, s->volume, s->nsni));
+  }
   s->time_vci = mica_wtime() - start;
   return MICA_SUCCESS;
 }
@@ -345,9 +358,10 @@ static int volume_cache(MicaSolid *s, const MicaSolid *donor) {
   const MicaSolidOptions *opt = &s->opt;
   const MicaDiscretization *disc = s->disc;
   const int order = opt->field.ops->order >= 2 ? 2 : 1;
-  if (same_approximation(s, donor) && donor->volume->order == order && !donor->volume->dN_test == !opt->vci &&
+  if (same_approximation(s, donor) && donor->volume->order == order && !donor->opt.vci == !opt->vci &&
       !donor->opt.scni == !opt->scni && !donor->opt.nsni == !opt->nsni) {
     s->volume = mica_shape_cache_share(donor->volume);
+    s->vci_symmetric = donor->vci_symmetric;
     s->caches_shared++;
     return MICA_SUCCESS;
   }

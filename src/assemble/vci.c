@@ -9,10 +9,12 @@
  * LAPACK) for all d. The monomials are taken in the particle's local coordinates s = (x − x_I)/ρ_I (its
  * support radii), which span the same space and keep A well conditioned. */
 #include <lapacke.h> /* it includes complex.h, whose macro I rules out that name: particles are `part` */
+#include <math.h>
 #include <string.h>
 
 #include "mica/parallel.h"
 #include "mica/solid.h"
+#include "mica/sparse.h"
 
 enum { VCI_MAX_TERMS = 10 }; /* monomials of degree ≤ 2 in 3-D (basis order 3) */
 
@@ -193,6 +195,208 @@ static void correct_gradients(const MicaDiscretization *disc, const MlsApprox *m
     }
 }
 
+/* ---- NSNI with a linear basis: one correction for trial and test gradients (docs/theory.md §NSNI, "symmetric
+ * VCI") ----
+ * The Petrov–Galerkin correction above makes the test gradients satisfy the integration constraint and leaves
+ * the trial gradients uncorrected; at one point per cell these violate the constraint by O(1) on jittered
+ * cells, so the adjoint discretization is inconsistent and the L2 error loses its extra order. Here one
+ * correction δ (∇̃N_J = ∇N_J + δ_J at every volume point) satisfies, for every direction d,
+ *   (a) the integration constraint of every particle J:  Σ_p w_p q_α(x_p) δ_pJ = r_Jα   (α: degree ≤ 1),
+ *   (b) reproduction at every point p:                    Σ_J δ_pJ P_γ(x_J) = 0      (γ: degree ≤ 1),
+ * so the corrected gradients still reproduce linear fields and serve both slots (K symmetric). The
+ * W-minimum-norm δ subject to (a) and (b) is δ = Π⊥ Q λ, Π⊥ the Euclidean projection per point onto (b), Q λ
+ * the VCI form Σ_α λ_Jα q_α; λ solves S λ = r with S = Qᵀ W Π⊥ Q (sparse, symmetric, one clique per point). S
+ * is singular: the combinations Σ_J P_γ(x_J) (a)_J are implied by (b), and r satisfies them because the one-point
+ * rule at the centroid integrates the linear integrands ∂_d(P_γ q_α) exactly and the quadratic fit's Hessians
+ * vanish on linear P_γ; δ does not depend on the null-space part of λ, which ε A (A: the VCI Gram blocks, ε =
+ * 1e-10) fixes, and iterative refinement against S itself removes the regularization's bias. A quadratic basis
+ * would need (a), (b) of degree 2, whose compatibility needs cubic integrands integrated exactly, which one point
+ * and the second moments do not: it keeps the Petrov–Galerkin correction. */
+typedef struct {
+  const MicaShapeCache *c;
+  const double *qw;
+  int dim, m, mr;
+  long np;
+  double *Q;     /* [nnz*m] q_α at each entry, in the particle's local coordinates */
+  double *P;     /* [nnz*mr] P_γ(x_J) about the point, in the point's first particle's radii */
+  double *G;     /* [npoints*mr*mr] Cholesky factors of Σ_J P Pᵀ per point */
+  double *delta; /* [nnz*dim] Π⊥ Q λ */
+} Symmetric;
+
+/* The row constraint (b) at point p: δ_p·d −= P G⁻¹ Pᵀ δ_p·d for every direction. */
+static void project_point(const Symmetric *o, long p, double *delta) {
+  const MicaShapeCache *c = o->c;
+  const int dim = o->dim, mr = o->mr;
+  double b[VCI_MAX_TERMS * 3] = {0};
+  for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
+    for (int d = 0; d < dim; d++)
+      for (int g = 0; g < mr; g++) b[d * mr + g] += o->P[e * mr + g] * delta[e * dim + d];
+  LAPACKE_dpotrs_work(LAPACK_COL_MAJOR, 'L', mr, dim, o->G + p * mr * mr, mr, b, mr);
+  for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
+    for (int d = 0; d < dim; d++)
+      for (int g = 0; g < mr; g++) delta[e * dim + d] -= b[d * mr + g] * o->P[e * mr + g];
+}
+
+/* y = S λ (λ, y: [np][dim][m]), leaving δ = Π⊥ Q λ in o->delta. */
+static void symmetric_apply(Symmetric *o, const double *lam, double *y) {
+  const MicaShapeCache *c = o->c;
+  const int dim = o->dim, m = o->m;
+  for (long p = 0; p < c->npoints; p++) {
+    for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
+      for (int d = 0; d < dim; d++) {
+        double v = 0;
+        for (int a = 0; a < m; a++) v += lam[(c->index[e] * dim + d) * m + a] * o->Q[e * m + a];
+        o->delta[e * dim + d] = v;
+      }
+    project_point(o, p, o->delta);
+  }
+  memset(y, 0, sizeof(double) * (size_t)(o->np * m * dim));
+  for (long p = 0; p < c->npoints; p++)
+    for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++)
+      for (int d = 0; d < dim; d++)
+        for (int a = 0; a < m; a++)
+          y[(c->index[e] * dim + d) * m + a] += o->qw[p] * o->Q[e * m + a] * o->delta[e * dim + d];
+}
+
+static int symmetric_setup(const MicaDiscretization *disc, const MlsApprox *mls, const Systems *sys, Symmetric *o) {
+  const MicaShapeCache *c = o->c;
+  const int dim = o->dim, m = o->m, mr = o->mr;
+  const long nnz = c->ptr[c->npoints];
+  const double *xp = mls_particles(mls), *radii = mls_radii(mls);
+  Monomials rep;
+  MICA_CALL(monomials_init(dim, 1, &rep));
+  MICA_CALL(MICA_MALLOC(o->Q, nnz * m));
+  MICA_CALL(MICA_MALLOC(o->P, nnz * mr));
+  MICA_CALL(MICA_CALLOC(o->G, c->npoints * mr * mr));
+  MICA_CALL(MICA_MALLOC(o->delta, nnz * dim));
+  double s[3];
+  for (long p = 0; p < c->npoints; p++) {
+    const double *rho = radii + c->index[c->ptr[p]] * dim;
+    double *G = o->G + p * mr * mr;
+    for (long e = c->ptr[p]; e < c->ptr[p + 1]; e++) {
+      const long part = c->index[e];
+      local_coordinates(mls, part, disc->qx + p * dim, s);
+      monomials_eval(&sys->basis, s, o->Q + e * m, NULL);
+      for (int d = 0; d < dim; d++) s[d] = (xp[part * dim + d] - disc->qx[p * dim + d]) / rho[d];
+      monomials_eval(&rep, s, o->P + e * mr, NULL);
+      for (int a = 0; a < mr; a++)
+        for (int b = 0; b < mr; b++) G[a * mr + b] += o->P[e * mr + a] * o->P[e * mr + b];
+    }
+    if (LAPACKE_dpotrf_work(LAPACK_COL_MAJOR, 'L', mr, G, mr) != 0) {
+      const double *x = disc->qx + p * dim;
+      MICA_ERROR(MICA_ERR_NUMERIC,
+                 "VCI (NSNI, symmetric): the %ld particles supporting the volume point at (%g, %g, %g) do not determine "
+                 "a linear field; raise mls.dilation", c->ptr[p + 1] - c->ptr[p], x[0], x[1], dim == 3 ? x[2] : 0.0);
+    }
+  }
+  return MICA_SUCCESS;
+}
+
+/* S + ε A assembled on the volume points' cliques (m unknowns per particle; S does not couple directions). */
+static int symmetric_matrix(const Symmetric *o, const Systems *sys, double eps, MicaSparse **out) {
+  const MicaShapeCache *c = o->c;
+  const int m = o->m, mr = o->mr;
+  MicaSparse *S = NULL;
+  double *Ke = NULL, *Pi = NULL, *Y = NULL;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL(mica_sparse_create(o->np, m, c->npoints, c->ptr, c->index, &S));
+  long maxn = 0;
+  for (long p = 0; p < c->npoints; p++) maxn = c->ptr[p + 1] - c->ptr[p] > maxn ? c->ptr[p + 1] - c->ptr[p] : maxn;
+  MICA_CALL_CLEANUP(MICA_MALLOC(Ke, maxn * m * maxn * m));
+  MICA_CALL_CLEANUP(MICA_MALLOC(Pi, maxn * maxn));
+  MICA_CALL_CLEANUP(MICA_MALLOC(Y, maxn * mr));
+  for (long p = 0; p < c->npoints && !ierr; p++) {
+    const long n = c->ptr[p + 1] - c->ptr[p], e0 = c->ptr[p];
+    /* Π⊥ = I − P G⁻¹ Pᵀ; Y = G⁻¹ Pᵀ (mr × n, column b at Y + b·mr: the layout of P's rows) */
+    memcpy(Y, o->P + e0 * mr, sizeof(double) * (size_t)(n * mr));
+    LAPACKE_dpotrs_work(LAPACK_COL_MAJOR, 'L', mr, (lapack_int)n, o->G + p * mr * mr, mr, Y, mr);
+    for (long b = 0; b < n; b++)
+      for (long a = 0; a < n; a++) {
+        double v = a == b ? 1.0 : 0.0;
+        for (int g = 0; g < mr; g++) v -= o->P[(e0 + a) * mr + g] * Y[b * mr + g];
+        Pi[a * n + b] = v;
+      }
+    for (long a = 0; a < n; a++)
+      for (int al = 0; al < m; al++)
+        for (long b = 0; b < n; b++)
+          for (int be = 0; be < m; be++)
+            Ke[(a * m + al) * (n * m) + b * m + be] =
+                o->qw[p] * o->Q[(e0 + a) * m + al] * Pi[a * n + b] * o->Q[(e0 + b) * m + be];
+    ierr = mica_sparse_add_clique(S, n, c->index + e0, Ke);
+  }
+  for (long part = 0; part < o->np && !ierr; part++)
+    for (int a = 0; a < m; a++)
+      for (int b = 0; b < m; b++) {
+        const double v = eps * sys->A[part * m * m + a * m + b];
+        for (long t = S->colptr[part * m + b]; t < S->colptr[part * m + b + 1]; t++)
+          if (S->rowind[t] == part * m + a) S->val[t] += v;
+      }
+cleanup:
+  MICA_FREE(Ke);
+  MICA_FREE(Pi);
+  MICA_FREE(Y);
+  if (ierr) mica_sparse_destroy(&S);
+  *out = S;
+  return ierr;
+}
+
+/* δ from sys->r (the constraint's right-hand sides, [np][dim][m]) into c->dN; c->dN_test freed (none: symmetric). */
+static int symmetric_correct(const MicaDiscretization *disc, const MlsApprox *mls, MicaShapeCache *c, Systems *sys) {
+  const int dim = c->dim, m = sys->basis.m;
+  const long np = mls_num_particles(mls), n = np * m * dim, nnz = c->ptr[c->npoints];
+  Symmetric o = {c, disc->qw, dim, m, dim + 1, np, NULL, NULL, NULL, NULL};
+  MicaSparse *S = NULL;
+  MicaLinearSolver *solver = NULL;
+  double *lam = NULL, *res = NULL, *rhs = NULL, *x = NULL;
+  int ierr = MICA_SUCCESS;
+  for (long part = 0; part < np; part++) /* a particle with no volume point has no constraint */
+    if (sys->npoints[part] == 0)
+      for (int a = 0; a < m; a++) sys->A[part * m * m + a * m + a] = 1.0;
+  MICA_CALL_CLEANUP(symmetric_setup(disc, mls, sys, &o));
+  MICA_CALL_CLEANUP(symmetric_matrix(&o, sys, 1e-10, &S));
+  MICA_CALL_CLEANUP(mica_linear_solver_create(&mica_linear_cholmod, &solver));
+  MICA_CALL_CLEANUP(mica_linear_solver_factor(solver, S));
+  MICA_CALL_CLEANUP(MICA_CALLOC(lam, n));
+  MICA_CALL_CLEANUP(MICA_MALLOC(res, n));
+  MICA_CALL_CLEANUP(MICA_MALLOC(rhs, np * m));
+  MICA_CALL_CLEANUP(MICA_MALLOC(x, np * m));
+  double scale = 0, viol = 0;
+  for (long i = 0; i < n; i++) scale = fmax(scale, fabs(sys->r[i]));
+  memcpy(res, sys->r, sizeof(double) * (size_t)n);
+  for (int sweep = 0; sweep < 6; sweep++) { /* λ += (S + ε A)⁻¹ (r − S λ) */
+    for (int d = 0; d < dim; d++) {
+      for (long part = 0; part < np; part++)
+        for (int a = 0; a < m; a++) rhs[part * m + a] = res[(part * dim + d) * m + a];
+      MICA_CALL_CLEANUP(mica_linear_solver_solve(solver, rhs, x));
+      for (long part = 0; part < np; part++)
+        for (int a = 0; a < m; a++) lam[(part * dim + d) * m + a] += x[part * m + a];
+    }
+    symmetric_apply(&o, lam, res);
+    viol = 0;
+    for (long i = 0; i < n; i++) res[i] = sys->r[i] - res[i], viol = fmax(viol, fabs(res[i]));
+    if (viol <= 1e-14 * fmax(scale, 1e-300)) break;
+  }
+  if (viol > 1e-10 * fmax(scale, 1e-300)) {
+    ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_NUMERIC,
+                          "VCI (NSNI, symmetric): the integration constraints hold only to %.3g relative", viol / scale);
+    goto cleanup;
+  }
+  for (long i = 0; i < nnz * dim; i++) c->dN[i] += o.delta[i];
+  MICA_FREE(c->dN_test);
+cleanup:
+  mica_linear_solver_destroy(&solver);
+  mica_sparse_destroy(&S);
+  MICA_FREE(lam);
+  MICA_FREE(res);
+  MICA_FREE(rhs);
+  MICA_FREE(x);
+  MICA_FREE(o.Q);
+  MICA_FREE(o.P);
+  MICA_FREE(o.G);
+  MICA_FREE(o.delta);
+  return ierr;
+}
+
 /* parallel.data = "distributed": a particle's sums span the ranks whose points its support reaches; they are added
  * at its owner, which solves, and its ξ is copied into its ghosts. */
 static int owned_sums(MicaDistribution *dist, int ierr, Systems *sys, int dim) {
@@ -204,7 +408,7 @@ static int owned_sums(MicaDistribution *dist, int ierr, Systems *sys, int dim) {
 
 /* nsni: NSNI's stabilization points in the constraint (NULL: none); dist: distributed data (NULL: the whole). */
 static int vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
-                       const MicaNsni *nsni, MicaDistribution *dist) {
+                       const MicaNsni *nsni, int symmetric, MicaDistribution *dist) {
   MICA_CHECK(volume->npoints == disc->nquad && volume->dim == disc->dim, MICA_ERR_ARGUMENT,
              "mica_vci_correct: the cache is not at the discretization's volume points");
   MICA_CHECK(disc->boundary_uncovered == 0, MICA_ERR_INPUT,
@@ -224,6 +428,10 @@ static int vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int
   if (!ierr) ierr = add_boundary(disc, mls, &sys);
   if (dist) MICA_CALL_CLEANUP(owned_sums(dist, ierr, &sys, dim));
   MICA_CALL_CLEANUP(ierr);
+  if (symmetric) {
+    ierr = symmetric_correct(disc, mls, volume, &sys);
+    goto cleanup;
+  }
   const long nsolve = dist ? dist->nowned : np; /* distributed: at the owned particles */
   for (long part = 0; part < nsolve && !ierr; part++) ierr = solve_particle(mls, part, &sys);
   if (dist) MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
@@ -240,15 +448,20 @@ cleanup:
 }
 
 int mica_vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume) {
-  return vci_correct(disc, mls, n, volume, NULL, NULL);
+  return vci_correct(disc, mls, n, volume, NULL, 0, NULL);
 }
 
 int mica_vci_correct_stabilized(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
                                 const MicaNsni *nsni) {
-  return vci_correct(disc, mls, n, volume, nsni, NULL);
+  return vci_correct(disc, mls, n, volume, nsni, 0, NULL);
 }
 
 int mica_vci_correct_owned(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
                            MicaDistribution *dist) {
-  return vci_correct(disc, mls, n, volume, NULL, dist);
+  return vci_correct(disc, mls, n, volume, NULL, 0, dist);
+}
+
+int mica_vci_correct_symmetric(const MicaDiscretization *disc, const MlsApprox *mls, MicaShapeCache *volume,
+                               const MicaNsni *nsni) {
+  return vci_correct(disc, mls, 2, volume, nsni, 1, NULL);
 }
