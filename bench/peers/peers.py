@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """`make bench-peers`: mica against legacy FEniCS (DOLFIN 2019) on the same problems, one thread each.
 
-    /usr/bin/python3 bench/peers/peers.py [--repeats 3] [--only timoshenko,cook,cosserat,block3d]
+    /usr/bin/python3 bench/peers/peers.py [--repeats 3] [--only timoshenko,cook,cosserat,block3d,manufactured2d,
+                                                                manufactured3d]
 
 For every problem: the references (overkill FEniCS runs, once), a JIT warm-up of each FEniCS variant (its cold
 compile time is recorded), then the refinement series of both codes, mica and FEniCS runs alternating, each
@@ -11,8 +12,9 @@ ratios mica / FEniCS), peers_detail.csv (every phase, the probes) and peers_<pro
 Time counted as "solve" (time_solve_s):
   mica    time_mls_setup + time_cache_and_pattern + time_newton from summary.json (shape functions at the
           quadrature points, sparsity pattern, assembly, factorization, triangular solves);
-  FEniCS  assemble_system (sparsity pattern included) + LU factorization and solve (MUMPS), every Newton
-          iteration for Cook; mesh creation, JIT and post-processing excluded.
+  FEniCS  assemble_system (sparsity pattern included) + Cholesky factorization and solve (MUMPS, positive
+          definite where the matrix is), every Newton iteration for Cook (assembled in place: the symbolic
+          analysis reused); mesh creation, JIT and post-processing excluded.
 time_total_s is the wall clock of the whole process for both (for FEniCS it includes `import dolfin`).
 
 The Cosserat hole's error: for mica the relative energy-norm error against the FEniCS P3/P2 reference at 8 x 8
