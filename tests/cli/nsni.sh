@@ -13,7 +13,8 @@
 #   order 2 L2 ≥ 2.1 (2.31), energy ≥ 1.8 (2.05); jittered order 1 (symmetric VCI) L2 ≥ 1.8 (1.99), energy
 #   ≥ 0.9 (1.09); irregular order 1 L2 ≥ 1.8 (2.01), energy ≥ 0.9 (1.07), order 2 L2 ≥ 1.8 (2.06), energy
 #   ≥ 1.8 (2.02). The order-2 L2 rates off the grid are below 0.9 × optimal — the measured limit, kept honest
-#   (docs/verification.md §NSNI says what remains);
+#   (docs/verification.md §NSNI says what remains); in 3-D (input/manufactured3d.cfg, 7³, 9³, 13³) orders 1
+#   and 2 on regular and jittered particles: L2 ≥ 1.8 / 2.5, energy ≥ 0.9 / 1.8 (measured below);
 # - bad input, exit 2 with the deck line: a second-order model, and cosserat-finite (no quadratic form).
 source "$(dirname "$0")/common.bash"
 work="$OUT_DIR/nsni"
@@ -76,6 +77,49 @@ at_least "$en" 0.9 "NSNI order 1 irregular: energy rate"
 read -r l2 en <<<"$(rates 2 irregular)"
 at_least "$l2" 1.8 "NSNI order 2 irregular: L2 rate (below 0.9 × 3: the measured limit)"
 at_least "$en" 1.8 "NSNI order 2 irregular: energy rate"
+
+# 3-D (input/manufactured3d.cfg, 7³, 9³, 13³, solver.linear = auto): measured L2 / energy slopes order 1 regular
+# 2.26 / 1.51, jittered 2.22 / 1.44; order 2 regular 2.66 / 2.20, jittered 2.69 / 2.00 (L2 just below 0.9 × 3 at
+# these coarse sizes: asserted ≥ 2.5)
+rates3d() { # ORDER LAYOUT: "l2 energy" slopes over 7³, 9³, 13³
+  local l2="" en="" name
+  for n in 7 9 13; do
+    name=mms3d_$1_$2_$n
+    run_deck "$work/$name" input/manufactured3d.cfg --set quadrature.mode=nsni --set mls.order=$1 \
+      --set mls.dilation=$(($1 + 1)).0 --set particles.layout=$2 --set "particles.count=[$n, $n, $n]"
+    h=$(awk -v n=$n 'BEGIN { print 2 / (n - 1) }')
+    l2+="$h $(err $name error_l2)"$'\n'
+    en+="$h $(err $name error_energy)"$'\n'
+    echo "report: manufactured 3-D, NSNI, order $1, $2, $n³: L2 $(err $name error_l2), energy $(err $name error_energy)" >&2
+  done
+  echo "$(printf '%s' "$l2" | ls_rate) $(printf '%s' "$en" | ls_rate)"
+}
+for layout in regular jittered; do
+  read -r l2 en <<<"$(rates3d 1 $layout)"
+  at_least "$l2" 1.8 "NSNI 3-D order 1 $layout: L2 rate"
+  at_least "$en" 0.9 "NSNI 3-D order 1 $layout: energy rate"
+  read -r l2 en <<<"$(rates3d 2 $layout)"
+  at_least "$l2" 2.5 "NSNI 3-D order 2 $layout: L2 rate (0.9 × 3 = 2.7 not reached at these sizes)"
+  at_least "$en" 1.8 "NSNI 3-D order 2 $layout: energy rate"
+done
+
+# The shipped benchmark decks of solid_benchmarks.sh in NSNI, against the same references and tolerances
+# (measured 2026-12-03: Cook linear 25.2007, Cook Neo-Hooke 13.7669, cube 1.3e-15, cylinder 6.2e-15). Not
+# passing, so not here (docs/verification.md §NSNI): the Kirsch plate (VCI underdetermined near the hole), the
+# Lamé cylinder (L2 1.0e-2 against 1e-3, UMFPACK) and the elastica (v/L 12 % off).
+nsni_deck() { run_deck "$work/bench_$1" "$2" --set quadrature.mode=nsni "${@:3}"; }
+nsni_deck cook input/cook_linear.cfg
+within "$(err bench_cook tip_uy)" 25.18 0.005 "NSNI, Cook linear tip u_y"
+nsni_deck cook_nh input/cook_neohooke.cfg
+v=$(err bench_cook_nh tip_uy)
+awk -v v="$v" 'BEGIN { d = v - 13.772; if (d < 0) d = -d; exit !(d <= 0.02) }' || fail "NSNI, Cook Neo-Hooke tip $v not within 0.02 of 13.772"
+ok "NSNI, Cook Neo-Hooke tip u_y: $v within 0.02 mm of 13.772"
+nsni_deck cube input/cube3d.cfg
+less_than "$(err bench_cube error_l2)" 1e-5 || fail "NSNI, 3-D tension: L2 error $(err bench_cube error_l2)"
+within "$(err bench_cube corner_ux)" 0.01 1e-5 "NSNI, 3-D tension: corner u_x"
+nsni_deck cylinder input/cylinder_tension.cfg
+less_than "$(err bench_cylinder error_l2)" 1e-4 || fail "NSNI, cylinder in tension: L2 error $(err bench_cylinder error_l2)"
+within "$(err bench_cylinder top_uz)" 0.02 1e-4 "NSNI, cylinder in tension: top u_z"
 
 expect_failure 2 "quadrature.mode = \"nsni\" expands the kinematics" -- "$MICA" run input/beam_gradient.cfg \
   -o "$work/x" --set material.model=strain-gradient --set material.l=0.1 --set quadrature.mode=nsni
