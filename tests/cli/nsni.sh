@@ -46,19 +46,28 @@ for layout in regular jittered irregular; do
   for name in quadratic cosserat_quadratic quadratic3d; do symmetric ${name}_$layout false; done
 done
 
-rates() { # ORDER LAYOUT: "l2 energy" slopes over 21², 41², 81²
-  local l2="" en="" name
-  for n in 21 41 81; do
-    name=mms_$1_$2_$n
-    run_deck "$work/$name" input/manufactured.cfg --set quadrature.mode=nsni --set solver.linear=umfpack \
-      --set mls.order=$1 --set mls.dilation=$(($1 + 1)).0 --set particles.layout=$2 --set "particles.count=[$n, $n]"
+# slopes ORDER LAYOUT DIM COUNTS... [--set ...]: "l2 energy" least-squares slopes of the manufactured field
+# (input/manufactured.cfg in 2-D, manufactured3d.cfg in 3-D) over the particle counts per side
+slopes() {
+  local order=$1 layout=$2 dim=$3 l2="" en="" name n deck=input/manufactured.cfg counts=() sets=()
+  shift 3
+  while [ $# -gt 0 ] && [ "$1" != --set ]; do counts+=("$1"); shift; done
+  sets=("$@")
+  [ "$dim" = 3 ] && deck=input/manufactured3d.cfg
+  for n in "${counts[@]}"; do
+    name=mms${dim}d_${order}_${layout}_$n
+    local count="[$n, $n]"
+    [ "$dim" = 3 ] && count="[$n, $n, $n]"
+    run_deck "$work/$name" $deck --set quadrature.mode=nsni --set mls.order=$order \
+      --set mls.dilation=$((order + 1)).0 --set particles.layout=$layout --set "particles.count=$count" "${sets[@]}"
     h=$(awk -v n=$n 'BEGIN { print 2 / (n - 1) }')
     l2+="$h $(err $name error_l2)"$'\n'
     en+="$h $(err $name error_energy)"$'\n'
-    echo "report: manufactured, NSNI, order $1, $2, $n²: L2 $(err $name error_l2), energy $(err $name error_energy)" >&2
+    echo "report: manufactured ${dim}-D, NSNI, order $order, $layout, $n: L2 $(err $name error_l2), energy $(err $name error_energy)" >&2
   done
   echo "$(printf '%s' "$l2" | ls_rate) $(printf '%s' "$en" | ls_rate)"
 }
+rates() { slopes "$1" "$2" 2 21 41 81 --set solver.linear=umfpack; } # ORDER LAYOUT: 21², 41², 81², UMFPACK
 read -r l2 en <<<"$(rates 1 regular)"
 at_least "$l2" 1.8 "NSNI order 1 regular: L2 rate"
 at_least "$en" 0.9 "NSNI order 1 regular: energy rate"
@@ -81,19 +90,7 @@ at_least "$en" 1.8 "NSNI order 2 irregular: energy rate"
 # 3-D (input/manufactured3d.cfg, 7³, 9³, 13³, solver.linear = auto): measured L2 / energy slopes order 1 regular
 # 2.26 / 1.51, jittered 2.22 / 1.44; order 2 regular 2.66 / 2.20, jittered 2.69 / 2.00 (L2 just below 0.9 × 3 at
 # these coarse sizes: asserted ≥ 2.5)
-rates3d() { # ORDER LAYOUT: "l2 energy" slopes over 7³, 9³, 13³
-  local l2="" en="" name
-  for n in 7 9 13; do
-    name=mms3d_$1_$2_$n
-    run_deck "$work/$name" input/manufactured3d.cfg --set quadrature.mode=nsni --set mls.order=$1 \
-      --set mls.dilation=$(($1 + 1)).0 --set particles.layout=$2 --set "particles.count=[$n, $n, $n]"
-    h=$(awk -v n=$n 'BEGIN { print 2 / (n - 1) }')
-    l2+="$h $(err $name error_l2)"$'\n'
-    en+="$h $(err $name error_energy)"$'\n'
-    echo "report: manufactured 3-D, NSNI, order $1, $2, $n³: L2 $(err $name error_l2), energy $(err $name error_energy)" >&2
-  done
-  echo "$(printf '%s' "$l2" | ls_rate) $(printf '%s' "$en" | ls_rate)"
-}
+rates3d() { slopes "$1" "$2" 3 7 9 13; } # ORDER LAYOUT: 7³, 9³, 13³, solver.linear = auto
 for layout in regular jittered; do
   read -r l2 en <<<"$(rates3d 1 $layout)"
   at_least "$l2" 1.8 "NSNI 3-D order 1 $layout: L2 rate"
