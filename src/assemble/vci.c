@@ -360,10 +360,12 @@ static int symmetric_correct(const MicaDiscretization *disc, const MlsApprox *ml
   MICA_CALL_CLEANUP(MICA_MALLOC(res, n));
   MICA_CALL_CLEANUP(MICA_MALLOC(rhs, np * m));
   MICA_CALL_CLEANUP(MICA_MALLOC(x, np * m));
-  double scale = 0, viol = 0;
+  double scale = 0, viol = 0, previous = INFINITY;
   for (long i = 0; i < n; i++) scale = fmax(scale, fabs(sys->r[i]));
   memcpy(res, sys->r, sizeof(double) * (size_t)n);
-  for (int sweep = 0; sweep < 6; sweep++) { /* λ += (S + ε A)⁻¹ (r − S λ) */
+  /* λ += (S + ε A)⁻¹ (r − S λ), until the constraints hold or the violation stops falling: where r is not in
+   * S's range (a regular grid, 0.34 relative at 81² after every sweep) the first sweeps already show it. */
+  for (int sweep = 0; sweep < 6; sweep++) {
     for (int d = 0; d < dim; d++) {
       for (long part = 0; part < np; part++)
         for (int a = 0; a < m; a++) rhs[part * m + a] = res[(part * dim + d) * m + a];
@@ -374,7 +376,8 @@ static int symmetric_correct(const MicaDiscretization *disc, const MlsApprox *ml
     symmetric_apply(&o, lam, res);
     viol = 0;
     for (long i = 0; i < n; i++) res[i] = sys->r[i] - res[i], viol = fmax(viol, fabs(res[i]));
-    if (viol <= 1e-14 * fmax(scale, 1e-300)) break;
+    if (viol <= 1e-14 * fmax(scale, 1e-300) || viol > 0.5 * previous) break;
+    previous = viol;
   }
   if (viol > 1e-10 * fmax(scale, 1e-300)) {
     ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_NUMERIC,
