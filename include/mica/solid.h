@@ -129,8 +129,9 @@ typedef struct MicaNsni {
   MicaShapeCache *cache; /* order 1, npoints = nparticles × dim */
   double *w;             /* [npoints] */
   double *dir;           /* [npoints × dim] */
+  double *grad;          /* [entries × dim]: ∇N_J(x_I) of each entry (with_gradients), else NULL */
 } MicaNsni;
-int mica_nsni_create(const MicaDiscretization *disc, const MlsApprox *mls, MicaNsni **nsni);
+int mica_nsni_create(const MicaDiscretization *disc, const MlsApprox *mls, int with_gradients, MicaNsni **nsni);
 int mica_nsni_destroy(MicaNsni **nsni);
 
 /* ---- Boundary conditions ------------------------------------------------------------------------------- */
@@ -233,6 +234,8 @@ typedef struct MicaSolid {
   int vci_symmetric;              /* 1: VCI corrected trial and test gradients alike (NSNI, linear basis:
                                      mica_vci_correct_symmetric); 0: test gradients only, or no VCI */
   MicaFieldModel stab_model;      /* the quadratic energy of those points (opt.nsni): the model, or its linear form */
+  int stab_green;                 /* 1: stab_model is applied to Ė = sym(Fᵀ ∂_g F), frame-invariant (a finite-strain
+                                     model; mica_nsni_green_assemble); 0: to ∂_g ∇u (a quadratic model) */
   MicaShapeCache **boundary;      /* [nsets], at each set's boundary quadrature points (NULL if unused) */
   double **boundary_h;            /* [nsets][n]: local particle spacing at each boundary point */
   int ndirichlet, ntraction;
@@ -265,6 +268,12 @@ typedef struct MicaSolid {
   long *pcell_nodes;              /* [pcell_cap] a cell's union, ascending */
   double *pcell_work;
 } MicaSolid;
+
+/* NSNI's stabilization at finite strain (docs/theory.md §NSNI, "frame-invariant stabilization"): at each
+ * stabilization point the directional derivative of the Green strain, Ė = sym(Fᵀ G) with G = ∂_g F = Σ_J u_J ⊗
+ * H_J g, in the energy ½ w Ė : C : Ė of the stabilization model (the material's linear form, C at E = 0); its
+ * residual into R and, if K, its tangent (full blocks) into K. Needs s->nsni built with gradients. */
+int mica_nsni_green_assemble(MicaSolid *s, const double *u, double *R, MicaSparse *K);
 
 /* The pressure space of material.pressure (group "material"), into opt->pressure. */
 int mica_pressure_from_settings(const MicaSettings *settings, MicaSolidOptions *opt);

@@ -40,7 +40,7 @@ static int particle_directions(const MicaNodalCells *cells, int dim, long part, 
   return MICA_SUCCESS;
 }
 
-static int nsni_alloc(MicaNsni *n, int dim, long np, long nnz) {
+static int nsni_alloc(MicaNsni *n, int dim, long np, long nnz, int with_gradients) {
   MicaShapeCache *c = NULL;
   MICA_CALL(MICA_CALLOC(c, 1));
   n->cache = c;
@@ -52,11 +52,14 @@ static int nsni_alloc(MicaNsni *n, int dim, long np, long nnz) {
   MICA_CALL(MICA_MALLOC(c->dN, nnz * dim * dim + 1));
   MICA_CALL(MICA_MALLOC(n->w, np * dim));
   MICA_CALL(MICA_MALLOC(n->dir, np * dim * dim));
+  if (with_gradients) MICA_CALL(MICA_MALLOC(n->grad, nnz * dim * dim + 1));
   return MICA_SUCCESS;
 }
 
-/* Point I·dim + k from the MLS values at x_I (cache h, order 2): the entries of every supporting J. */
-static void fill_point(const MicaShapeCache *h, long part, int k, const double *g, MicaShapeCache *c) {
+/* Point I·dim + k from the MLS values at x_I (cache h, order 2): the entries of every supporting J (and, for the
+ * frame-invariant form, their gradients ∇N_J(x_I) from the same fit as the Hessians). */
+static void fill_point(const MicaShapeCache *h, long part, int k, const double *g, MicaNsni *nsni) {
+  MicaShapeCache *c = nsni->cache;
   const int dim = h->dim, nh = mls_num_hess(dim);
   const long p = part * dim + k, start = c->ptr[p], n = h->ptr[part + 1] - h->ptr[part];
   memcpy(c->x + p * dim, h->x + part * dim, sizeof(double) * (size_t)dim);
@@ -66,6 +69,7 @@ static void fill_point(const MicaShapeCache *h, long part, int k, const double *
     double N = 0.0;
     for (int d = 0; d < dim; d++) N += g[d] * h->dN[e * dim + d];
     c->N[out] = N;
+    if (nsni->grad) memcpy(nsni->grad + out * dim, h->dN + e * dim, sizeof(double) * (size_t)dim);
     for (int d = 0; d < dim; d++) {
       double v = 0.0;
       for (int f = 0; f < dim; f++) v += h->ddN[e * nh + mls_hess_index(dim, d, f)] * g[f];
@@ -100,7 +104,7 @@ static int hessian_cache(const MicaDiscretization *disc, const MlsApprox *mls, M
   return ierr;
 }
 
-int mica_nsni_create(const MicaDiscretization *disc, const MlsApprox *mls, MicaNsni **out) {
+int mica_nsni_create(const MicaDiscretization *disc, const MlsApprox *mls, int with_gradients, MicaNsni **out) {
   *out = NULL;
   MICA_CHECK(disc->nodal && disc->nodal->moment && disc->nquad == disc->nparticles, MICA_ERR_ARGUMENT,
              "mica_nsni_create: the discretization has no nodal cells (mica_discretization_nodal)");
@@ -111,10 +115,10 @@ int mica_nsni_create(const MicaDiscretization *disc, const MlsApprox *mls, MicaN
   int ierr = MICA_SUCCESS;
   MICA_CALL(hessian_cache(disc, mls, &h));
   MICA_CALL_CLEANUP(MICA_CALLOC(n, 1));
-  MICA_CALL_CLEANUP(nsni_alloc(n, dim, np, h->ptr[np]));
+  MICA_CALL_CLEANUP(nsni_alloc(n, dim, np, h->ptr[np], with_gradients));
   for (long part = 0; part < np; part++) {
     MICA_CALL_CLEANUP(particle_directions(disc->nodal, dim, part, n->dir + part * dim * dim, n->w + part * dim));
-    for (int k = 0; k < dim; k++) fill_point(h, part, k, n->dir + (part * dim + k) * dim, n->cache);
+    for (int k = 0; k < dim; k++) fill_point(h, part, k, n->dir + (part * dim + k) * dim, n);
   }
   n->cache->max_support = h->max_support;
   n->cache->rcond_min = h->rcond_min;
@@ -132,6 +136,7 @@ int mica_nsni_destroy(MicaNsni **nsni) {
   mica_shape_cache_destroy(&(*nsni)->cache);
   MICA_FREE((*nsni)->w);
   MICA_FREE((*nsni)->dir);
+  MICA_FREE((*nsni)->grad);
   MICA_FREE(*nsni);
   return MICA_SUCCESS;
 }

@@ -332,6 +332,7 @@ static int stabilization_model(MicaSolid *s) {
              "'%s' has neither (no linearized form of its energy is available for the stabilization terms)",
              m->ops->type.name);
   MicaMaterial linear;
+  s->stab_green = 1; /* a finite-strain model: the linear form of the Green strain's rate (nsni_green.c) */
   MICA_CALL(mica_material_set(&mica_model_linear, m->material.E, m->material.nu, m->material.plane, &linear));
   return mica_field_classical_set(&s->stab_model, &mica_model_linear, &linear);
 }
@@ -346,7 +347,7 @@ static int build_nsni(MicaSolid *s) {
                                    "functions, which mica does not compute");
   MICA_CALL(stabilization_model(s));
   const double start = mica_wtime();
-  MICA_CALL(mica_nsni_create(s->disc, s->mls, &s->nsni));
+  MICA_CALL(mica_nsni_create(s->disc, s->mls, s->stab_green, &s->nsni));
   s->time_shape += mica_wtime() - start;
   s->time_search += s->nsni->cache->time_search;
   return MICA_SUCCESS;
@@ -465,7 +466,8 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
   MICA_CALL_CLEANUP(build_pattern(s));
   s->time_pattern = mica_wtime() - start;
   /* scratch: the model's D (nq × nq), the element matrix (m × m) and the projections G (m × nq); the
-   * classical kernel's padded element matrix and its scratch (mica/kernel.h) fit in the extra 8 m ncomp */
+   * classical kernel's padded element matrix and its scratch (mica/kernel.h) fit in the extra 8 m ncomp, and
+   * nsni_green.c's B and T (m dim² each, dim² ≤ nq and ≤ 8 ncomp) in the last two */
   const long m = largest_clique(s) * s->ncomp;
   MICA_CALL_CLEANUP(MICA_MALLOC(s->work, (long)s->nq * s->nq + m * m + m * s->nq + 8 * m * s->ncomp + 64));
   MICA_CALL_CLEANUP(MICA_MALLOC(s->work_nodes, largest_clique(s)));
