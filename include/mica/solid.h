@@ -272,7 +272,8 @@ typedef struct MicaSolid {
 /* NSNI's stabilization at finite strain (docs/theory.md §NSNI, "frame-invariant stabilization"): at each
  * stabilization point the directional derivative of the Green strain, Ė = sym(Fᵀ G) with G = ∂_g F = Σ_J u_J ⊗
  * H_J g, in the energy ½ w Ė : C : Ė of the stabilization model (the material's linear form, C at E = 0); its
- * residual into R and, if K, its tangent (full blocks) into K. Needs s->nsni built with gradients. */
+ * residual into R and, if K, its tangent into K: upper blocks, then K's lower triangle overwritten by its upper one
+ * (mica_sparse_mirror_upper), so it runs first on a zeroed K. Needs s->nsni built with gradients. */
 int mica_nsni_green_assemble(MicaSolid *s, const double *u, double *R, MicaSparse *K);
 
 /* The pressure space of material.pressure (group "material"), into opt->pressure. */

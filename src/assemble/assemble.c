@@ -507,7 +507,7 @@ static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, M
   VolumeTerms v = {&L, t, load_scale(s, t), 0, s->volume, s->disc->qw, &s->opt.field};
   for (int a = 0; a < s->ncomp; a++) v.has_body |= s->opt.body[a] != NULL;
   if (mica_solid_pressure_cells(s)) return assemble_volume_cells(s, &v, u, R, K);
-  if (s->nsni && s->stab_green) { /* full blocks: whatever the volume's path does with the lower half, it holds */
+  if (s->nsni && s->stab_green) { /* first: it mirrors K's upper half, as the grouped path below does */
     MICA_CALL(mica_nsni_green_assemble(s, u, R, K));
     for (long p = 0; v.has_body && p < s->nsni->cache->npoints; p++)
       MICA_CALL(add_body_derivative(s, p, t, v.scale, R));
