@@ -1,7 +1,7 @@
 /* NSNI's stabilization at finite strain, frame-invariant (docs/theory.md §NSNI, "frame-invariant stabilization").
  * The small-strain stabilization energy ½ w (∂_g ∇u) : C : (∂_g ∇u) of a stabilization point (nsni.c) changes
- * under a rigid rotation of the cell that varies over it (∂_g ∇u = ∂_g R ≠ 0), which stiffened a bending elastica
- * by 12 % (docs/verification.md §NSNI). Expanding the Green strain E = ½(FᵀF − I) over the cell instead,
+ * under a rigid rotation of the cell that varies over it (∂_g ∇u = ∂_g R ≠ 0): its stiffness faded as the
+ * rotation grew, and a bending elastica came out 12.5 % too flexible (docs/verification.md §NSNI). Expanding the Green strain E = ½(FᵀF − I) over the cell instead,
  * E(x) ≈ E(x_I) + (x − x_I)·∇E, its directional derivative along g is
  *   Ė = ∂_g E = sym(Fᵀ G),   F = I + Σ_J u_J ⊗ ∇N_J(x_I),   G = ∂_g F = Σ_J u_J ⊗ H_J(x_I) g,
  * unchanged by any superposed rigid rotation, and the point's energy is W_s = ½ w Ė : C : Ė, C the material's

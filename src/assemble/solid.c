@@ -467,7 +467,7 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
   s->time_pattern = mica_wtime() - start;
   /* scratch: the model's D (nq × nq), the element matrix (m × m) and the projections G (m × nq); the
    * classical kernel's padded element matrix and its scratch (mica/kernel.h) fit in the extra 8 m ncomp, and
-   * nsni_green.c's B and T (m dim² each, dim² ≤ nq and ≤ 8 ncomp) in the last two */
+   * nsni_green.c's P (m · 2 dim², 2 dim² ≤ nq + 8 ncomp) in the last two */
   const long m = largest_clique(s) * s->ncomp;
   MICA_CALL_CLEANUP(MICA_MALLOC(s->work, (long)s->nq * s->nq + m * m + m * s->nq + 8 * m * s->ncomp + 64));
   MICA_CALL_CLEANUP(MICA_MALLOC(s->work_nodes, largest_clique(s)));
