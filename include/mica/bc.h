@@ -15,9 +15,12 @@ extern const MicaBoundaryMethodOps mica_bc_penalty, mica_bc_nitsche, mica_bc_lag
  * holds, from the conditions' geometry alone (src/bc/rigid.c): a motion is held when one of its prescribed
  * components is nonzero at one of a condition's boundary points. names: the deck names of the ncomp unknowns (ux,
  * uy, phiz, ...; axisymmetric ur, utheta, uz, ...). A free motion is a MICA_ERR_INPUT error, "WHERE: the body can
- * move freely: N rigid modes are not held (...); add Dirichlet conditions on ...". */
-int mica_dirichlet_check_rigid(const MicaDiscretization *disc, int axisymmetric, int ncomp, const char *const *names,
-                               int ndirichlet, const MicaDirichlet *dirichlet, const char *where);
+ * move freely: N rigid modes are not held (...); add Dirichlet conditions on ...". across_ranks: disc is this MPI
+ * rank's share of a distributed body (parallel.data = "distributed"); the sums are then over all ranks (collective),
+ * so that no rank needs the whole boundary. */
+int mica_dirichlet_check_rigid(const MicaDiscretization *disc, int axisymmetric, int across_ranks, int ncomp,
+                               const char *const *names, int ndirichlet, const MicaDirichlet *dirichlet,
+                               const char *where);
 /* The rigid motions themselves, as vectors over n unknowns (nparticles particles at x[nparticles*dim], ncomp
  * unknowns each, node-major; the unknowns beyond the particles', multipliers, are 0): the near-null space of an
  * unconstrained tangent, for algebraic multigrid. Translations are 1 in their component; a rotation about axis k

@@ -92,6 +92,9 @@ int mica_parallel_inject(const char *phase);
 /* Collective, after agreeing on ierr: v[n] summed over ranks in place, bitwise the same on every rank
  * (MPI_Reduce to rank 0, then MPI_Bcast). */
 int mica_parallel_sum(int ierr, double *v, long n);
+/* Collective, after agreeing on ierr: v[n] replaced by its maxima over ranks (MPI_Allreduce: exact, the same on
+ * every rank). */
+int mica_parallel_max(int ierr, double *v, long n);
 /* Collective, after agreeing on ierr: v[n] from rank `root` to all. */
 int mica_parallel_broadcast(int ierr, double *v, long n, int root);
 /* Collective, after agreeing on ierr: the string *text of rank `root` to all (the others' *text, NULL or

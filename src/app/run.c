@@ -110,11 +110,7 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   if (mica_parallel_active()) { /* MPI: this rank's share of the quadrature points (run_parallel.c) */
     MICA_CALL_CLEANUP(run_check_serial_only(deck, rp));
     rp->owned_data = distributed;
-    if (rp->owned_data) {
-      MICA_CALL_CLEANUP(run_parallel_owned_check(deck, rp, &opt));
-      /* on the whole body, before it goes (a rank's share holds part of each set) */
-      MICA_CALL_CLEANUP(run_check_rigid(deck, rp, &opt.field, ndirichlet, dirichlet));
-    }
+    if (rp->owned_data) MICA_CALL_CLEANUP(run_parallel_owned_check(deck, rp, &opt));
     MICA_CALL_CLEANUP(run_parallel_distribute(deck, rp));
     opt.parallel = rp->dist;
     disc = rp->dist->local;

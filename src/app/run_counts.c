@@ -114,7 +114,7 @@ static void print_counts(const RunProblem *rp, const RunTotals *c) {
 }
 
 /* A body its conditions do not hold has a singular tangent: said before anything is assembled, with the motions
- * and the components to hold; on the whole discretization (an MPI rank's share holds part of each set). Not part
+ * and the components to hold; with parallel.data = "distributed" on the ranks' shares of the sets, summed. Not part
  * of building the problem: `mica stability` builds free bodies on purpose, to count their rigid modes. */
 int run_check_rigid(const MicaDeck *deck, const RunProblem *rp, const MicaFieldModel *field, int ndirichlet,
                     const MicaDirichlet *dirichlet) {
@@ -122,13 +122,13 @@ int run_check_rigid(const MicaDeck *deck, const RunProblem *rp, const MicaFieldM
   const int ncomp = run_model_names(rp, field, 0, names);
   char where[256];
   mica_deck_where(deck, ndirichlet ? "bcs.dirichlet" : "bcs", where, sizeof where);
-  return mica_dirichlet_check_rigid(rp->disc, rp->axisymmetric, ncomp, names, ndirichlet, dirichlet, where);
+  return mica_dirichlet_check_rigid(rp->disc, rp->axisymmetric, rp->owned_data, ncomp, names, ndirichlet, dirichlet,
+                                    where);
 }
 
-/* (parallel.data = "distributed" checked the whole body before it was cut: build_solid) */
+/* (parallel.data = "distributed": on the ranks' shares of the sets, the sums over all ranks) */
 static int check_rigid_modes(const MicaDeck *deck, const RunProblem *rp) {
   const MicaSolid *s = rp->solid;
-  if (rp->owned_data) return MICA_SUCCESS;
   return run_check_rigid(deck, rp, &s->opt.field, s->ndirichlet, s->dirichlet);
 }
 

@@ -195,10 +195,10 @@ static int read_axisymmetric(const MicaDeck *deck, RunProblem *rp) {
 
 /* parallel.data = "distributed" under MPI, for what it covers (what it does not is refused later, with the deck
  * line: run_parallel_owned_check, on the whole discretization built as usual): each rank builds its own block
- * once the run is distributed (run_parallel_distribute), so here only the boundary sets, for the checks of the
- * conditions (set names, rigid motions), and the grids' sizes. */
-static int boundary_only(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout, int fe,
-                         int *yes) {
+ * once the run is distributed (run_parallel_distribute), so here only the boundary sets' names, for the checks of
+ * the conditions, and the grids' sizes. */
+static int names_only(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout, int fe,
+                      int *yes) {
   const char *data, *mode;
   int axisymmetric;
   *yes = 0;
@@ -211,12 +211,12 @@ static int boundary_only(const MicaDeck *deck, const MicaShapeSpec *shape, const
   return MICA_SUCCESS;
 }
 
-static int build_boundary(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
-                          RunProblem *rp) {
+/* The empty block: the grids' sizes and the boundary sets' names, no particle, cell or point (nothing of the body's
+ * size; the checks that need the sets' points sum the ranks' shares later: run_check_rigid). */
+static int build_names_only(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                            RunProblem *rp) {
   MicaGridBlock block;
-  long n[3], per_cell;
   memset(&block, 0, sizeof block);
-  MICA_CALL(mica_discretization_grid(shape, layout, cells, n, block.boundary_hi, &per_cell));
   return mica_discretization_create_block(shape, layout, cells, &block, &rp->disc);
 }
 
@@ -233,10 +233,10 @@ int run_build_geometry(const MicaDeck *deck, RunProblem *rp) {
   MICA_CALL(run_is_fe(deck, &fe));
   if (fe) MICA_CALL(run_check_fe_deck(deck, &shape, &layout, &cells, &fe_order));
   double start = mica_wtime();
-  int only_boundary;
-  MICA_CALL(boundary_only(deck, &shape, &layout, fe, &only_boundary));
-  if (only_boundary) {
-    MICA_CALL(build_boundary(&shape, &layout, &cells, rp));
+  int only_names;
+  MICA_CALL(names_only(deck, &shape, &layout, fe, &only_names));
+  if (only_names) {
+    MICA_CALL(build_names_only(&shape, &layout, &cells, rp));
     MICA_CALL(run_read_integration(deck, &shape, &layout, &cells, rp));
     rp->time_discretize = mica_wtime() - start;
     return MICA_SUCCESS;

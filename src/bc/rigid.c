@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "mica/bc.h"
+#include "mica/parallel.h"
 
 enum { MAX_MODES = 6 };
 
@@ -32,6 +33,7 @@ typedef struct {
   int rotation[MAX_MODES], axis[MAX_MODES]; /* mode j: a translation along, or a rotation about, axis[j] */
   Component comp[MICA_MAX_COMP];
   double x0[3], length;
+  int across_ranks; /* the sets are this rank's share of a distributed body: every sum is over all ranks */
 } RigidModes;
 
 static int axis_of(const char *suffix) {
@@ -79,33 +81,45 @@ static double mode_value(const RigidModes *M, int j, int c, const double *x) {
   return (a - i + 3) % 3 == 1 ? r : -r; /* (e_a × r)_i = ε_(i a other) r_other */
 }
 
+/* Sums (and, as −min, maxima) over all ranks when the sets are shares of a distributed body: a few numbers each. */
+static void reduce_sum(const RigidModes *M, double *v, long n) {
+  if (M->across_ranks) (void)mica_parallel_sum(MICA_SUCCESS, v, n);
+}
+
+static void reduce_max(const RigidModes *M, double *v, long n) {
+  if (M->across_ranks) (void)mica_parallel_max(MICA_SUCCESS, v, n);
+}
+
 /* x0: the conditions' centroid; L: the largest extent of the boundary (a length of the body). */
 static void place_modes(RigidModes *M, const MicaDiscretization *disc, int ndirichlet, const MicaDirichlet *dirichlet) {
-  double wsum = 0, lower[3] = {INFINITY, INFINITY, INFINITY}, upper[3] = {-INFINITY, -INFINITY, -INFINITY};
+  double sums[4] = {0, 0, 0, 0}, extent[6]; /* Σ w x, Σ w; max x, max −x */
+  for (int i = 0; i < 6; i++) extent[i] = -INFINITY;
   for (int c = 0; c < ndirichlet; c++) {
     const MicaBoundarySet *set = &disc->sets[dirichlet[c].set];
     for (long p = 0; p < set->n; p++) {
-      for (int i = 0; i < M->dim; i++) M->x0[i] += set->w[p] * set->x[p * M->dim + i];
-      wsum += set->w[p];
+      for (int i = 0; i < M->dim; i++) sums[i] += set->w[p] * set->x[p * M->dim + i];
+      sums[3] += set->w[p];
     }
   }
-  for (int i = 0; i < M->dim; i++) M->x0[i] = wsum > 0 ? M->x0[i] / wsum : 0.0;
+  reduce_sum(M, sums, 4);
+  for (int i = 0; i < M->dim; i++) M->x0[i] = sums[3] > 0 ? sums[i] / sums[3] : 0.0;
   for (int s = 0; s < disc->nsets; s++)
     for (long p = 0; p < disc->sets[s].n; p++)
       for (int i = 0; i < M->dim; i++) {
-        lower[i] = fmin(lower[i], disc->sets[s].x[p * M->dim + i]);
-        upper[i] = fmax(upper[i], disc->sets[s].x[p * M->dim + i]);
+        extent[i] = fmax(extent[i], disc->sets[s].x[p * M->dim + i]);
+        extent[3 + i] = fmax(extent[3 + i], -disc->sets[s].x[p * M->dim + i]);
       }
+  reduce_max(M, extent, 6);
   M->length = 0;
-  for (int i = 0; i < M->dim; i++) M->length = fmax(M->length, upper[i] - lower[i]);
+  for (int i = 0; i < M->dim; i++) M->length = fmax(M->length, extent[i] + extent[3 + i]);
   if (!(M->length > 0)) M->length = 1.0;
 }
 
 static void gram(const RigidModes *M, const MicaDiscretization *disc, int ndirichlet, const MicaDirichlet *dirichlet,
                  double *G) {
   const int n = M->nmodes;
-  double wsum = 0, row[MAX_MODES];
-  memset(G, 0, sizeof(double) * (size_t)(n * n));
+  double sums[MAX_MODES * MAX_MODES + 1], row[MAX_MODES]; /* G, then Σ w */
+  memset(sums, 0, sizeof sums);
   for (int c = 0; c < ndirichlet; c++) {
     const MicaBoundarySet *set = &disc->sets[dirichlet[c].set];
     for (long p = 0; p < set->n; p++)
@@ -113,12 +127,12 @@ static void gram(const RigidModes *M, const MicaDiscretization *disc, int ndiric
         if (!(dirichlet[c].mask & (1 << k))) continue;
         for (int j = 0; j < n; j++) row[j] = mode_value(M, j, k, set->x + p * M->dim);
         for (int i = 0; i < n; i++)
-          for (int j = 0; j < n; j++) G[i * n + j] += set->w[p] * row[i] * row[j];
-        wsum += set->w[p];
+          for (int j = 0; j < n; j++) sums[i * n + j] += set->w[p] * row[i] * row[j];
+        sums[n * n] += set->w[p];
       }
   }
-  if (wsum > 0)
-    for (int i = 0; i < n * n; i++) G[i] /= wsum;
+  reduce_sum(M, sums, n * n + 1);
+  for (int i = 0; i < n * n; i++) G[i] = sums[n * n] > 0 ? sums[i] / sums[n * n] : sums[i];
 }
 
 static const char *const AXIS_NAMES[] = {"x", "y", "z"};
@@ -193,13 +207,14 @@ static void center_on_free_rotation(RigidModes *M, const double *Z, const int *i
   for (int i = 0; i < M->dim; i++) M->x0[i] += M->length * d[i] / best_turn;
 }
 
-int mica_dirichlet_check_rigid(const MicaDiscretization *disc, int axisymmetric, int ncomp, const char *const *names,
-                               int ndirichlet, const MicaDirichlet *dirichlet, const char *where) {
+int mica_dirichlet_check_rigid(const MicaDiscretization *disc, int axisymmetric, int across_ranks, int ncomp,
+                               const char *const *names, int ndirichlet, const MicaDirichlet *dirichlet,
+                               const char *where) {
   MICA_CHECK(disc && names && (dirichlet || !ndirichlet) && where, MICA_ERR_ARGUMENT,
              "mica_dirichlet_check_rigid: NULL argument");
   RigidModes M;
   memset(&M, 0, sizeof M);
-  M.ncomp = ncomp, M.dim = disc->dim, M.axisymmetric = axisymmetric;
+  M.ncomp = ncomp, M.dim = disc->dim, M.axisymmetric = axisymmetric, M.across_ranks = across_ranks;
   parse_components(&M, names);
   list_modes(&M);
   place_modes(&M, disc, ndirichlet, dirichlet);

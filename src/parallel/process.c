@@ -194,6 +194,16 @@ int mica_parallel_sum(int ierr, double *v, long n) {
   return MICA_SUCCESS;
 }
 
+int mica_parallel_max(int ierr, double *v, long n) {
+  MICA_CALL(mica_parallel_agree(ierr));
+  if (!mica_parallel_active()) return MICA_SUCCESS;
+  for (long first = 0; first < n; first += CHUNK) {
+    const int count = (int)(n - first < CHUNK ? n - first : CHUNK);
+    MPI_Allreduce(MPI_IN_PLACE, v + first, count, MPI_DOUBLE, MPI_MAX, comm_);
+  }
+  return MICA_SUCCESS;
+}
+
 int mica_parallel_broadcast(int ierr, double *v, long n, int root) {
   MICA_CALL(mica_parallel_agree(ierr));
   if (!mica_parallel_active()) return MICA_SUCCESS;

@@ -18,6 +18,8 @@
 #   - no rank holds the whole problem: on a 12³ cube at P = 4, the ranks' owned particles, volume points and
 #     boundary points sum to the serial run's counts, the summed tangent has the serial nnz, and each rank holds
 #     (owned + ghosts) fewer than 0.6 of the particles;
+#   - the rigid motions the Dirichlet conditions leave free, found from the ranks' shares of the sets (no rank builds
+#     a whole set): the serial message, once, exit 2, at P = 2, 3;
 #   - what the distributed mode does not cover yet is refused: exit 2, the deck line named.
 # `timeout` only keeps a hang from blocking the suite: no check depends on time.
 source "$(dirname "$0")/common.bash"
@@ -267,6 +269,26 @@ refuse umfpack 'solver.linear is not available with parallel.data = "distributed
 refuse mesh 'output.mesh is not available' 'output = { vtu = false; };' "$pd"
 refuse collocation 'bc.method is not available' "$pd" 'bc = { method = "collocation"; };'
 refuse irregular 'particles.layout is not available' "$pd" 'particles = { count = [9, 9]; layout = "irregular"; };'
+# ---- rigid motions: checked on the ranks' shares of the sets, the sums over all ranks --------------------------
+# Cook's membrane with ux alone on its left edge leaves the translation in y free. At P = 2, 3 some ranks hold none
+# of that edge's points and the others part of it (no rank builds a whole set); the message is the serial one,
+# printed once, exit 2 on every rank. The held direction: the 12³ cube at P = 4 below (blocks 1 × 2 × 2: two ranks
+# hold none of the face y = 0, where uy is held; without the sums they stop with "translation in y" free).
+free_deck="$work/free.cfg"
+sed 's/ux = "0"; uy = "0";/ux = "0";/' tests/decks/parallel/cook.cfg > "$free_deck"
+grep -q 'set = "left"; ux = "0"; }' "$free_deck" || fail "free.cfg: the left edge's condition was not rewritten"
+free_message='the body can move freely: 1 rigid mode is not held (translation in y); add Dirichlet conditions on uy'
+expect_failure 2 "$free_message" -- "$MICA" run "$free_deck" -o "$work/free-1" "${Q[@]}" "${D[@]}"
+for np in 2 3; do
+  expect_failure 2 "$free_message" -- "${MPIRUN[@]}" -np "$np" "$MICA" run "$free_deck" -o "$work/free-$np" "${Q[@]}" \
+    "${D[@]}" --set "particles.count=[9,9]" --set solver.steps=1
+  count=$("${MPIRUN[@]}" -np "$np" "$MICA" run "$free_deck" -o "$work/free-$np" "${Q[@]}" "${D[@]}" \
+    --set "particles.count=[9,9]" --set solver.steps=1 2>&1 >/dev/null | grep -c 'can move freely')
+  [ "$count" = 1 ] || fail "np $np: the free-body message printed $count times, not once"
+  [ ! -e "$work/free-$np" ] || [ -z "$(ls -A "$work/free-$np")" ] || fail "np $np: the refused run left files"
+done
+ok "rigid motions summed over the ranks' shares of the boundary sets (P = 2, 3)"
+
 # serially too: a distributed deck means the same on one process
 deck=$(variant serial_mesh 'output = { vtu = false; };' "$pd")
 expect_failure 2 "$deck:$(wc -l < "$deck"): output.mesh is not available" -- "$MICA" run "$deck" -o "$work/serial_mesh"

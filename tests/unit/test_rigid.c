@@ -37,7 +37,7 @@ static MicaDiscretization plane(MicaBoundarySet *sets) {
 }
 
 static int check(const MicaDiscretization *disc, int ncomp, const char *const *names, int n, const MicaDirichlet *c) {
-  const int ierr = mica_dirichlet_check_rigid(disc, 0, ncomp, names, n, c, "deck.cfg:3");
+  const int ierr = mica_dirichlet_check_rigid(disc, 0, 0, ncomp, names, n, c, "deck.cfg:3");
   return ierr;
 }
 
