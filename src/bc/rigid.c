@@ -82,16 +82,16 @@ static double mode_value(const RigidModes *M, int j, int c, const double *x) {
 }
 
 /* Sums (and, as −min, maxima) over all ranks when the sets are shares of a distributed body: a few numbers each. */
-static void reduce_sum(const RigidModes *M, double *v, long n) {
-  if (M->across_ranks) (void)mica_parallel_sum(MICA_SUCCESS, v, n);
+static int reduce_sum(const RigidModes *M, double *v, long n) {
+  return M->across_ranks ? mica_parallel_sum(MICA_SUCCESS, v, n) : MICA_SUCCESS;
 }
 
-static void reduce_max(const RigidModes *M, double *v, long n) {
-  if (M->across_ranks) (void)mica_parallel_max(MICA_SUCCESS, v, n);
+static int reduce_max(const RigidModes *M, double *v, long n) {
+  return M->across_ranks ? mica_parallel_max(MICA_SUCCESS, v, n) : MICA_SUCCESS;
 }
 
 /* x0: the conditions' centroid; L: the largest extent of the boundary (a length of the body). */
-static void place_modes(RigidModes *M, const MicaDiscretization *disc, int ndirichlet, const MicaDirichlet *dirichlet) {
+static int place_modes(RigidModes *M, const MicaDiscretization *disc, int ndirichlet, const MicaDirichlet *dirichlet) {
   double sums[4] = {0, 0, 0, 0}, extent[6]; /* Σ w x, Σ w; max x, max −x */
   for (int i = 0; i < 6; i++) extent[i] = -INFINITY;
   for (int c = 0; c < ndirichlet; c++) {
@@ -101,7 +101,7 @@ static void place_modes(RigidModes *M, const MicaDiscretization *disc, int ndiri
       sums[3] += set->w[p];
     }
   }
-  reduce_sum(M, sums, 4);
+  MICA_CALL(reduce_sum(M, sums, 4));
   for (int i = 0; i < M->dim; i++) M->x0[i] = sums[3] > 0 ? sums[i] / sums[3] : 0.0;
   for (int s = 0; s < disc->nsets; s++)
     for (long p = 0; p < disc->sets[s].n; p++)
@@ -109,13 +109,14 @@ static void place_modes(RigidModes *M, const MicaDiscretization *disc, int ndiri
         extent[i] = fmax(extent[i], disc->sets[s].x[p * M->dim + i]);
         extent[3 + i] = fmax(extent[3 + i], -disc->sets[s].x[p * M->dim + i]);
       }
-  reduce_max(M, extent, 6);
+  MICA_CALL(reduce_max(M, extent, 6));
   M->length = 0;
   for (int i = 0; i < M->dim; i++) M->length = fmax(M->length, extent[i] + extent[3 + i]);
   if (!(M->length > 0)) M->length = 1.0;
+  return MICA_SUCCESS;
 }
 
-static void gram(const RigidModes *M, const MicaDiscretization *disc, int ndirichlet, const MicaDirichlet *dirichlet,
+static int gram(const RigidModes *M, const MicaDiscretization *disc, int ndirichlet, const MicaDirichlet *dirichlet,
                  double *G) {
   const int n = M->nmodes;
   double sums[MAX_MODES * MAX_MODES + 1], row[MAX_MODES]; /* G, then Σ w */
@@ -131,8 +132,9 @@ static void gram(const RigidModes *M, const MicaDiscretization *disc, int ndiric
         sums[n * n] += set->w[p];
       }
   }
-  reduce_sum(M, sums, n * n + 1);
+  MICA_CALL(reduce_sum(M, sums, n * n + 1));
   for (int i = 0; i < n * n; i++) G[i] = sums[n * n] > 0 ? sums[i] / sums[n * n] : sums[i];
+  return MICA_SUCCESS;
 }
 
 static const char *const AXIS_NAMES[] = {"x", "y", "z"};
@@ -178,15 +180,16 @@ static int report_free(const RigidModes *M, const double *Z, const int *is_free,
 
 /* G's eigenvalues (ascending) and eigenvectors (columns of G, overwritten); is_free marks the null space. G's
  * entries are averages of products of O(1) values: a held mode's eigenvalue is at least of the order of (the
- * extent of the conditions / L)², a free one's is round-off. Returns the number of free modes, or −1. */
+ * extent of the conditions / L)², a free one's is round-off. *nfree: the number of free modes. */
 static int null_space(const RigidModes *M, const MicaDiscretization *disc, int ndirichlet,
-                      const MicaDirichlet *dirichlet, double *G, int *is_free) {
+                      const MicaDirichlet *dirichlet, double *G, int *is_free, int *nfree) {
   double eig[MAX_MODES];
-  gram(M, disc, ndirichlet, dirichlet, G);
-  if (LAPACKE_dsyev(LAPACK_COL_MAJOR, 'V', 'U', M->nmodes, G, M->nmodes, eig) != 0) return -1;
-  int nfree = 0;
-  for (int v = 0; v < M->nmodes; v++) nfree += is_free[v] = eig[v] <= 1e-11 * fmax(1.0, eig[M->nmodes - 1]);
-  return nfree;
+  MICA_CALL(gram(M, disc, ndirichlet, dirichlet, G));
+  MICA_CHECK(LAPACKE_dsyev(LAPACK_COL_MAJOR, 'V', 'U', M->nmodes, G, M->nmodes, eig) == 0, MICA_ERR_LIBRARY,
+             "LAPACKE_dsyev on the rigid modes' Gram matrix failed");
+  *nfree = 0;
+  for (int v = 0; v < M->nmodes; v++) *nfree += is_free[v] = eig[v] <= 1e-11 * fmax(1.0, eig[M->nmodes - 1]);
+  return MICA_SUCCESS;
 }
 
 /* Moves x0 onto the axis of the free motion that turns most: u = t + ω × (x − x0) / L is a rotation about the
@@ -217,14 +220,14 @@ int mica_dirichlet_check_rigid(const MicaDiscretization *disc, int axisymmetric,
   M.ncomp = ncomp, M.dim = disc->dim, M.axisymmetric = axisymmetric, M.across_ranks = across_ranks;
   parse_components(&M, names);
   list_modes(&M);
-  place_modes(&M, disc, ndirichlet, dirichlet);
+  MICA_CALL(place_modes(&M, disc, ndirichlet, dirichlet));
   double Z[MAX_MODES * MAX_MODES];
-  int is_free[MAX_MODES], nfree = null_space(&M, disc, ndirichlet, dirichlet, Z, is_free);
+  int is_free[MAX_MODES], nfree;
+  MICA_CALL(null_space(&M, disc, ndirichlet, dirichlet, Z, is_free, &nfree));
   if (nfree > 0 && nfree < M.nmodes) { /* the count stays; the null vectors become the motions themselves */
     center_on_free_rotation(&M, Z, is_free);
-    nfree = null_space(&M, disc, ndirichlet, dirichlet, Z, is_free);
+    MICA_CALL(null_space(&M, disc, ndirichlet, dirichlet, Z, is_free, &nfree));
   }
-  MICA_CHECK(nfree >= 0, MICA_ERR_LIBRARY, "LAPACKE_dsyev on the rigid modes' Gram matrix failed");
   if (!nfree) return MICA_SUCCESS;
   return report_free(&M, Z, is_free, nfree, names, where);
 }

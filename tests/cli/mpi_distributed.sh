@@ -280,10 +280,11 @@ grep -q 'set = "left"; ux = "0"; }' "$free_deck" || fail "free.cfg: the left edg
 free_message='the body can move freely: 1 rigid mode is not held (translation in y); add Dirichlet conditions on uy'
 expect_failure 2 "$free_message" -- "$MICA" run "$free_deck" -o "$work/free-1" "${Q[@]}" "${D[@]}"
 for np in 2 3; do
-  expect_failure 2 "$free_message" -- "${MPIRUN[@]}" -np "$np" "$MICA" run "$free_deck" -o "$work/free-$np" "${Q[@]}" \
-    "${D[@]}" --set "particles.count=[9,9]" --set solver.steps=1
-  count=$("${MPIRUN[@]}" -np "$np" "$MICA" run "$free_deck" -o "$work/free-$np" "${Q[@]}" "${D[@]}" \
-    --set "particles.count=[9,9]" --set solver.steps=1 2>&1 >/dev/null | grep -c 'can move freely')
+  err=$("${MPIRUN[@]}" -np "$np" "$MICA" run "$free_deck" -o "$work/free-$np" "${Q[@]}" "${D[@]}" \
+    --set "particles.count=[9,9]" --set solver.steps=1 2>&1 >/dev/null); rc=$?
+  [ "$rc" = 2 ] || fail "np $np: the free body exited $rc, expected 2; stderr: $err"
+  grep -qF -- "$free_message" <<<"$err" || fail "np $np: stderr lacks '$free_message': $err"
+  count=$(grep -c 'can move freely' <<<"$err")
   [ "$count" = 1 ] || fail "np $np: the free-body message printed $count times, not once"
   [ ! -e "$work/free-$np" ] || [ -z "$(ls -A "$work/free-$np")" ] || fail "np $np: the refused run left files"
 done
