@@ -74,6 +74,7 @@ typedef struct MicaLinearSolverStats {
   /* petsc under MPI: the off-rank columns of this rank's rows (MatGetGhosts): the entries of x every matrix–vector
    * product receives from other ranks, the halo of one Krylov iteration; 0 in one process */
   long halo_dofs;
+  int multigrid_levels; /* petsc's gmg: the levels of its hierarchy, the particles' included; 0 for other methods */
 } MicaLinearSolverStats;
 
 /* Settings of the iterative solvers (petsc, cholmod-sym; zero members take the defaults). */
@@ -85,11 +86,15 @@ typedef struct MicaKrylovOptions {
   char petsc_preset[32];
   char petsc_options[1024];
   char petsc_where[256];   /* where the deck set solver.petsc_options, for its errors */
+  char petsc_preset_where[256]; /* and solver.petsc */
   /* what the caller knows of the matrices, for the solvers that choose by it (petsc) */
   int spd;            /* symmetric positive definite: CG, Cholesky (else GMRES, LU) */
   int saddle;         /* Lagrange multipliers: a zero diagonal block (a saddle point) */
   int near_null_count; /* near-null space (rigid motions) for algebraic multigrid: */
   const double *near_null; /* [near_null_count][n] in mica's numbering, borrowed; NULL: none */
+  int coord_dim;           /* the nodes' coordinates, for geometric multigrid (petsc's gmg): */
+  long coord_nodes;        /* [coord_nodes][coord_dim], node k's unknowns k ndof .. (k + 1) ndof − 1; borrowed; */
+  const double *coords;    /* NULL: none (finite elements) */
 } MicaKrylovOptions;
 
 typedef struct MicaLinearSolver MicaLinearSolver;
@@ -150,6 +155,9 @@ extern const MicaLinearSolverOps mica_linear_petsc;
  * MPI_COMM_WORLD), PETSc's signal handler off, its errors returned, not printed; finalize at the end (a no-op if
  * it never started). A serial run starts it when it first creates a petsc solver. */
 int mica_petsc_initialize(void);
+/* Whether solver.petsc = preset (with solver.petsc_options, which decide for "none") factors the matrix whole
+ * (MUMPS, or a LU/Cholesky PC in the options) rather than iterating: for the memory estimate. */
+int mica_petsc_method_factors(const char *preset, const char *options);
 void mica_petsc_finalize(void);
 /* cholmod, umfpack, cholmod-sym, petsc (linear_solver.c). The deck's solver.linear also offers "auto", its default: CHOLMOD
  * for symmetric positive definite tangents, UMFPACK otherwise (the registry's default is the former). */

@@ -149,10 +149,11 @@ static int read_solver(const MicaDeck *deck, RunEstimate *est) {
   const int spd = mica_type_has(method, MICA_BC_SYMMETRIC_DEFINITE);
   est->solver = strcmp(linear, "auto") ? linear : spd && !vci.on ? "cholmod" : spd ? "cholmod-sym" : "umfpack";
   if (!strcmp(linear, "petsc")) { /* its own copy of the matrix; a factor only with a direct method */
-    const char *method;
+    const char *method, *options;
     MICA_CALL(mica_deck_string(deck, "solver.petsc", &method));
+    MICA_CALL(mica_deck_string(deck, "solver.petsc_options", &options));
     est->petsc_copy = 1;
-    est->solver = !strcmp(method, "mumps") || !strcmp(method, "none") ? "petsc" : "petsc-iterative";
+    est->solver = mica_petsc_method_factors(method, options) ? "petsc" : "petsc-iterative";
   }
   return MICA_SUCCESS;
 }

@@ -6,7 +6,8 @@
 #include "run.h"
 
 /* A distributed solver's (petsc) near-null space: the rigid motions of the model's unknowns at the particles
- * (src/bc/rigid.c), for GAMG. Finite elements keep PETSc's default (none). */
+ * (src/bc/rigid.c), for GAMG; and the particles' coordinates, for geometric multigrid. Finite elements keep
+ * PETSc's default (neither). */
 static int read_near_null(RunProblem *rp, MicaKrylovOptions *k) {
   const MicaSolid *s = rp->solid;
   if (rp->fe || s->nparticles != rp->disc->nparticles) return MICA_SUCCESS;
@@ -17,6 +18,7 @@ static int read_near_null(RunProblem *rp, MicaKrylovOptions *k) {
   MICA_CALL(mica_rigid_motions(rp->disc->x, rp->disc->nparticles, rp->disc->dim, rp->axisymmetric, ncomp, names,
                                s->ndof, &k->near_null_count, &rp->near_null));
   k->near_null = rp->near_null;
+  k->coords = rp->disc->x, k->coord_dim = rp->disc->dim, k->coord_nodes = rp->disc->nparticles;
   return MICA_SUCCESS;
 }
 
@@ -62,9 +64,13 @@ int run_krylov_summary(const RunProblem *rp, const MicaNewtonStats *st, MicaJson
     MICA_CALL(mica_json_int(summary, "halo_dofs_max", mica_parallel_max_long(ls->halo_dofs)));
     MICA_CALL(mica_json_int(summary, "halo_dofs_sum", mica_parallel_sum_long(ls->halo_dofs)));
   }
-  printf("%s: %ld solves, %ld iterations (at most %ld), last |b - Ax| / |b| %.3e\n", st->linear_name, ls->solves,
-         ls->krylov_iterations,
-         ls->krylov_iterations_max, ls->krylov_residual);
+  char levels[48] = "";
+  if (ls->multigrid_levels) { /* petsc's gmg */
+    MICA_CALL(mica_json_int(summary, "multigrid_levels", ls->multigrid_levels));
+    snprintf(levels, sizeof levels, ", %d multigrid levels", ls->multigrid_levels);
+  }
+  printf("%s: %ld solves, %ld iterations (at most %ld), last |b - Ax| / |b| %.3e%s\n", st->linear_name, ls->solves,
+         ls->krylov_iterations, ls->krylov_iterations_max, ls->krylov_residual, levels);
   return MICA_SUCCESS;
 }
 

@@ -25,7 +25,8 @@
  * entries (summed over the ranks by the caller) are the rank's rows, and the solution comes back at the rank's
  * nodes, ghosts included, through one VecScatter from PETSc's x; no array of the global length on any rank.
  *
- * The method: solver.petsc, a preset (mumps, gamg, hypre, asm-cholmod, asm-umfpack, bjacobi-cholmod, or none),
+ * The method: solver.petsc, a preset (mumps, gamg, gmg, hypre, asm-cholmod, asm-umfpack, bjacobi-cholmod, or none;
+ * gmg's lattices are petsc_lattice.c's, made from the coordinates in krylov.coords),
  * then solver.petsc_options over it, passed to PETSc's options database under a prefix of this solver's own
  * ("mica1_"), never through a shell. An option PETSc did not use by the end of the first solve had no effect: an
  * input error. The rigid motions the caller gives (krylov.near_null) are PETSc's near-null space of the matrix,
@@ -37,9 +38,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <petscksp.h>
-
 #include "linear_private.h"
+#include "petsc_private.h"
 #include "mica/timer.h"
 
 /* ---- PETSc for the program ---------------------------------------------------------------------------- */
@@ -52,19 +52,12 @@ __attribute__((constructor)) static void restore_mmap(void) { mallopt(M_MMAP_MAX
 
 static int petsc_started;
 
-/* A PETSc error code as a mica error (PETSc's message says what failed; its handler printed nothing). */
-static int petsc_error(PetscErrorCode code, const char *call, const char *file, int line) {
+int mica_petsc_error(PetscErrorCode code, const char *call, const char *file, int line) {
   const char *text = NULL;
   PetscErrorMessage(code, &text, NULL);
   return mica_error_set(file, line, "petsc", code == PETSC_ERR_MEM ? MICA_ERR_MEMORY : MICA_ERR_LIBRARY,
                         "PETSc: %s (error %d in %s)", text ? text : "error", (int)code, call);
 }
-#define PCALL(call)                                                                                                 \
-  do {                                                                                                              \
-    PetscErrorCode petsc_code_ = (call);                                                                            \
-    if (petsc_code_) return petsc_error(petsc_code_, #call, __FILE__, __LINE__);                                    \
-  } while (0)
-
 int mica_petsc_initialize(void) {
   if (petsc_started) return MICA_SUCCESS;
   /* no ~/.petscrc or ./.petscrc: a deck's run must not depend on files of the user's (PETSC_OPTIONS is still
@@ -98,39 +91,51 @@ typedef struct {
   const char *name;
   const char *spd, *general;
   int iterative;
+  int geometric; /* PCMG on lattices over the particles (petsc_lattice.c), made before the options are read */
 } Preset;
 
 static const Preset presets[] = {
     {"mumps", "-ksp_type preonly -pc_type cholesky -pc_factor_mat_solver_type mumps",
-     "-ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps", 0},
+     "-ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps", 0, 0},
     {"gamg",
      "-ksp_type cg -ksp_norm_type unpreconditioned -pc_type gamg -pc_gamg_reuse_interpolation true "
      "-pc_gamg_threshold -1 -pc_gamg_square_graph 1 -pc_gamg_use_sa_esteig false -mg_levels_ksp_type chebyshev "
      "-mg_levels_pc_type jacobi",
      "-ksp_type gmres -ksp_pc_side right -ksp_gmres_restart 100 -pc_type gamg -pc_gamg_reuse_interpolation true "
      "-pc_gamg_threshold -1 -pc_gamg_square_graph 1 -mg_levels_ksp_type gmres -mg_levels_pc_type jacobi",
-     1},
+     1, 0},
+    {"gmg", /* the smoothers as GAMG's; the levels and interpolations from the coordinates */
+     "-ksp_type cg -ksp_norm_type unpreconditioned -mg_levels_ksp_type chebyshev -mg_levels_pc_type jacobi",
+     "-ksp_type gmres -ksp_pc_side right -ksp_gmres_restart 100 -mg_levels_ksp_type gmres -mg_levels_pc_type jacobi",
+     1, 1},
     {"hypre", "-ksp_type cg -ksp_norm_type unpreconditioned -pc_type hypre -pc_hypre_type boomeramg",
-     "-ksp_type gmres -ksp_pc_side right -ksp_gmres_restart 100 -pc_type hypre -pc_hypre_type boomeramg", 1},
+     "-ksp_type gmres -ksp_pc_side right -ksp_gmres_restart 100 -pc_type hypre -pc_hypre_type boomeramg", 1, 0},
     {"asm-cholmod",
      "-ksp_type cg -ksp_norm_type unpreconditioned -pc_type asm -pc_asm_type basic -sub_pc_type cholesky "
      "-sub_pc_factor_mat_solver_type cholmod",
-     NULL, 1},
+     NULL, 1, 0},
     {"asm-umfpack", NULL, /* GMRES: ASM's restricted form is not symmetric, so any tangent */
      "-ksp_type gmres -ksp_pc_side right -ksp_gmres_restart 100 -pc_type asm -sub_pc_type lu "
      "-sub_pc_factor_mat_solver_type umfpack",
-     1},
+     1, 0},
     {"bjacobi-cholmod",
      "-ksp_type cg -ksp_norm_type unpreconditioned -pc_type bjacobi -sub_pc_type cholesky "
      "-sub_pc_factor_mat_solver_type cholmod",
-     NULL, 1},
-    {"none", "", "", 0},
-    {NULL, NULL, NULL, 0}};
+     NULL, 1, 0},
+    {"none", "", "", 0, 0},
+    {NULL, NULL, NULL, 0, 0}};
 
 static const Preset *find_preset(const char *name) {
   for (const Preset *p = presets; p->name; p++)
     if (!strcmp(p->name, name)) return p;
   return NULL;
+}
+
+int mica_petsc_method_factors(const char *preset, const char *options) {
+  const Preset *p = find_preset(preset && preset[0] ? preset : "mumps");
+  if (p && strcmp(p->name, "none")) return !p->iterative;
+  /* "none": the options alone say; subdomain factors (-sub_pc_type) are small beside a whole one */
+  return options && (strstr(options, "-pc_type lu") || strstr(options, "-pc_type cholesky"));
 }
 
 /* ---- the solver ------------------------------------------------------------------------------------------ */
@@ -401,6 +406,32 @@ static int attach_near_null(PetscSolver *ps, const MicaKrylovOptions *k) {
   return MICA_SUCCESS;
 }
 
+/* solver.petsc = "gmg": the lattices and interpolations from the coordinates of this rank's rows' nodes. */
+static int attach_lattice_mg(PetscSolver *ps, const MicaKrylovOptions *k, int *levels_made) {
+  MICA_CHECK(k->coords && k->coord_dim > 0 && k->coord_nodes == ps->nnodes, MICA_ERR_INPUT,
+             "%s: solver.petsc = \"gmg\" builds its coarse spaces from the coordinates of the particles, and this "
+             "problem's unknowns are not all at particles (finite elements or multipliers); use solver.petsc = "
+             "\"gamg\"", k->petsc_preset_where);
+  const int dim = k->coord_dim;
+  const PetscInt npoints = ps->nlocal / ps->ndof;
+  double *points = NULL;
+  MICA_CALL(MICA_MALLOC(points, (long)npoints * dim + 1));
+  for (PetscInt p = 0; p < npoints; p++) {
+    const long node = ps->local_dofs[(long)p * ps->ndof] / ps->ndof;
+    for (int d = 0; d < dim; d++) points[(long)p * dim + d] = k->coords[node * dim + d];
+  }
+  PC pc;
+  int levels = 0;
+  PetscErrorCode code = KSPGetPC(ps->ksp, &pc);
+  int ierr = code ? MICA_SUCCESS
+                  : mica_petsc_lattice_mg(pc, ps->comm, dim, ps->ndof, ps->nlocal, points, ps->N / ps->ndof,
+                                          k->petsc_preset_where, &levels);
+  free(points);
+  PCALL(code);
+  *levels_made = levels;
+  return ierr;
+}
+
 /* The preset's options, then the deck's, into PETSc's database under this solver's prefix. */
 static int set_options(PetscSolver *ps, const MicaKrylovOptions *k) {
   const char *name = k->petsc_preset[0] ? k->petsc_preset : "mumps";
@@ -431,11 +462,13 @@ static int set_options(PetscSolver *ps, const MicaKrylovOptions *k) {
   return MICA_SUCCESS;
 }
 
-static int create_ksp(PetscSolver *ps, const MicaKrylovOptions *k) {
+static int create_ksp(PetscSolver *ps, const MicaKrylovOptions *k, int *mg_levels) {
   MICA_CALL(set_options(ps, k));
   PCALL(KSPCreate(ps->comm, &ps->ksp));
   PCALL(KSPSetOptionsPrefix(ps->ksp, ps->prefix));
   PCALL(KSPSetOperators(ps->ksp, ps->A, ps->A));
+  if (find_preset(k->petsc_preset[0] ? k->petsc_preset : "mumps")->geometric)
+    MICA_CALL(attach_lattice_mg(ps, k, mg_levels));
   PCALL(KSPSetTolerances(ps->ksp, k->rtol > 0 ? k->rtol : 1e-10, 0.0, PETSC_DEFAULT,
                          k->max_iterations > 0 ? k->max_iterations : 10000));
   PCALL(KSPSetFromOptions(ps->ksp));
@@ -475,7 +508,7 @@ static int setup(MicaLinearSolver *solver, const MicaSparse *L, MicaPatternKey k
   MICA_CALL(check_blocks(ps, L));
   MICA_CALL(create_matrix(ps, L, &solver->krylov));
   MICA_CALL(attach_near_null(ps, &solver->krylov));
-  MICA_CALL(create_ksp(ps, &solver->krylov));
+  MICA_CALL(create_ksp(ps, &solver->krylov, &solver->stats.multigrid_levels));
   ps->pattern = key;
   solver->stats.analyses++;
   return MICA_SUCCESS;
@@ -563,10 +596,13 @@ static int petsc_solve(MicaLinearSolver *solver, const double *b, double *x) {
   if (its > st->krylov_iterations_max) st->krylov_iterations_max = its;
   st->krylov_residual = bnorm > 0 ? (double)(rnorm / bnorm) : 0.0;
   st->krylov_cpu += mica_cputime() - cpu;
-  if (solver->krylov.verbose)
-    printf("    petsc (%s): %d iterations, |b - Ax| / |b| %.3e, %.3g s\n",
-           solver->krylov.petsc_preset[0] ? solver->krylov.petsc_preset : "mumps", (int)its, st->krylov_residual,
-           mica_wtime() - start);
+  if (solver->krylov.verbose) {
+    char levels[32] = "";
+    if (st->multigrid_levels) snprintf(levels, sizeof levels, ", %d levels", st->multigrid_levels);
+    printf("    petsc (%s%s): %d iterations, |b - Ax| / |b| %.3e, %.3g s\n",
+           solver->krylov.petsc_preset[0] ? solver->krylov.petsc_preset : "mumps", levels, (int)its,
+           st->krylov_residual, mica_wtime() - start);
+  }
   return MICA_SUCCESS;
 }
 
@@ -574,9 +610,10 @@ static int petsc_solve(MicaLinearSolver *solver, const double *b, double *x) {
 
 static const MicaDeckKey petsc_keys[] = {
     {.path = "petsc", .type = MICA_KEY_CHOICE, .def = "\"mumps\"", .min = 1.0, .max = 0.0,
-     .choices = "mumps|gamg|hypre|asm-cholmod|asm-umfpack|bjacobi-cholmod|none",
+     .choices = "mumps|gamg|gmg|hypre|asm-cholmod|asm-umfpack|bjacobi-cholmod|none",
      .help = "PETSc's method: mumps (distributed Cholesky / LU), gamg or hypre (algebraic multigrid; CG, GMRES for "
-             "unsymmetric tangents), asm-cholmod, asm-umfpack, bjacobi-cholmod (additive Schwarz or block Jacobi "
+             "unsymmetric tangents), gmg (geometric multigrid on lattices over the particles, for particles that "
+             "fill a box), asm-cholmod, asm-umfpack, bjacobi-cholmod (additive Schwarz or block Jacobi "
              "with CHOLMOD / UMFPACK subdomains), none (solver.petsc_options alone)"},
     {.path = "petsc_options", .type = MICA_KEY_STRING, .def = "\"\"", .min = 1.0, .max = 0.0,
      .help = "PETSc options applied over solver.petsc's, e.g. \"-pc_gamg_threshold 0.02 -ksp_monitor\"; one PETSc "
@@ -602,6 +639,7 @@ static int petsc_from_settings(const MicaType *type, const MicaSettings *setting
   snprintf(k->petsc_where, sizeof k->petsc_where, "%s", where);
   const Preset *p = find_preset(preset);
   mica_settings_where(settings, group, "petsc", where, sizeof where);
+  snprintf(k->petsc_preset_where, sizeof k->petsc_preset_where, "%s", where);
   MICA_CHECK(p && ((k->spd && p->spd) || p->general), MICA_ERR_INPUT,
              "%s: solver.petsc = \"%s\" needs a symmetric positive definite tangent (CG with Cholesky subdomains), "
              "which this problem does not give; use \"asm-umfpack\", \"gamg\" or \"mumps\"", where, preset);

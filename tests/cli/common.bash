@@ -50,6 +50,11 @@ within() {
     || fail "$4: $1 is not within $3 (relative) of $2"
   ok "$4: $1 within $3 of $2"
 }
+# at_most VALUE MAX WHAT
+at_most() {
+  awk -v v="$1" -v m="$2" 'BEGIN { exit !(v <= m) }' || fail "$3: $1 > $2"
+  ok "$3: $1 <= $2"
+}
 # at_least VALUE MIN WHAT
 at_least() {
   awk -v v="$1" -v m="$2" 'BEGIN { exit !(v >= m) }' || fail "$3: $1 < $2"

@@ -73,17 +73,25 @@ for np in 1 2 3 4; do
   compare "$work/cube" "$work/cube_mumps_$np" 1e-10 corner_ux
   prun $np "$work/cube_gamg_$np" input/cube3d.cfg "${cube[@]}" "${P[@]}" --set solver.petsc=gamg
   compare "$work/cube" "$work/cube_gamg_$np" 1e-7 corner_ux
+  for deck in cook cube; do # geometric multigrid: Cook's trapezoid leaves lattice nodes inactive
+    args=("${cook[@]}"); file=input/cook_neohooke.cfg key=tip_uy
+    [ $deck = cube ] && args=("${cube[@]}") file=input/cube3d.cfg key=corner_ux
+    prun $np "$work/${deck}_gmg_$np" $file "${args[@]}" "${P[@]}" --set solver.petsc=gmg
+    compare "$work/$deck" "$work/${deck}_gmg_$np" 1e-7 $key
+  done
   prun $np "$work/glide_mumps_$np" input/cosserat_glide.cfg "${P[@]}"
   compare "$work/glide" "$work/glide_mumps_$np" 1e-10 phi_top ux_top phi_mid ux_mid
   prun $np "$work/nitsche_mumps_$np" tests/decks/cosserat/nitsche.cfg "${nitsche[@]}" "${P[@]}"
   compare "$work/nitsche" "$work/nitsche_mumps_$np" 1e-10 p_phi
   prun $np "$work/nitsche_gamg_$np" tests/decks/cosserat/nitsche.cfg "${nitsche[@]}" "${P[@]}" --set solver.petsc=gamg
   compare "$work/nitsche" "$work/nitsche_gamg_$np" 1e-7 p_phi
+  prun $np "$work/nitsche_gmg_$np" tests/decks/cosserat/nitsche.cfg "${nitsche[@]}" "${P[@]}" --set solver.petsc=gmg
+  compare "$work/nitsche" "$work/nitsche_gmg_$np" 1e-7 p_phi
 done
 # VCI runs on one process only (its correction sums over every particle's support: run_check_serial_only)
 prun 1 "$work/vci_mumps" input/patch_linear.cfg "${vci[@]}" "${P[@]}"
 compare "$work/vci" "$work/vci_mumps" 1e-10 p_ux
-for preset in gamg asm-umfpack; do
+for preset in gamg gmg asm-umfpack; do
   prun 1 "$work/vci_$preset" input/patch_linear.cfg "${vci[@]}" "${P[@]}" --set solver.petsc=$preset
   compare "$work/vci" "$work/vci_$preset" 1e-7 p_ux
 done
@@ -99,8 +107,27 @@ res=$(json_value krylov_last_residual "$work/cube_gamg_3/summary.json")
 less_than "$res" 1e-10 || fail "cube, gamg on 3 ranks: |b - Ax| / |b| = $res, not below solver.linear_rtol = 1e-10"
 ok "cube, gamg on 3 ranks: |b - Ax| / |b| = $res < 1e-10 in $(json_value krylov_iterations "$work/cube_gamg_3/summary.json") iterations"
 
+# gmg: the lattices' multilinear interpolation reproduces linear fields (the rigid motions among them), so its
+# iterations do not grow with the particles per side; GAMG's do (measured when written: gmg 10 at 9³, 15³ and 21³,
+# GAMG 28 to 36 over 9³-27³)
+for n in 9 15 21; do
+  prun 1 "$work/mg_$n" input/cube3d_million.cfg "${P[@]}" --set parameters.n=$n --set solver.petsc=gmg
+  its=$(json_value krylov_iterations "$work/mg_$n/summary.json")
+  at_most "$its" 14 "gmg CG iterations on the ${n}³ cube"
+  within "$(json_value corner_ux "$work/mg_$n/summary.json")" 0.01 5e-4 "gmg, ${n}³ cube: corner_ux against the exact p/E (the Gauss rule's patch error: 1.1e-4 at 9³)"
+done
+levels=$(json_value multigrid_levels "$work/mg_21/summary.json")
+at_least "${levels:-0}" 3 "gmg levels on the 21³ cube (particles and lattices)"
+prun 1 "$work/mg_21_gamg" input/cube3d_million.cfg "${P[@]}" --set parameters.n=21 --set solver.petsc=gamg
+gamg_its=$(json_value krylov_iterations "$work/mg_21_gamg/summary.json")
+less_than "$(( 2 * $(json_value krylov_iterations "$work/mg_21/summary.json") ))" "$gamg_its" \
+  || fail "gmg needs $(json_value krylov_iterations "$work/mg_21/summary.json") iterations on the 21³ cube, GAMG $gamg_its: not half"
+ok "21³ cube: gmg $(json_value krylov_iterations "$work/mg_21/summary.json") CG iterations ($levels levels), GAMG $gamg_its"
+
 # what cannot work is refused, with the remedy
-for preset in gamg hypre asm-umfpack; do
+expect_failure 2 'solver.petsc = "gmg" builds its coarse spaces from the coordinates of the particles' -- \
+  "$MICA" run input/cook_linear.cfg -o "$work/bad" --set problem.method=\"fe\" "${P[@]}" --set solver.petsc=gmg
+for preset in gamg gmg hypre asm-umfpack; do
   expect_failure 2 "the Lagrange multipliers make the tangent a saddle point" -- \
     "$MICA" run input/cosserat_glide.cfg -o "$work/bad" "${P[@]}" --set solver.petsc=$preset
 done
@@ -126,7 +153,7 @@ compare "$work/cube" "$work/cube_none_2" 1e-7 corner_ux
 # subdomain) and one GAMG graph (coarsening) and prolongator, numeric work at every Newton iteration
 # count_event LOG EVENT: the event's count (the column after its name)
 count_event() { awk -v e="$2" '$1 == e { print $2; exit }' "$1"; }
-for preset in mumps asm-cholmod gamg; do
+for preset in mumps asm-cholmod gamg gmg; do
   log="$work/log_$preset.txt"
   PETSC_OPTIONS="-log_view :$log" prun 2 "$work/reuse_$preset" input/cook_neohooke.cfg "${cook[@]}" "${P[@]}" \
     --set solver.petsc=$preset
@@ -136,6 +163,9 @@ for preset in mumps asm-cholmod gamg; do
     gamg) [ "$(count_event "$log" PCGAMGProl)" = 1 ] && [ "$(count_event "$log" PCGAMGCreateG)" = 1 ] \
             || fail "$preset: prolongator built $(count_event "$log" PCGAMGProl) times for $factorizations setups"
           ok "$preset, 2 ranks: one graph and prolongator for $factorizations setups" ;;
+    gmg) [ "$(count_event "$log" MatPtAPSymbolic)" = 1 ] && [ "$(count_event "$log" MatPtAPNumeric)" = "$factorizations" ] \
+           || fail "$preset: $(count_event "$log" MatPtAPSymbolic) symbolic, $(count_event "$log" MatPtAPNumeric) numeric Galerkin products for $factorizations setups of one lattice"
+         ok "$preset, 2 ranks: one symbolic Galerkin product (PᵀAP), $factorizations numeric ones" ;;
     *) [ "$(count_event "$log" MatCholFctrSym)" = 1 ] && [ "$(count_event "$log" MatCholFctrNum)" = "$factorizations" ] \
          || fail "$preset: $(count_event "$log" MatCholFctrSym) symbolic, $(count_event "$log" MatCholFctrNum) numeric factorizations for $factorizations"
        ok "$preset, 2 ranks: one symbolic factorization, $factorizations numeric ones" ;;

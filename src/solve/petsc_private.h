@@ -1,0 +1,25 @@
+/* Shared by the PETSc solver's files (linear_petsc.c, petsc_lattice.c): PETSc's error codes as mica's. */
+#ifndef MICA_PETSC_PRIVATE_H
+#define MICA_PETSC_PRIVATE_H
+
+#include <petscksp.h>
+
+#include "mica/error.h"
+
+/* A PETSc error code as a mica error (PETSc's message says what failed; its handler printed nothing). */
+int mica_petsc_error(PetscErrorCode code, const char *call, const char *file, int line);
+#define PCALL(call)                                                                                                 \
+  do {                                                                                                              \
+    PetscErrorCode petsc_code_ = (call);                                                                            \
+    if (petsc_code_) return mica_petsc_error(petsc_code_, #call, __FILE__, __LINE__);                               \
+  } while (0)
+
+/* Geometric multigrid on particles (petsc_lattice.c): pc becomes PCMG whose coarse spaces are regular lattices
+ * over the bounding box of the particles, each about half as fine as the one below, with Galerkin coarse
+ * operators (PᵀAP) and multilinear interpolation; the finest level is the matrix's rows, nrows_local of them on
+ * this rank, ndof consecutive unknowns per node, node i of them at points[i * dim ..]. nglobal_nodes: the nodes
+ * over all ranks; where: the deck's solver.petsc, for the errors. *levels: how many levels it made. */
+int mica_petsc_lattice_mg(PC pc, MPI_Comm comm, int dim, int ndof, PetscInt nrows_local, const double *points,
+                          long nglobal_nodes, const char *where, int *levels);
+
+#endif
