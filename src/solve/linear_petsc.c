@@ -11,7 +11,8 @@
  * exactly, once per pattern: on several ranks by passing the same insertions through a MATPREALLOCATOR first, on
  * one from the column lengths (the pattern is symmetric). Every column of a
  * node has the same rows (the pattern couples nodes), so the ndof columns of a node are one dense column-major
- * block of the CSC values: one MatSetValues per node and rank, no copy. Later factorizations zero the values and
+ * block of the CSC values: one MatSetValues per node and rank, no copy (a symmetric tangent's block inserted as the
+ * node's rows, so that each lands in one AIJ row: set_block). Later factorizations zero the values and
  * add them again into the same pattern; PETSc then sees a changed matrix with the same nonzero structure, and its
  * preconditioners redo only their numeric part (MUMPS and CHOLMOD/UMFPACK in ASM keep their symbolic analysis;
  * GAMG with -pc_gamg_reuse_interpolation keeps its prolongators). The stash of rows other ranks own is freed
@@ -153,6 +154,7 @@ typedef struct {
   PetscInt nlocal;
   PetscInt *rows;       /* [longest column] scratch of the insertions */
   int blocked;          /* each node's ndof columns have the same rows */
+  int symmetric;        /* the values are symmetric (krylov.spd): columns are inserted as rows */
   Mat A;
   KSP ksp;
   Vec b, x, r, all;     /* all: the solution on every rank (local layout: at this rank's nodes, ghosts included) */
@@ -279,7 +281,17 @@ static int check_blocks(PetscSolver *ps, const MicaSparse *L) {
   return MICA_MALLOC(ps->rows, longest);
 }
 
-/* This rank's contributions into M (ADD_VALUES, column-oriented: the CSC values as they are). */
+/* MatSetValues of the (rows × cols) block whose values are column-major (a CSC column block as it is). A
+ * symmetric matrix's column block is its row block: inserted as rows (the matrix is MAT_ROW_ORIENTED), each row's
+ * entries land in one contiguous AIJ row, where column-oriented insertion visits a different row for every entry
+ * (measured, 33³ cube, one process: 1.86 s for 2.8·10⁷ entries, memory latency). */
+static PetscErrorCode set_block(const PetscSolver *ps, Mat M, PetscInt nrows, const PetscInt *rows, PetscInt ncols,
+                                const PetscInt *cols, const double *values) {
+  if (ps->symmetric) return MatSetValues(M, ncols, cols, nrows, rows, values, ADD_VALUES);
+  return MatSetValues(M, nrows, rows, ncols, cols, values, ADD_VALUES);
+}
+
+/* This rank's contributions into M (ADD_VALUES, the CSC values as they are). */
 static int add_contributions(PetscSolver *ps, Mat M, const MicaSparse *L) {
   const int ndof = ps->ndof;
   PetscInt cols[64];
@@ -291,7 +303,7 @@ static int add_contributions(PetscSolver *ps, Mat M, const MicaSparse *L) {
       const long *rowind = L->rowind + L->colptr[j0];
       for (long q = 0; q < len; q++) ps->rows[q] = ps->row_of_dof[rowind[q]];
       for (int c = 0; c < ndof; c++) cols[c] = ps->row_of_dof[j0 + c];
-      PCALL(MatSetValues(M, (PetscInt)len, ps->rows, ndof, cols, L->val + L->colptr[j0], ADD_VALUES));
+      PCALL(set_block(ps, M, (PetscInt)len, ps->rows, ndof, cols, L->val + L->colptr[j0]));
       continue;
     }
     for (int c = 0; c < ndof; c++) {
@@ -299,7 +311,7 @@ static int add_contributions(PetscSolver *ps, Mat M, const MicaSparse *L) {
       if (!lj) continue;
       for (long q = 0; q < lj; q++) ps->rows[q] = ps->row_of_dof[L->rowind[L->colptr[j] + q]];
       const PetscInt col = ps->row_of_dof[j];
-      PCALL(MatSetValues(M, (PetscInt)lj, ps->rows, 1, &col, L->val + L->colptr[j], ADD_VALUES));
+      PCALL(set_block(ps, M, (PetscInt)lj, ps->rows, 1, &col, L->val + L->colptr[j]));
     }
   }
   return MICA_SUCCESS;
@@ -327,7 +339,7 @@ static int preallocate_distributed(PetscSolver *ps, const MicaSparse *L) {
   PCALL(MatSetSizes(pre, ps->nlocal, ps->nlocal, N, N));
   PCALL(MatSetBlockSize(pre, ps->ndof));
   PCALL(MatSetUp(pre));
-  PCALL(MatSetOption(pre, MAT_ROW_ORIENTED, PETSC_FALSE));
+  PCALL(MatSetOption(pre, MAT_ROW_ORIENTED, ps->symmetric ? PETSC_TRUE : PETSC_FALSE));
   int ierr = add_contributions(ps, pre, L);
   if (ierr) {
     MatDestroy(&pre);
@@ -363,7 +375,7 @@ static int create_matrix(PetscSolver *ps, const MicaSparse *L, const MicaKrylovO
   PCALL(MatSetSizes(ps->A, ps->nlocal, ps->nlocal, N, N));
   PCALL(MatSetBlockSize(ps->A, ps->ndof));
   MICA_CALL(ps->size == 1 && !ps->local ? preallocate_serial(ps, L) : preallocate_distributed(ps, L));
-  PCALL(MatSetOption(ps->A, MAT_ROW_ORIENTED, PETSC_FALSE));
+  PCALL(MatSetOption(ps->A, MAT_ROW_ORIENTED, ps->symmetric ? PETSC_TRUE : PETSC_FALSE));
   PCALL(MatSetOption(ps->A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   /* not MAT_SUBSET_OFF_PROC_ENTRIES: it would keep the stash's receive buffers of the ghost rows between assemblies
    * (measured: 21 MB a rank at 31³ on 4 ranks, about 5 % of its peak, which it reaches in GAMG's setup while they
@@ -503,6 +515,7 @@ static int setup(MicaLinearSolver *solver, const MicaSparse *L, MicaPatternKey k
   MPI_Comm_rank(ps->comm, &ps->rank);
   MPI_Comm_size(ps->comm, &ps->size);
   ps->n = L->n, ps->ndof = L->ndof, ps->nnodes = L->n / L->ndof;
+  ps->symmetric = solver->krylov.spd;
   MICA_CHECK(L->ndof <= 64, MICA_ERR_ARGUMENT, "petsc: %d unknowns per node (at most 64)", L->ndof);
   MICA_CALL(number_rows(ps, &solver->layout));
   MICA_CALL(check_blocks(ps, L));
