@@ -106,8 +106,8 @@ static const Preset presets[] = {
      "-pc_gamg_threshold -1 -pc_gamg_square_graph 1 -mg_levels_ksp_type gmres -mg_levels_pc_type jacobi",
      1, 0},
     {"gmg", /* the smoothers as GAMG's, their largest eigenvalue estimated by CG (Lanczos) rather than PETSc's
-             * GMRES, whose estimate made the PC indefinite on Cook's membrane (30² to 150², the first tangent: CG
-             * stopped after 3 iterations; 10 Lanczos steps, as many as GMRES took, suffice); the levels and interpolations from the coordinates */
+             * GMRES, whose estimate made the PC indefinite on Cook's membrane (150², linear basis: CG stopped after
+             * 3 iterations on the first tangent); the levels and interpolations from the coordinates */
      "-ksp_type cg -ksp_norm_type unpreconditioned -mg_levels_ksp_type chebyshev -mg_levels_pc_type jacobi "
      "-mg_levels_esteig_ksp_type cg",
      "-ksp_type gmres -ksp_pc_side right -ksp_gmres_restart 100 -mg_levels_ksp_type gmres -mg_levels_pc_type jacobi",
