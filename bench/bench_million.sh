@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # The 10⁶-dof run (issues 7 and 19): input/cube3d_million.cfg — 3-D linear elastic cube in tension, 70³ particles =
-# 1 029 000 dofs, PETSc's CG with GAMG and the rigid motions as near-null space — with its time per phase, Krylov
+# 1 029 000 dofs, PETSc's CG with geometric multigrid on lattices (gmg; MILLION_PETSC=gamg: GAMG with the rigid
+# motions as near-null space) — with its time per phase, Krylov
 # iterations, peak memory (getrusage) and error against the exact solution. NOT part of `make test` or `make bench`:
 # about 10–20 minutes and ≈ 11 GB of memory at the default size. Figures only: never passes or fails on time.
 #   bash bench/bench_million.sh run     (without "run", as `make bench` calls it, it only says how to run it)
 #   MILLION_N=70       particles per side (33: 1.1·10⁵ dofs, about a minute)
 #   MILLION_NP=1       MPI ranks (> 1: mpirun; PETSc distributes the matrix)
 #   MILLION_DATA=distributed  with MILLION_NP > 1: parallel.data (distributed: each rank its block; replicated)
-#   MILLION_PETSC=gamg a solver.petsc preset (gamg, hypre, asm-cholmod, ..., none), with MILLION_PETSC_OPTIONS as
+#   MILLION_PETSC=gmg  a solver.petsc preset (gmg, gamg, hypre, asm-cholmod, ..., none), with MILLION_PETSC_OPTIONS as
 #                      solver.petsc_options; the block-Jacobi CG that mica once had of its own is
 #                      MILLION_PETSC=none MILLION_PETSC_OPTIONS="-ksp_type cg -pc_type pbjacobi" (point-block Jacobi:
 #                      the 3 × 3 blocks of the particles)
@@ -18,7 +19,7 @@ if [ "${1:-}" != run ]; then
   exit 0
 fi
 MICA=${MICA_BIN:-bin/mica}
-N=${MILLION_N:-70} NP=${MILLION_NP:-1} PETSC=${MILLION_PETSC:-gamg} DATA=${MILLION_DATA:-distributed}
+N=${MILLION_N:-70} NP=${MILLION_NP:-1} PETSC=${MILLION_PETSC:-gmg} DATA=${MILLION_DATA:-distributed}
 PETSC_OPTIONS=${MILLION_PETSC_OPTIONS:-}
 out=${OUT_DIR:-build/bench-out}/million_${N}_${PETSC}_np$NP
 mkdir -p "$out"

@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # The measured inputs of docs/performance.md's scaling model for 10⁸ unknowns on 256 ranks (issue 19; figures
 # only, never pass/fail). input/cube3d_million.cfg's lean cube (linear basis, ball supports of dilation 1.5,
-# 8 Gauss points per cell), PETSc CG + GAMG with the rigid motions, parallel.data = "distributed":
+# 8 Gauss points per cell), PETSc CG with SCALING_PETSC (default gmg: geometric multigrid on lattices; gamg: GAMG
+# with the rigid motions), parallel.data = "distributed":
 #  1. the ghost layer and the halo at P = 1, 2, 3, 4 on N³ particles (N = SCALING_N, default 29: 73 167 dofs):
 #     per rank the particles owned and held, the ghost layer's depth δ in particle spacings (the block's held
 #     box (b + 2δ)^dim − b^dim solved for δ), the halo of one Newton iteration (the residual sum and the solution
 #     scatter: 2 × ghost dofs; the Krylov products: iterations × PETSc's off-rank columns, halo_dofs) in bytes,
 #     and the peak memory of the largest rank with its bytes per held particle;
-#  2. GAMG's iteration growth over three sizes (SCALING_SIZES, default "17 25 37": 1.5·10⁴ to 1.5·10⁵ dofs), one
+#  2. the multigrid's iteration growth over three sizes (SCALING_SIZES, default "17 25 37": 1.5·10⁴ to 1.5·10⁵ dofs), one
 #     process: iterations to linear_rtol 1e-10 and their power-law exponent in the number of unknowns;
 #  3. a small run (N = 5) for the fixed memory of the program and its libraries.
 # P = 3 and 4 oversubscribe a 2-core machine: the times printed are not speeds. About 3–5 minutes.
@@ -15,6 +16,7 @@ set -u
 cd "$(dirname "$0")/.."
 MICA=${MICA_BIN:-bin/mica}
 N=${SCALING_N:-29}
+PETSC=${SCALING_PETSC:-gmg}
 SIZES=${SCALING_SIZES:-17 25 37}
 out=${OUT_DIR:-build/bench-out}/scaling
 mkdir -p "$out"
@@ -31,10 +33,10 @@ v() { sed -n "s/^ *\"$1\": *\"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$2" | 
 arr() { sed -n "/\"$1\"/,/]/p" "$2" | sed 1d | grep -o '[-0-9.e+]*[0-9]'; }
 deck="$out/cube.cfg"
 { grep -v '^output\|^solver\|^                                  {' input/cube3d_million.cfg
-  echo 'solver = { linear = "petsc"; petsc = "gamg"; linear_rtol = 1e-10; linear_max_iterations = 2000; rtol = 1e-8; };'
+  echo "solver = { linear = \"petsc\"; petsc = \"$PETSC\"; linear_rtol = 1e-10; linear_max_iterations = 2000; rtol = 1e-8; };"
   echo 'output = { vtu = false; mesh = false; monitor = false; };'
 } > "$deck"
-echo "cube, CG + GAMG, parallel.data = distributed; load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "cube, CG + $PETSC, parallel.data = distributed; load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
 
 # run DIR NP N: the summary, or a message on stderr
 run() {
@@ -78,7 +80,7 @@ for np in 1 2 3 4; do
     "$(awk -v p="$peak" -v f="$fixed" -v h="$held" 'BEGIN { printf "%.0f", (p - f) / h }')"
 done
 
-echo "-- 2. GAMG iterations over sizes (one process)"
+echo "-- 2. $PETSC iterations over sizes (one process)"
 printf '%6s %10s %6s %8s\n' N dofs its newton
 prev_n=0 prev_its=0
 for n in $SIZES; do

@@ -3,9 +3,11 @@
 # unknowns, `mica run` with parallel.data = "distributed" and the same PETSc solver at P = 1 and P = 2, alternating
 # (1, 2, 1, 2, ...), SPEEDUP_REPEAT times (default 3), the minimum of each phase kept:
 #   2-D: tests/decks/parallel/cook.cfg (Cook's membrane, Neo-Hooke) at COOK_N² particles (default 224: 100 352
-#        dofs), linear basis of dilation 2, quadrature order 3, one load step, MUMPS;
+#        dofs), linear basis of dilation 2, quadrature order 3, one load step, solver.petsc = COOK_PETSC (default
+#        mumps: one load step makes a Newton iterate's tangent indefinite, which CG cannot take);
 #   3-D: tests/decks/parallel/cube.cfg (linear elasticity, linear basis) at CUBE_N³ particles (default 33:
-#        107 811 dofs), quadrature order 2, CG + GAMG with the rigid motions.
+#        107 811 dofs), quadrature order 2, CG with solver.petsc = CUBE_PETSC (default gmg: geometric multigrid on
+#        lattices; gamg: GAMG with the rigid motions, the default until 2026-12-06).
 # Per phase (summary.json): shape functions and pattern (time_cache_and_pattern), assembly (time_assemble, with the
 # wait in the residual sum), the linear solver's setup and solves (time_analyze + time_factor + time_solve), Newton
 # in all (time_newton) and the whole run's wall clock (end to end, what the user waits for: the build of the
@@ -16,7 +18,7 @@ set -u
 cd "$(dirname "$0")/.."
 MICA=${MICA_BIN:-bin/mica}
 REPEAT=${SPEEDUP_REPEAT:-3}
-COOK_N=${COOK_N:-224} CUBE_N=${CUBE_N:-33}
+COOK_N=${COOK_N:-224} CUBE_N=${CUBE_N:-33} COOK_PETSC=${COOK_PETSC:-mumps} CUBE_PETSC=${CUBE_PETSC:-gmg}
 out=${OUT_DIR:-build/bench-out}/speedup
 mkdir -p "$out"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm_rsh_agent=false
@@ -71,7 +73,7 @@ deck() {
 
 deck cook2d tests/decks/parallel/cook.cfg --set "particles.count=[$COOK_N,$COOK_N]" --set mls.order=1 --set mls.dilation=2.0 \
   --set quadrature.order=3 --set solver.steps=1 \
-  --set solver.linear=petsc
+  --set solver.linear=petsc --set solver.petsc="$COOK_PETSC"
 deck cube3d tests/decks/parallel/cube.cfg --set "particles.count=[$CUBE_N,$CUBE_N,$CUBE_N]" --set quadrature.order=2 \
-  --set solver.linear=petsc --set solver.petsc=gamg
+  --set solver.linear=petsc --set solver.petsc="$CUBE_PETSC"
 echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"

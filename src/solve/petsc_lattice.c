@@ -130,7 +130,10 @@ static int activate(MPI_Comm comm, const Lattice *g, const Rows *r, Vec *ids, Pe
   for (PetscInt i = 0; i < g->nowned; i++) count += s[i] > 0;
   int ierr = MICA_MALLOC(*active, count + 1);
   PetscInt offset = 0;
+  int rank;
+  MPI_Comm_rank(comm, &rank);
   MPI_Exscan(&count, &offset, 1, MPIU_INT, MPI_SUM, comm);
+  if (rank == 0) offset = 0; /* MPI_Exscan leaves rank 0's result undefined */
   PCALL(VecGetArray(*ids, &id));
   for (PetscInt i = 0, k = 0; i < g->nowned && !ierr; i++) {
     id[i] = s[i] > 0 ? (PetscScalar)(offset + k) : -1.0;
