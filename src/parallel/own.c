@@ -105,42 +105,33 @@ static long global_number(long t, const long n[3], const int procs[3], const lon
 
 /* ---- the particles the rank's points need ----------------------------------------------------------------- */
 
-static int compare_long(const void *a, const void *b) {
-  const long x = *(const long *)a, y = *(const long *)b;
-  return (x > y) - (x < y);
-}
-
-static long sort_unique(long *v, long n) {
-  qsort(v, (size_t)n, sizeof *v, compare_long);
-  long m = 0;
-  for (long i = 0; i < n; i++)
-    if (!m || v[i] != v[m - 1]) v[m++] = v[i];
-  return m;
-}
-
-/* set ∪= the supports of x[n·dim], searched in chunks so that only the distinct particles are kept. */
+/* set ∪= the supports of x[n·dim], searched in chunks; the union kept as marks over the approximation's
+ * particles and read back in ascending order, so no index list is sorted (a qsort of each chunk's supports made this
+ * 2.5 times the cost of the search itself: 1.1 s of the 33³ cube's 131 072 points a rank at P = 2). */
 static int add_supports(const MlsApprox *mls, long n, const double *x, long **set, long *nset) {
   enum { CHUNK = 4096 };
   const int dim = mls_dim(mls);
-  for (long first = 0; first < n; first += CHUNK) {
+  const long nparticles = mls_num_particles(mls);
+  unsigned char *mark = NULL;
+  MICA_CALL(MICA_CALLOC(mark, nparticles + 1));
+  for (long i = 0; i < *nset; i++) mark[(*set)[i]] = 1;
+  int ierr = MICA_SUCCESS;
+  for (long first = 0; first < n && !ierr; first += CHUNK) {
     const long count = n - first < CHUNK ? n - first : CHUNK;
-    long *ptr = NULL, *index = NULL, *merged = NULL;
-    MICA_CALL(mica_point_supports(mls, count, x + first * dim, &ptr, &index, NULL));
-    const long found = sort_unique(index, ptr[count]);
-    int ierr = MICA_MALLOC(merged, *nset + found + 1);
-    long m = 0, i = 0, j = 0;
-    while (!ierr && (i < *nset || j < found)) {
-      const long a = i < *nset ? (*set)[i] : -1, b = j < found ? index[j] : -1;
-      if (j >= found || (i < *nset && a < b)) merged[m++] = a, i++;
-      else if (i >= *nset || b < a) merged[m++] = b, j++;
-      else merged[m++] = a, i++, j++;
-    }
-    free(ptr);
-    free(index);
-    MICA_CALL(ierr);
-    free(*set);
-    *set = merged, *nset = m;
+    long *ptr = NULL, *index = NULL;
+    ierr = mica_point_supports(mls, count, x + first * dim, &ptr, &index, NULL);
+    for (long e = 0; !ierr && e < ptr[count]; e++) mark[index[e]] = 1;
+    free(ptr), free(index);
   }
+  long total = 0, *merged = NULL;
+  for (long k = 0; k < nparticles; k++) total += mark[k];
+  if (!ierr) ierr = MICA_MALLOC(merged, total + 1);
+  for (long k = 0, m = 0; !ierr && k < nparticles; k++)
+    if (mark[k]) merged[m++] = k;
+  free(mark);
+  MICA_CALL(ierr);
+  free(*set);
+  *set = merged, *nset = total;
   return MICA_SUCCESS;
 }
 
