@@ -179,36 +179,38 @@ static int renumber(const Rows *r, Vec ids) {
   return MICA_SUCCESS;
 }
 
-/* P: the rows' ndof unknowns each, columns the active nodes' (this rank's: nactive from first on). */
+/* P: the rows' ndof unknowns each, columns the active nodes' (this rank's: nactive from first on). The weights are
+ * the same for every unknown of a node, so P is PETSc's MAIJ of the scalar interpolation (one row per point):
+ * ndof times fewer entries, and Galerkin products that know the interlaced blocks. */
 static int interpolation(MPI_Comm comm, int ndof, const Rows *r, PetscInt nactive, PetscInt first, Mat *P) {
-  PetscInt *d_nnz = NULL, *o_nnz = NULL, cols[MAX_CORNERS];
-  MICA_CALL(MICA_CALLOC(d_nnz, (long)r->npoints * ndof + 1));
-  int ierr = MICA_CALLOC(o_nnz, (long)r->npoints * ndof + 1);
+  PetscInt *d_nnz = NULL, *o_nnz = NULL;
+  MICA_CALL(MICA_CALLOC(d_nnz, (long)r->npoints + 1));
+  int ierr = MICA_CALLOC(o_nnz, (long)r->npoints + 1);
   for (PetscInt p = 0; p < r->npoints && !ierr; p++) {
     const PetscInt *node = r->node + (long)p * MAX_CORNERS;
     PetscInt diagonal = 0, count = 0;
     for (int e = 0; e < MAX_CORNERS && node[e] >= 0; e++) count++, diagonal += node[e] >= first && node[e] < first + nactive;
-    for (int c = 0; c < ndof; c++) d_nnz[p * ndof + c] = diagonal, o_nnz[p * ndof + c] = count - diagonal;
+    d_nnz[p] = diagonal, o_nnz[p] = count - diagonal;
   }
-  PetscErrorCode code = ierr ? 0 : MatCreateAIJ(comm, r->npoints * ndof, nactive * ndof, PETSC_DETERMINE,
-                                                PETSC_DETERMINE, 0, d_nnz, 0, o_nnz, P);
+  Mat scalar = NULL;
+  PetscErrorCode code = ierr ? 0 : MatCreateAIJ(comm, r->npoints, nactive, PETSC_DETERMINE, PETSC_DETERMINE, 0, d_nnz,
+                                                0, o_nnz, &scalar);
   free(d_nnz), free(o_nnz);
   MICA_CALL(ierr);
   PCALL(code);
   PetscInt row0;
-  PCALL(MatGetOwnershipRange(*P, &row0, NULL));
-  for (PetscInt p = 0; p < r->npoints; p++) {
-    const PetscInt *node = r->node + (long)p * MAX_CORNERS;
+  code = MatGetOwnershipRange(scalar, &row0, NULL);
+  for (PetscInt p = 0; p < r->npoints && !code; p++) {
+    const PetscInt *node = r->node + (long)p * MAX_CORNERS, row = row0 + p;
     int count = 0;
     while (count < MAX_CORNERS && node[count] >= 0) count++;
-    for (int c = 0; c < ndof; c++) {
-      const PetscInt row = row0 + p * ndof + c;
-      for (int e = 0; e < count; e++) cols[e] = node[e] * ndof + c;
-      PCALL(MatSetValues(*P, 1, &row, count, cols, r->weight + (long)p * MAX_CORNERS, INSERT_VALUES));
-    }
+    code = MatSetValues(scalar, 1, &row, count, node, r->weight + (long)p * MAX_CORNERS, INSERT_VALUES);
   }
-  PCALL(MatAssemblyBegin(*P, MAT_FINAL_ASSEMBLY));
-  PCALL(MatAssemblyEnd(*P, MAT_FINAL_ASSEMBLY));
+  if (!code) code = MatAssemblyBegin(scalar, MAT_FINAL_ASSEMBLY);
+  if (!code) code = MatAssemblyEnd(scalar, MAT_FINAL_ASSEMBLY);
+  if (!code) code = MatCreateMAIJ(scalar, ndof, P);
+  MatDestroy(&scalar); /* P holds its own reference */
+  PCALL(code);
   return MICA_SUCCESS;
 }
 
