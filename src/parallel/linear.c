@@ -36,7 +36,7 @@ static void mirror_stats(MicaLinearSolverStats *out, const MicaLinearSolverStats
   out->time_analyze = in->time_analyze, out->analyses = in->analyses;
   out->krylov_iterations = in->krylov_iterations, out->krylov_iterations_max = in->krylov_iterations_max;
   out->krylov_residual = in->krylov_residual, out->krylov_cpu = in->krylov_cpu;
-  out->halo_dofs = in->halo_dofs;
+  out->halo_dofs = in->halo_dofs, out->multigrid_levels = in->multigrid_levels;
 }
 
 static int ranks_factor(MicaLinearSolver *solver, const MicaSparse *A) {

@@ -165,6 +165,7 @@ typedef struct {
   Vec b, x, r, all;     /* all: the solution on every rank (local layout: at this rank's nodes, ghosts included) */
   VecScatter to_all;
   MatNullSpace near_null;
+  MicaLatticeMG *lattice; /* gmg: its levels (petsc_lattice.c), whose coarse operators each tangent remakes */
   char prefix[32];
   char *options;        /* the options given to PETSc under prefix (cleared at the end) */
   int solved;           /* a solve has run: the options were checked */
@@ -197,6 +198,7 @@ static void clear_options(PetscSolver *ps) {
 }
 
 static void free_objects(PetscSolver *ps) {
+  mica_petsc_lattice_mg_destroy(&ps->lattice);
   KSPDestroy(&ps->ksp);
   MatNullSpaceDestroy(&ps->near_null);
   MatDestroy(&ps->A);
@@ -484,7 +486,7 @@ static int attach_near_null(PetscSolver *ps, const MicaKrylovOptions *k) {
 }
 
 /* solver.petsc = "gmg": the lattices and interpolations from the coordinates of this rank's rows' nodes. */
-static int attach_lattice_mg(PetscSolver *ps, const MicaKrylovOptions *k, int *levels_made) {
+static int attach_lattice_mg(PetscSolver *ps, const MicaKrylovOptions *k, int *levels) {
   MICA_CHECK(k->coords && k->coord_dim > 0 && k->coord_nodes == ps->nnodes, MICA_ERR_INPUT,
              "%s: solver.petsc = \"gmg\" builds its coarse spaces from the coordinates of the particles, and this "
              "problem's unknowns are not all at particles (finite elements or multipliers); use solver.petsc = "
@@ -498,14 +500,13 @@ static int attach_lattice_mg(PetscSolver *ps, const MicaKrylovOptions *k, int *l
     for (int d = 0; d < dim; d++) points[(long)p * dim + d] = k->coords[node * dim + d];
   }
   PC pc;
-  int levels = 0;
   PetscErrorCode code = KSPGetPC(ps->ksp, &pc);
   int ierr = code ? MICA_SUCCESS
-                  : mica_petsc_lattice_mg(pc, ps->comm, dim, ps->ndof, ps->nlocal, points, ps->N / ps->ndof,
-                                          k->petsc_preset_where, &levels);
+                  : mica_petsc_lattice_mg_create(pc, ps->comm, dim, ps->ndof, ps->nlocal, points, ps->N / ps->ndof,
+                                                 k->petsc_preset_where, &ps->lattice);
   free(points);
   PCALL(code);
-  *levels_made = levels;
+  *levels = mica_petsc_lattice_mg_levels(ps->lattice);
   return ierr;
 }
 
@@ -613,6 +614,7 @@ static int petsc_factor(MicaLinearSolver *solver, const MicaSparse *L) {
     PCALL(MatGetGhosts(ps->A, &nghosts, &ghosts));
     solver->stats.halo_dofs = (long)nghosts;
   }
+  if (ps->lattice) MICA_CALL(mica_petsc_lattice_mg_operators(ps->lattice, ps->A)); /* gmg's coarse operators */
   /* the preconditioner (factorization, multigrid hierarchy) for these values, here and not in the solve: KSPSetUp
    * sets it up only once per KSPSetOperators, PCSetUp again whenever the matrix changed since */
   PCALL(KSPSetUp(ps->ksp));

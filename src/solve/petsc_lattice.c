@@ -15,8 +15,10 @@
  * operator PCMG factors (LU; redundantly on every rank under MPI). Interpolation P_l from lattice l to the level
  * below it: the row of unknown c at a point x holds the multilinear weights of the 2^dim nodes of the lattice cell
  * around x, at the same component c (each of the ndof unknowns interpolated alone: displacements, rotations,
- * micro-deformations alike). Coarse operators: Galerkin, PᵀAP (PCMG's -pc_mg_galerkin both), recomputed in the
- * same pattern at every new tangent; the interpolations are made once per matrix pattern.
+ * micro-deformations alike), as PETSc's MAIJ of the scalar interpolation. Coarse operators: Galerkin, PᵀAP,
+ * made here through PETSc's MatProduct (not PCMG's own -pc_mg_galerkin, whose parallel algorithm cannot be chosen
+ * from a prefix), the symbolic phase once per matrix pattern and the numeric one at every new tangent; the
+ * interpolations are made once per matrix pattern.
  *
  * Ownership: lattice node (i, j, k) has the number i + m₀ (j + m₁ k) and rank r owns the numbers
  * [r M / P, (r + 1) M / P) of the M nodes: computed, not stored, so no rank holds an array of the lattice's size.
@@ -271,37 +273,84 @@ static int make_level(MPI_Comm comm, int ndof, const Lattice *g, PetscInt npoint
   return ierr;
 }
 
-int mica_petsc_lattice_mg(PC pc, MPI_Comm comm, int dim, int ndof, PetscInt nrows_local, const double *points,
-                          long nglobal_nodes, const char *where, int *levels) {
+struct MicaLatticeMG {
+  PC pc;                 /* borrowed: the PCMG these levels are */
+  int count;             /* lattices */
+  int size;              /* ranks */
+  Mat P[MAX_LEVELS];     /* P[l]: from lattice l + 1 to the level below (l = 0: the particles) */
+  Mat coarse[MAX_LEVELS]; /* coarse[l] = P[l]ᵀ (level below) P[l]: the operator of lattice l + 1 */
+};
+
+int mica_petsc_lattice_mg_create(PC pc, MPI_Comm comm, int dim, int ndof, PetscInt nrows_local, const double *points,
+                                 long nglobal_nodes, const char *where, MicaLatticeMG **out) {
   int rank, size;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   MICA_CHECK(dim >= 1 && dim <= 3 && ndof > 0 && nrows_local % ndof == 0, MICA_ERR_ARGUMENT,
              "petsc gmg: %d-D, %d unknowns per node, %d rows", dim, ndof, (int)nrows_local);
   Lattice lattice[MAX_LEVELS];
-  Mat P[MAX_LEVELS];
   PetscInt *active[MAX_LEVELS] = {NULL}, nactive[MAX_LEVELS], total = 0;
   MICA_CALL(first_lattice(comm, dim, nrows_local / ndof, points, nglobal_nodes, where, &lattice[0]));
-  int count = 0, ierr = MICA_SUCCESS; /* lattices made */
+  MicaLatticeMG *mg = NULL;
+  MICA_CALL(MICA_CALLOC(mg, 1));
+  mg->pc = pc, mg->size = size;
+  int ierr = MICA_SUCCESS;
   do {
-    Lattice *g = &lattice[count];
+    Lattice *g = &lattice[mg->count];
     lattice_own(g, rank, size);
-    const Lattice *below = count ? &lattice[count - 1] : NULL;
-    ierr = make_level(comm, ndof, g, below ? nactive[count - 1] : nrows_local / ndof, points, below,
-                      below ? active[count - 1] : NULL, &active[count], &nactive[count], &total, &P[count]);
+    const Lattice *below = mg->count ? &lattice[mg->count - 1] : NULL;
+    ierr = make_level(comm, ndof, g, below ? nactive[mg->count - 1] : nrows_local / ndof, points, below,
+                      below ? active[mg->count - 1] : NULL, &active[mg->count], &nactive[mg->count], &total,
+                      &mg->P[mg->count]);
     if (ierr) break;
-    count++;
-  } while (total > COARSEST && count < MAX_LEVELS && coarser_lattice(&lattice[count - 1], &lattice[count]));
+    mg->count++;
+  } while (total > COARSEST && mg->count < MAX_LEVELS &&
+           coarser_lattice(&lattice[mg->count - 1], &lattice[mg->count]));
   for (int l = 0; l < MAX_LEVELS; l++) free(active[l]);
-  /* PCMG's numbering: level 0 the coarsest lattice, level count the particles */
+  /* PCMG's numbering: level 0 the coarsest lattice, level count the particles; the coarse operators are ours
+   * (mica_petsc_lattice_mg_operators), not PCMG's Galerkin products, so that their algorithm is chosen */
   PetscErrorCode code = 0;
   if (!ierr) code = PCSetType(pc, PCMG);
-  if (!ierr && !code) code = PCMGSetLevels(pc, count + 1, NULL);
-  if (!ierr && !code) code = PCMGSetGalerkin(pc, PC_MG_GALERKIN_BOTH);
-  for (int l = 0; l < count && !ierr && !code; l++) code = PCMGSetInterpolation(pc, count - l, P[l]);
-  for (int l = 0; l < count; l++) MatDestroy(&P[l]);
-  MICA_CALL(ierr);
-  PCALL(code);
-  *levels = count + 1;
+  if (!ierr && !code) code = PCMGSetLevels(pc, mg->count + 1, NULL);
+  if (!ierr && !code) code = PCMGSetGalerkin(pc, PC_MG_GALERKIN_NONE);
+  for (int l = 0; l < mg->count && !ierr && !code; l++) code = PCMGSetInterpolation(pc, mg->count - l, mg->P[l]);
+  if (!ierr && code) ierr = mica_petsc_error(code, "PCMG", __FILE__, __LINE__);
+  if (ierr) {
+    mica_petsc_lattice_mg_destroy(&mg);
+    return ierr;
+  }
+  *out = mg;
   return MICA_SUCCESS;
+}
+
+int mica_petsc_lattice_mg_levels(const MicaLatticeMG *mg) { return mg ? mg->count + 1 : 0; }
+
+int mica_petsc_lattice_mg_operators(MicaLatticeMG *mg, Mat A) {
+  Mat fine = A;
+  for (int l = 0; l < mg->count; l++) {
+    if (!mg->coarse[l]) { /* the first tangent of this pattern: the products' symbolic phase, once */
+      PCALL(MatProductCreate(fine, mg->P[l], NULL, &mg->coarse[l]));
+      PCALL(MatProductSetType(mg->coarse[l], MATPRODUCT_PtAP));
+      /* several ranks: PETSc's "backend" PᵀAP (local products of the rank's blocks, assembled by COO) — its
+       * default parallel one took 3.3 s symbolic against 0.5 s serially on the 33³ speed-up cube at P = 2,
+       * "backend" 1.0 s (docs/performance.md §Geometric multigrid) */
+      PCALL(MatProductSetAlgorithm(mg->coarse[l], mg->size > 1 ? "backend" : MATPRODUCTALGORITHMDEFAULT));
+      PCALL(MatProductSetFill(mg->coarse[l], PETSC_DEFAULT));
+      PCALL(MatProductSetFromOptions(mg->coarse[l]));
+      PCALL(MatProductSymbolic(mg->coarse[l]));
+      KSP smoother;
+      PCALL(PCMGGetSmoother(mg->pc, mg->count - 1 - l, &smoother));
+      PCALL(KSPSetOperators(smoother, mg->coarse[l], mg->coarse[l]));
+    }
+    PCALL(MatProductNumeric(mg->coarse[l]));
+    fine = mg->coarse[l];
+  }
+  return MICA_SUCCESS;
+}
+
+void mica_petsc_lattice_mg_destroy(MicaLatticeMG **mg) {
+  if (!*mg) return;
+  for (int l = 0; l < MAX_LEVELS; l++) MatDestroy(&(*mg)->P[l]), MatDestroy(&(*mg)->coarse[l]);
+  free(*mg);
+  *mg = NULL;
 }

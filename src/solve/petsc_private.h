@@ -15,11 +15,17 @@ int mica_petsc_error(PetscErrorCode code, const char *call, const char *file, in
   } while (0)
 
 /* Geometric multigrid on particles (petsc_lattice.c): pc becomes PCMG whose coarse spaces are regular lattices
- * over the bounding box of the particles, each about half as fine as the one below, with Galerkin coarse
- * operators (PᵀAP) and multilinear interpolation; the finest level is the matrix's rows, nrows_local of them on
- * this rank, ndof consecutive unknowns per node, node i of them at points[i * dim ..]. nglobal_nodes: the nodes
- * over all ranks; where: the deck's solver.petsc, for the errors. *levels: how many levels it made. */
-int mica_petsc_lattice_mg(PC pc, MPI_Comm comm, int dim, int ndof, PetscInt nrows_local, const double *points,
-                          long nglobal_nodes, const char *where, int *levels);
+ * over the bounding box of the particles, each about half as fine as the one below, with multilinear
+ * interpolation; the finest level is the matrix's rows, nrows_local of them on this rank, ndof consecutive unknowns
+ * per node, node i of them at points[i * dim ..]. nglobal_nodes: the nodes over all ranks; where: the deck's
+ * solver.petsc, for the errors. The coarse operators, Galerkin's PᵀAP level by level, are made by
+ * mica_petsc_lattice_mg_operators for each new tangent A (of one pattern: the symbolic phase once), before the PC
+ * is set up. */
+typedef struct MicaLatticeMG MicaLatticeMG;
+int mica_petsc_lattice_mg_create(PC pc, MPI_Comm comm, int dim, int ndof, PetscInt nrows_local, const double *points,
+                                 long nglobal_nodes, const char *where, MicaLatticeMG **mg);
+int mica_petsc_lattice_mg_levels(const MicaLatticeMG *mg); /* the lattices and the particles */
+int mica_petsc_lattice_mg_operators(MicaLatticeMG *mg, Mat A);
+void mica_petsc_lattice_mg_destroy(MicaLatticeMG **mg);
 
 #endif
