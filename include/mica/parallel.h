@@ -246,6 +246,9 @@ int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOp
 int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz);
 /* The same for matrices in local numbering: node k of L is node global_node[k] of nglobal (NULL: the identity). */
 int mica_parallel_matrix_nnz_mapped(const MicaSparse *L, const long *global_node, long nglobal, long *nnz);
+/* Collective, distributed data: nnz of the whole tangent whose contributions the ranks' K hold (local numbering),
+ * counted at the rows' owners: only the ghost rows' entries travel (own.c). */
+int mica_owned_matrix_nnz(const MicaDistribution *dist, const MicaSparse *K, long *nnz);
 /* Collective: the largest value of v over the ranks (for counts: memory per rank, ...). */
 long mica_parallel_max_long(long v);
 long mica_parallel_sum_long(long v);

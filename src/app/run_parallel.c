@@ -79,7 +79,7 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
 /* parallel.data = "distributed": the whole problem's counts are the sums of the ranks' owned parts. */
 static int owned_totals(const RunProblem *rp, RunTotals *c) {
   const MicaDistribution *d = rp->dist;
-  MICA_CALL(mica_parallel_matrix_nnz_mapped(rp->solid->K, d->global_node, d->nglobal_nodes, &c->nnz));
+  MICA_CALL(mica_owned_matrix_nnz(d, rp->solid->K, &c->nnz));
   c->particles = d->nparticles;
   c->dofs = d->nglobal_nodes * rp->solid->ncomp; /* with the multiplier nodes, as serially */
   c->cells = mica_parallel_sum_long(c->cells);
