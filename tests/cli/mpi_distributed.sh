@@ -8,7 +8,7 @@
 #     Neo-Hooke (4 load steps), the 3-D cube in tension (linear) — both with Nitsche's method, the default —, the
 #     Cosserat manufactured solution with penalty and with Nitsche, the cube with penalty; and with MUMPS at P = 2, 3, 4 on a jittered and a graded layout;
 #   - VCI (auto: on for jittered particles): Cook's membrane jittered at P = 1-4 with MUMPS (LU) within 1e-10 of the
-#     serial cholmod-sym run, with GAMG (GMRES) at P = 2, 4 within 1e-7, the jittered 3-D cube at P = 2, 4 (MUMPS);
+#     serial cholmod-sym run, with GAMG and gmg (GMRES) at P = 2, 4 within 1e-7, the jittered 3-D cube at P = 2, 4 (MUMPS);
 #   - probes (each evaluated by the lowest rank holding the point's whole support): Cook's tip, a stress and the
 #     strain energy, the cube's corner and centre, the glide layer's four, a jittered VCI run's, at P = 2-4 within
 #     1e-10 (relative) of the serial run;
@@ -141,7 +141,7 @@ check_layout jittered tests/decks/parallel/cook.cfg --set "particles.count=[9,9]
 # VCI (quadrature.vci = auto: on for jittered particles, serially and distributed): each particle's Gram matrix and
 # right-hand sides summed at its owner over the ranks its support reaches, solved there, ξ sent to the ghosts. The
 # tangent is unsymmetric: MUMPS's LU at P = 1-4 within 1e-10 of the serial cholmod-sym run (refined to round-off),
-# GMRES with GAMG within 1e-7; and the 3-D jittered cube (boundary faces' sums) with MUMPS at P = 2, 4
+# GMRES with GAMG and with gmg within 1e-7; and the 3-D jittered cube (boundary faces' sums) with MUMPS at P = 2, 4
 check_vci() {
   local name=$1 ranks=$2 deck=$3; shift 3
   REFERENCE=cholmod-sym serial "$work/$name" "$deck" "$@"
@@ -155,9 +155,11 @@ check_vci() {
 jittered=(--set "particles.count=[9,9]" --set solver.steps=2 --set particles.layout=\"jittered\" --set particles.seed=7)
 check_vci vci "1 2 3 4" tests/decks/parallel/cook.cfg "${jittered[@]}"
 for np in 2 4; do
-  distributed "$np" "$work/vci-$np-gamg" tests/decks/parallel/cook.cfg "${jittered[@]}" --set solver.petsc=\"gamg\" \
-    --set solver.linear_rtol=1e-12
-  same "$work/vci" "$work/vci-$np-gamg" "$np" 1e-7
+  for preset in gamg gmg; do # gmg: GMRES, its coarse operators the "backend" PᵀAP of the unsymmetric tangent
+    distributed "$np" "$work/vci-$np-$preset" tests/decks/parallel/cook.cfg "${jittered[@]}" \
+      --set solver.petsc=\"$preset\" --set solver.linear_rtol=1e-12
+    same "$work/vci" "$work/vci-$np-$preset" "$np" 1e-7
+  done
 done
 check_vci vci_cube "2 4" tests/decks/parallel/cube.cfg --set "particles.count=[6,6,6]" --set quadrature.order=3 \
   --set particles.layout=\"jittered\" --set particles.seed=3

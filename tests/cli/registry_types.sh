@@ -35,7 +35,7 @@ help=$("$MICA" help run)
 for line in 'bc.method +choice +"nitsche" +penalty\|nitsche\|lagrange\|collocation$' \
             'solver.linear +choice +"auto" +auto\|cholmod\|umfpack\|cholmod-sym\|petsc$' \
             'problem.method +choice +"efg" +efg\|fe$' 'quadrature.mode +choice +"gauss" +gauss\|nodal\|scni\|nsni$' \
-            'solver.petsc +choice +"mumps" +mumps\|gamg\|hypre\|asm-cholmod\|asm-umfpack\|$' \
+            'solver.petsc +choice +"mumps" +mumps\|gamg\|gmg\|hypre\|asm-cholmod\|$' \
             'bc.alpha +float +- '; do
   grep -Eq "^$line" <<<"$help" || fail "mica help run lacks /$line/"
 done
