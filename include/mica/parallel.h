@@ -242,10 +242,9 @@ int mica_distribution_destroy(MicaDistribution **dist);
  * right-hand side and returns its solution (replicated data: whole vectors; distributed: owned and ghosts). */
 int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOps *ops, MicaLinearSolver **solver);
 
-/* Collective: nnz of the sum over ranks of their matrices L (the pattern of the whole tangent). */
+/* Collective, replicated data: nnz of the sum over ranks of their matrices L (the pattern of the whole tangent),
+ * every entry gathered to a rank by its column and counted there. */
 int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz);
-/* The same for matrices in local numbering: node k of L is node global_node[k] of nglobal (NULL: the identity). */
-int mica_parallel_matrix_nnz_mapped(const MicaSparse *L, const long *global_node, long nglobal, long *nnz);
 /* Collective, distributed data: nnz of the whole tangent whose contributions the ranks' K hold (local numbering),
  * counted at the rows' owners: only the ghost rows' entries travel (own.c). */
 int mica_owned_matrix_nnz(const MicaDistribution *dist, const MicaSparse *K, long *nnz);

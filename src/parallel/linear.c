@@ -105,10 +105,10 @@ static int count_distinct(long *keys, long count, long n, long *upper, long *dia
   return MICA_SUCCESS;
 }
 
-int mica_parallel_matrix_nnz_mapped(const MicaSparse *L, const long *global_node, long nglobal, long *nnz) {
+int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz) {
   const int P = mica_parallel_size();
-  const long n = L->n, nd = L->ndof, N = global_node ? nglobal * nd : n;
-#define GLOBAL(j) (global_node ? global_node[(j) / nd] * nd + (j) % nd : (j))
+  const long n = L->n, nd = L->ndof, N = n;
+#define GLOBAL(j) (j)
   int *counts = NULL, *displs = NULL, *rcounts = NULL, *rdispls = NULL;
   long *send = NULL, *recv = NULL, *cursor = NULL, nrecv = 0, sendn = 0, mine[2] = {0, 0};
   int ierr = MICA_CALLOC(counts, 2L * P + 2);
@@ -152,4 +152,3 @@ cleanup:
 }
 #undef GLOBAL
 
-int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz) { return mica_parallel_matrix_nnz_mapped(L, NULL, 0, nnz); }
