@@ -217,6 +217,14 @@ int mica_discretization_grid(const MicaShapeSpec *shape, const MicaLayoutSpec *l
  * MICA_ERR_INPUT for a Gmsh mesh, an irregular layout, or a cell that folds (volume ≤ 0). */
 int mica_discretization_nodal(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                               MicaDiscretization *disc);
+/* The nodal cells of the particles of one box [lo, hi) of a built-in shape's index grid (what a rank builds with
+ * parallel.data = "distributed"): a new discretization of only those particles (x, grid order), their cells
+ * (nodal: boundary points and second moments), qx = x, qw = the cells' volumes, and the boundary sets on their
+ * faces, whose vertices are named (vertex_key) by the whole dual grid's corners, alike on every box. The cells are
+ * the ones mica_discretization_nodal builds for the same particles; no Gauss points, no output mesh. */
+int mica_discretization_nodal_block(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                                    const MicaCellSpec *cells, const long lo[3], const long hi[3],
+                                    MicaDiscretization **block);
 /* NSNI's points (docs/theory.md §NSNI): the volume points of a nodal discretization moved from the particles to
  * their cells' centroids x_I + S_I/|Ω_I| (S_I = ∫ (x − x_I) dV, by the divergence theorem on the cells' boundary
  * points), and the second moments taken about them (M − S Sᵀ/|Ω_I|), so that the first moments of the

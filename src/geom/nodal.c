@@ -28,52 +28,93 @@ enum { MAX_SPLITS = 2 * GEOM_KINKS_MAX + 1 }; /* sub-faces of a 2-D face: kinks 
 enum { INTERIOR = -1, UNCOVERED = -2 };        /* NodalFace.set of faces in no boundary set */
 
 /* One face of a cell in parameter space: a segment (2 vertices) or a bilinear quad (4), oriented so that the
- * mapped normal points out of the cell; set: the boundary set it belongs to, or INTERIOR, or UNCOVERED. */
+ * mapped normal points out of the cell; set: the boundary set it belongs to, or INTERIOR, or UNCOVERED; key: each
+ * vertex's name, the same on every block that builds it (vertex_keys). */
 typedef struct {
   long cell;
   int set;
   double v[4][3];
+  long key[4];
 } NodalFace;
 
+/* The dual grid of the cells of the particle box [lo, hi) (the whole grid, or one rank's block of it): its corners
+ * [lo, hi] and the particles around them, [lo − 1, hi + 1) within the grid. Indices are the whole grid's. */
 typedef struct {
   int dim;
-  long n[3];      /* particles per axis */
-  double *corner; /* [Π(n_d + 1) × dim] parameter coordinates */
+  long n[3];           /* particles per axis (1 beyond the dimension) */
+  long lo[3], hi[3];   /* the cells built */
+  long xlo[3], xhi[3]; /* the particles xi holds */
+  long ext[3];         /* corners per axis in the box: hi − lo + 1 (1 beyond the dimension) */
+  double *xi;          /* [Π (xhi − xlo) × dim] parameter coordinates, grid order */
+  double *corner;      /* [Π ext × dim] */
 } DualGrid;
 
+/* A corner's place in the box, and its name in the whole grid of (n_d + 1) corners per axis. */
 static long corner_id(const DualGrid *g, long a, long b, long c) {
-  return (c * (g->n[1] + 1) + b) * (g->n[0] + 1) + a;
+  return ((c - g->lo[2]) * g->ext[1] + (b - g->lo[1])) * g->ext[0] + (a - g->lo[0]);
+}
+
+static long corner_key(const DualGrid *g, const long k[3]) {
+  return (k[2] * (g->n[1] + 1) + k[1]) * (g->n[0] + 1) + k[0];
+}
+
+/* Names of the points where a 2-D face is split at a kink: after every corner's, by edge and crossing. */
+static long split_key(const DualGrid *g, long lower_corner, int axis, int crossing) {
+  const long corners = (g->n[0] + 1) * (g->n[1] + 1);
+  return corners + (2 * lower_corner + axis) * MAX_SPLITS + crossing;
 }
 
 static long clamp(long i, long n) { return i < 0 ? 0 : i >= n ? n - 1 : i; }
 
 /* Corner (a, b, c): the average of the particles around it, indices clamped to the grid. */
-static void corner_point(const DualGrid *g, const double *xi, const long k[3], double *out) {
+static void corner_point(const DualGrid *g, const long k[3], double *out) {
   const int dim = g->dim;
   const int nsum = 1 << dim;
   for (int d = 0; d < dim; d++) out[d] = 0.0;
   for (int m = 0; m < nsum; m++) {
     long p = 0, stride = 1;
     for (int d = 0; d < dim; d++) {
-      p += clamp(k[d] - 1 + ((m >> d) & 1), g->n[d]) * stride;
-      stride *= g->n[d];
+      p += (clamp(k[d] - 1 + ((m >> d) & 1), g->n[d]) - g->xlo[d]) * stride;
+      stride *= g->xhi[d] - g->xlo[d];
     }
-    for (int d = 0; d < dim; d++) out[d] += xi[p * dim + d];
+    for (int d = 0; d < dim; d++) out[d] += g->xi[p * dim + d];
   }
   for (int d = 0; d < dim; d++) out[d] /= nsum;
 }
 
-static int dual_grid_create(int dim, const long n[3], const double *xi, DualGrid *g) {
-  *g = (DualGrid){.dim = dim, .n = {n[0], dim > 1 ? n[1] : 1, dim > 2 ? n[2] : 1}};
-  const long na = g->n[0] + 1, nb = g->n[1] + 1, nc = dim > 2 ? g->n[2] + 1 : 1;
-  MICA_CALL(MICA_MALLOC(g->corner, na * nb * nc * dim));
-  for (long c = 0; c < nc; c++)
-    for (long b = 0; b < nb; b++)
-      for (long a = 0; a < na; a++) {
+static int dual_grid_create(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes, const long lo[3],
+                            const long hi[3], DualGrid *g) {
+  const int dim = map->dim;
+  memset(g, 0, sizeof *g);
+  g->dim = dim;
+  for (int d = 0; d < 3; d++) {
+    g->n[d] = d < dim ? axes->n[d] : 1;
+    g->lo[d] = d < dim ? lo[d] : 0, g->hi[d] = d < dim ? hi[d] : 1;
+    g->xlo[d] = g->lo[d] > 0 ? g->lo[d] - 1 : 0, g->xhi[d] = g->hi[d] < g->n[d] ? g->hi[d] + 1 : g->n[d];
+    g->ext[d] = d < dim ? g->hi[d] - g->lo[d] + 1 : 1;
+  }
+  long np;
+  MICA_CALL(geom_layout_box(map, layout, axes, g->xlo, g->xhi, &np, &g->xi));
+  MICA_CALL(MICA_MALLOC(g->corner, g->ext[0] * g->ext[1] * g->ext[2] * dim + 1));
+  for (long c = g->lo[2]; c < g->lo[2] + g->ext[2]; c++)
+    for (long b = g->lo[1]; b < g->lo[1] + g->ext[1]; b++)
+      for (long a = g->lo[0]; a < g->lo[0] + g->ext[0]; a++) {
         const long k[3] = {a, b, c};
-        corner_point(g, xi, k, &g->corner[corner_id(g, a, b, c) * dim]);
+        corner_point(g, k, &g->corner[corner_id(g, a, b, c) * dim]);
       }
   return MICA_SUCCESS;
+}
+
+static void dual_grid_destroy(DualGrid *g) {
+  MICA_FREE(g->xi);
+  MICA_FREE(g->corner);
+}
+
+/* Cells in the box, and cell (i, j, k)'s number among them (grid order). */
+static long box_cells(const DualGrid *g) { return (g->hi[0] - g->lo[0]) * (g->hi[1] - g->lo[1]) * (g->hi[2] - g->lo[2]); }
+
+static long box_cell(const DualGrid *g, const long idx[3]) {
+  return ((idx[2] - g->lo[2]) * (g->hi[1] - g->lo[1]) + (idx[1] - g->lo[1])) * (g->hi[0] - g->lo[0]) + (idx[0] - g->lo[0]);
 }
 
 /* ---- faces ---------------------------------------------------------------------------------------------- */
@@ -119,19 +160,28 @@ static int kink_crossings(const GeomMap *map, const double *a, const double *b, 
   return n;
 }
 
-/* A 2-D edge a → b of cell `cell`, split at kinks, appended to faces. */
-static void add_edge(const GeomMap *map, long cell, const double *a, const double *b, int axis, int side,
-                     NodalFace *faces, long *nfaces) {
+/* A 2-D edge of cell `cell` from corner ka to corner kb (whole-grid indices), split at kinks, appended to faces;
+ * edge_axis: the axis it runs along, for the names of its split points. */
+static void add_edge(const GeomMap *map, const DualGrid *g, long cell, const long ka[3], const long kb[3],
+                     int edge_axis, int axis, int side, NodalFace *faces, long *nfaces) {
+  const double *a = &g->corner[corner_id(g, ka[0], ka[1], 0) * 2], *b = &g->corner[corner_id(g, kb[0], kb[1], 0) * 2];
+  const long key_a = corner_key(g, ka), key_b = corner_key(g, kb), lower = key_a < key_b ? key_a : key_b;
   double pts[MAX_SPLITS + 1][2];
+  long keys[MAX_SPLITS + 1];
   memcpy(pts[0], a, sizeof pts[0]);
+  keys[0] = key_a;
   const int ncross = kink_crossings(map, a, b, pts + 1);
+  for (int k = 1; k <= ncross; k++) /* numbered from the lower corner, whichever way the cell runs */
+    keys[k] = split_key(g, lower, edge_axis, key_a < key_b ? k - 1 : ncross - k);
   memcpy(pts[ncross + 1], b, sizeof pts[0]);
+  keys[ncross + 1] = key_b;
   for (int k = 0; k <= ncross; k++) {
     NodalFace *f = &faces[(*nfaces)++];
     memset(f, 0, sizeof *f);
     f->cell = cell;
     memcpy(f->v[0], pts[k], sizeof pts[k]);
     memcpy(f->v[1], pts[k + 1], sizeof pts[k + 1]);
+    f->key[0] = keys[k], f->key[1] = keys[k + 1];
     double mid[3] = {0.5 * (pts[k][0] + pts[k + 1][0]), 0.5 * (pts[k][1] + pts[k + 1][1]), 0};
     f->set = axis >= 0 ? face_set(map, axis, side, mid) : INTERIOR;
   }
@@ -141,20 +191,19 @@ static void add_edge(const GeomMap *map, long cell, const double *a, const doubl
  * to the normals later): bottom, right, top, left; an edge on the parameter box's boundary is tagged with
  * its face (axis, side). */
 static void cell_faces_2d(const GeomMap *map, const DualGrid *g, long i, long j, NodalFace *faces, long *nfaces) {
-  const double *c00 = &g->corner[corner_id(g, i, j, 0) * 2], *c10 = &g->corner[corner_id(g, i + 1, j, 0) * 2];
-  const double *c11 = &g->corner[corner_id(g, i + 1, j + 1, 0) * 2], *c01 = &g->corner[corner_id(g, i, j + 1, 0) * 2];
-  const long cell = j * g->n[0] + i;
-  add_edge(map, cell, c00, c10, j == 0 ? 1 : -1, 0, faces, nfaces);
-  add_edge(map, cell, c10, c11, i == g->n[0] - 1 ? 0 : -1, 1, faces, nfaces);
-  add_edge(map, cell, c11, c01, j == g->n[1] - 1 ? 1 : -1, 1, faces, nfaces);
-  add_edge(map, cell, c01, c00, i == 0 ? 0 : -1, 0, faces, nfaces);
+  const long c00[3] = {i, j, 0}, c10[3] = {i + 1, j, 0}, c11[3] = {i + 1, j + 1, 0}, c01[3] = {i, j + 1, 0};
+  const long idx[3] = {i, j, 0}, cell = box_cell(g, idx);
+  add_edge(map, g, cell, c00, c10, 0, j == 0 ? 1 : -1, 0, faces, nfaces);
+  add_edge(map, g, cell, c10, c11, 1, i == g->n[0] - 1 ? 0 : -1, 1, faces, nfaces);
+  add_edge(map, g, cell, c11, c01, 0, j == g->n[1] - 1 ? 1 : -1, 1, faces, nfaces);
+  add_edge(map, g, cell, c01, c00, 1, i == 0 ? 0 : -1, 0, faces, nfaces);
 }
 
 /* The six bilinear faces of 3-D cell (i, j, k). Face (axis a, side s) has tangential axes t0 = a+1, t1 = a+2
  * (cyclic, e_t0 × e_t1 = e_a); its vertices run along t0 then t1 on side 1 and the other way round on side 0,
  * so (∂ξ/∂s × ∂ξ/∂t) points out of the cell. */
 static void cell_faces_3d(const GeomMap *map, const DualGrid *g, const long idx[3], NodalFace *faces, long *nfaces) {
-  const long cell = (idx[2] * g->n[1] + idx[1]) * g->n[0] + idx[0];
+  const long cell = box_cell(g, idx);
   for (int a = 0; a < 3; a++)
     for (int side = 0; side < 2; side++) {
       const int t0 = side ? (a + 1) % 3 : (a + 2) % 3, t1 = side ? (a + 2) % 3 : (a + 1) % 3;
@@ -167,6 +216,7 @@ static void cell_faces_3d(const GeomMap *map, const DualGrid *g, const long idx[
         long k[3] = {idx[0], idx[1], idx[2]};
         k[a] += side, k[t0] += step[v][0], k[t1] += step[v][1];
         memcpy(f->v[v], &g->corner[corner_id(g, k[0], k[1], k[2]) * 3], 3 * sizeof(double));
+        f->key[v] = corner_key(g, k);
         for (int d = 0; d < 3; d++) mid[d] += 0.25 * f->v[v][d];
       }
       const int on_boundary = side ? idx[a] == g->n[a] - 1 : idx[a] == 0;
@@ -174,20 +224,21 @@ static void cell_faces_3d(const GeomMap *map, const DualGrid *g, const long idx[
     }
 }
 
-/* All faces, cell by cell (a cell's faces are contiguous); *faces allocated. */
+/* All faces of the box's cells, cell by cell (a cell's faces are contiguous); *faces allocated. */
 static int collect_faces(const GeomMap *map, const DualGrid *g, long *nfaces, NodalFace **faces) {
   const int dim = g->dim;
-  const long ncells = g->n[0] * g->n[1] * g->n[2];
   const long per_cell = dim == 2 ? 4 * (MAX_SPLITS) : 6;
-  MICA_CALL(MICA_MALLOC(*faces, ncells * per_cell));
+  MICA_CALL(MICA_MALLOC(*faces, box_cells(g) * per_cell + 1));
   *nfaces = 0;
-  for (long c = 0; c < ncells; c++) {
-    const long idx[3] = {c % g->n[0], (c / g->n[0]) % g->n[1], c / (g->n[0] * g->n[1])};
-    if (dim == 2)
-      cell_faces_2d(map, g, idx[0], idx[1], *faces, nfaces);
-    else
-      cell_faces_3d(map, g, idx, *faces, nfaces);
-  }
+  for (long k = g->lo[2]; k < g->hi[2]; k++)
+    for (long j = g->lo[1]; j < g->hi[1]; j++)
+      for (long i = g->lo[0]; i < g->hi[0]; i++) {
+        const long idx[3] = {i, j, k};
+        if (dim == 2)
+          cell_faces_2d(map, g, i, j, *faces, nfaces);
+        else
+          cell_faces_3d(map, g, idx, *faces, nfaces);
+      }
   return MICA_SUCCESS;
 }
 
@@ -313,47 +364,61 @@ int mica_discretization_nodal_centroids(MicaDiscretization *disc) {
 
 /* ---- boundary sets on the cells' boundary faces ---------------------------------------------------------- */
 
-static int compare_point(const void *pa, const void *pb) {
-  const double *a = pa, *b = pb;
-  for (int d = 0; d < 3; d++)
-    if (a[d] != b[d]) return a[d] < b[d] ? -1 : 1;
-  return 0;
+/* A vertex of a set's faces: its name and parameter point. */
+typedef struct {
+  long key;
+  double xi[3];
+} SetVertex;
+
+static int compare_vertex(const void *pa, const void *pb) {
+  const long a = ((const SetVertex *)pa)->key, b = ((const SetVertex *)pb)->key;
+  return (a > b) - (a < b);
 }
 
-/* The distinct parameter vertices of the set's faces (sorted, as 3-vectors), allocated in *keys. */
-static int set_vertex_keys(const NodalFace *faces, long nfaces, int set, int esize, double (**keys)[3], long *nkeys) {
+/* The distinct vertices of the set's faces, by name (sorted), allocated in *verts. */
+static int set_vertices(const NodalFace *faces, long nfaces, int set, int esize, SetVertex **verts, long *nverts) {
   long n = 0;
   for (long f = 0; f < nfaces; f++) n += faces[f].set == set ? esize : 0;
-  MICA_CALL(MICA_MALLOC(*keys, n > 0 ? n : 1));
+  MICA_CALL(MICA_MALLOC(*verts, n > 0 ? n : 1));
   n = 0;
   for (long f = 0; f < nfaces; f++)
     if (faces[f].set == set)
-      for (int v = 0; v < esize; v++) memcpy((*keys)[n++], faces[f].v[v], sizeof(double[3]));
-  qsort(*keys, (size_t)n, sizeof **keys, compare_point);
+      for (int v = 0; v < esize; v++) {
+        (*verts)[n].key = faces[f].key[v];
+        memcpy((*verts)[n++].xi, faces[f].v[v], sizeof(double[3]));
+      }
+  qsort(*verts, (size_t)n, sizeof **verts, compare_vertex);
   long m = 0;
   for (long i = 0; i < n; i++)
-    if (m == 0 || compare_point((*keys)[i], (*keys)[m - 1]) != 0) memcpy((*keys)[m++], (*keys)[i], sizeof(double[3]));
-  *nkeys = m;
+    if (m == 0 || (*verts)[i].key != (*verts)[m - 1].key) (*verts)[m++] = (*verts)[i];
+  *nverts = m;
   return MICA_SUCCESS;
 }
 
+/* Boundary set `set` from the faces in it: Gauss points, elements, and vertices named by their keys (vertex_key:
+ * the same on every rank that builds a face with it, which distributed multipliers are named by). */
 static int build_set(const GeomMap *map, const Rule *r, const NodalFace *faces, long nfaces, int set,
                      MicaBoundarySet *out) {
   const int dim = map->dim, esize = dim == 2 ? 2 : 4;
   const long per_face = rule_points(r, dim);
-  double(*keys)[3] = NULL;
-  long nkeys = 0, nelem = 0, q = 0;
+  SetVertex *verts = NULL;
+  long nverts = 0, nelem = 0, q = 0;
   int ierr = MICA_SUCCESS;
   memcpy(out->name, map->sets[set].name, sizeof out->name);
   for (long f = 0; f < nfaces; f++) nelem += faces[f].set == set;
-  MICA_CALL_CLEANUP(set_vertex_keys(faces, nfaces, set, esize, &keys, &nkeys));
-  MICA_CALL_CLEANUP(geom_set_alloc(out, dim, nelem * per_face, nelem, esize, nkeys));
-  for (long v = 0; v < nkeys; v++) geom_map_eval(map, keys[v], &out->vertex_x[v * dim], NULL);
+  MICA_CALL_CLEANUP(set_vertices(faces, nfaces, set, esize, &verts, &nverts));
+  MICA_CALL_CLEANUP(geom_set_alloc(out, dim, nelem * per_face, nelem, esize, nverts));
+  MICA_CALL_CLEANUP(MICA_MALLOC(out->vertex_key, nverts + 1));
+  for (long v = 0; v < nverts; v++) {
+    geom_map_eval(map, verts[v].xi, &out->vertex_x[v * dim], NULL);
+    out->vertex_key[v] = verts[v].key;
+  }
   for (long f = 0, e = 0; f < nfaces; f++) {
     if (faces[f].set != set) continue;
     for (int v = 0; v < esize; v++) {
-      const double(*hit)[3] = bsearch(faces[f].v[v], keys, (size_t)nkeys, sizeof *keys, compare_point);
-      out->element_vertices[e * esize + v] = hit - keys;
+      const SetVertex probe = {.key = faces[f].key[v]};
+      const SetVertex *hit = bsearch(&probe, verts, (size_t)nverts, sizeof *verts, compare_vertex);
+      out->element_vertices[e * esize + v] = hit - verts;
     }
     for (long g = 0; g < per_face; g++, q++) {
       double *wn = &out->normal[q * dim], len = 0.0;
@@ -372,7 +437,7 @@ static int build_set(const GeomMap *map, const Rule *r, const NodalFace *faces, 
     e++;
   }
 cleanup:
-  MICA_FREE(keys);
+  MICA_FREE(verts);
   return ierr;
 }
 
@@ -416,40 +481,85 @@ static int use_particles(MicaDiscretization *disc, double **volume) {
   return MICA_SUCCESS;
 }
 
-int mica_discretization_nodal(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
-                              MicaDiscretization *disc) {
+/* The nodal cells of the particles of the box [lo, hi) into disc, whose x holds those particles (grid order):
+ * disc->nodal (boundary points, second moments about the particles), the boundary sets rebuilt on their faces,
+ * and their volumes (*volume, allocated). */
+static int build_cells(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                       const long lo[3], const long hi[3], MicaDiscretization *disc, double **volume) {
   int ierr = MICA_SUCCESS;
   GeomMap map;
   GeomAxes axes = {0};
   DualGrid grid = {0};
   NodalFace *faces = NULL;
-  double *xi = NULL, *volume = NULL;
-  long np = 0, nfaces = 0;
+  long nfaces = 0;
   Rule rule = {.order = cells->boundary_order ? cells->boundary_order : cells->order};
-  MICA_CHECK(disc && !disc->nodal, MICA_ERR_ARGUMENT, "mica_discretization_nodal: no discretization, or nodal already");
+  MICA_CHECK(disc && !disc->nodal, MICA_ERR_ARGUMENT, "nodal cells: no discretization, or nodal already");
   MICA_CALL(check_supported(shape, layout));
   MICA_CALL(geom_map_init(shape, &map));
   for (int d = 0; d < map.dim; d++) /* no built-in 3-D shape has one: kinks are split in 2-D only */
     MICA_CHECK(map.dim == 2 || map.nkinks[d] == 0, MICA_ERR_ARGUMENT, "nodal cells: a 3-D map with a kink");
   MICA_CALL(geom_gauss_unit(rule.order, rule.u, rule.w));
   MICA_CALL_CLEANUP(geom_axes_create(layout, map.dim, &axes));
-  MICA_CALL_CLEANUP(geom_layout_particles(&map, layout, &axes, &np, &xi));
-  MICA_CHECK(np == disc->nparticles, MICA_ERR_ARGUMENT, "mica_discretization_nodal: %ld particles, not %ld", np,
-             disc->nparticles);
-  MICA_CALL_CLEANUP(dual_grid_create(map.dim, axes.n, xi, &grid));
+  MICA_CALL_CLEANUP(dual_grid_create(&map, layout, &axes, lo, hi, &grid));
+  const long ncells = box_cells(&grid);
+  if (ncells != disc->nparticles) {
+    ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_ARGUMENT, "nodal cells: %ld particles, not %ld",
+                          disc->nparticles, ncells);
+    goto cleanup;
+  }
   MICA_CALL_CLEANUP(collect_faces(&map, &grid, &nfaces, &faces));
-  MICA_CALL_CLEANUP(nodal_cells_create(&map, &rule, faces, nfaces, np, &disc->nodal));
-  MICA_CALL_CLEANUP(MICA_MALLOC(volume, np));
-  MICA_CALL_CLEANUP(cell_volumes(disc->nodal, map.dim, disc->x, volume));
+  MICA_CALL_CLEANUP(nodal_cells_create(&map, &rule, faces, nfaces, ncells, &disc->nodal));
+  MICA_CALL_CLEANUP(MICA_MALLOC(*volume, ncells + 1));
+  MICA_CALL_CLEANUP(cell_volumes(disc->nodal, map.dim, disc->x, *volume));
   MICA_CALL_CLEANUP(cell_moments(disc->nodal, map.dim, disc->x));
   MICA_CALL_CLEANUP(build_sets(&map, &rule, faces, nfaces, disc));
-  MICA_CALL_CLEANUP(use_particles(disc, &volume));
 cleanup:
-  MICA_FREE(volume);
   MICA_FREE(faces);
-  MICA_FREE(xi);
-  MICA_FREE(grid.corner);
+  dual_grid_destroy(&grid);
   geom_axes_destroy(&axes);
+  return ierr;
+}
+
+int mica_discretization_nodal(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                              MicaDiscretization *disc) {
+  double *volume = NULL;
+  const long lo[3] = {0, 0, 0};
+  MICA_CHECK(disc, MICA_ERR_ARGUMENT, "mica_discretization_nodal: no discretization");
+  int ierr = build_cells(shape, layout, cells, lo, disc->grid_particles, disc, &volume);
+  if (!ierr) ierr = use_particles(disc, &volume);
+  MICA_FREE(volume);
+  return ierr;
+}
+
+int mica_discretization_nodal_block(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                                    const MicaCellSpec *cells, const long lo[3], const long hi[3],
+                                    MicaDiscretization **block) {
+  int ierr = MICA_SUCCESS;
+  GeomMap map;
+  GeomAxes axes = {0};
+  MicaDiscretization *d = NULL;
+  double *xi = NULL, *volume = NULL;
+  *block = NULL;
+  MICA_CALL(check_supported(shape, layout));
+  MICA_CALL(geom_map_init(shape, &map));
+  MICA_CALL_CLEANUP(MICA_CALLOC(d, 1));
+  d->dim = map.dim;
+  MICA_CALL_CLEANUP(geom_axes_create(layout, map.dim, &axes));
+  MICA_CALL_CLEANUP(geom_layout_box(&map, layout, &axes, lo, hi, &d->nparticles, &xi));
+  MICA_CALL_CLEANUP(MICA_MALLOC(d->x, d->nparticles * map.dim + 1));
+  for (long p = 0; p < d->nparticles; p++) geom_map_eval(&map, &xi[p * map.dim], &d->x[p * map.dim], NULL);
+  MICA_CALL_CLEANUP(build_cells(shape, layout, cells, lo, hi, d, &volume));
+  MICA_CALL_CLEANUP(MICA_MALLOC(d->qx, d->nparticles * map.dim + 1));
+  memcpy(d->qx, d->x, sizeof(double) * (size_t)(d->nparticles * map.dim));
+  d->qw = volume, volume = NULL;
+  d->nquad = d->ncells = d->nparticles;
+  for (long p = 0; p < d->nparticles; p++) d->volume += d->qw[p];
+  *block = d, d = NULL;
+cleanup:
+  MICA_FREE(xi);
+  MICA_FREE(volume);
+  geom_axes_destroy(&axes);
+  mica_discretization_destroy(&d);
   return ierr;
 }
 

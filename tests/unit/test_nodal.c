@@ -15,6 +15,11 @@
  * - The divergence identity Σ_I |Ω_I| ∇̃N_J(x_I) = Σ_∂Ω w N_J n (boundary sets) for every particle J, to 1e-12
  *   relative to Σ |terms|: the conformity that the linear patch test needs. Direct nodal integration's MLS
  *   gradients violate it (defect > 1e-6 printed), so the check can tell.
+ * - Blocks (mica_discretization_nodal_block, what a rank builds with parallel.data = "distributed"): the plate with
+ *   a hole (a kink splits faces) and the 3-D box, jittered, cut into 2 × 2 (2 × 1 × 2) blocks: every block's
+ *   volumes, second moments and cell boundary points equal the whole build's for the same particles (to 1e-14
+ *   relative), each set's points and weights over the blocks sum to the whole set's, and every block vertex has
+ *   the key and position of the whole set's vertex with that key.
  * - Refusals: a Gmsh mesh and an irregular layout are MICA_ERR_INPUT.
  */
 #include <math.h>
@@ -291,6 +296,83 @@ static void test_scni_divergence(void **state) {
   check_divergence("box 3-D, jittered", &box3, &j3);
 }
 
+/* The whole set's vertex with this key, or −1. */
+static long find_key(const MicaBoundarySet *set, long key) {
+  for (long v = 0; v < set->nvertices; v++)
+    if (set->vertex_key[v] == key) return v;
+  return -1;
+}
+
+/* One block [lo, hi) against the whole build: cells, then the sets (counts and weights added into got[]). */
+static void check_block(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                        const MicaDiscretization *whole, const long lo[3], const long hi[3], double *got) {
+  MicaDiscretization *b = NULL;
+  const int dim = whole->dim;
+  check_ok(mica_discretization_nodal_block(shape, layout, cells, lo, hi, &b));
+  long k = 0;
+  for (long i2 = lo[2]; i2 < hi[2]; i2++)
+    for (long i1 = lo[1]; i1 < hi[1]; i1++)
+      for (long i0 = lo[0]; i0 < hi[0]; i0++, k++) {
+        const long w = i0 + whole->grid_particles[0] * (i1 + whole->grid_particles[1] * i2);
+        for (int d = 0; d < dim; d++) assert_true(b->x[k * dim + d] == whole->x[w * dim + d]);
+        assert_true(fabs(b->qw[k] / whole->qw[w] - 1) <= 1e-14);
+        const double *Mb = b->nodal->moment + k * dim * dim, *Mw = whole->nodal->moment + w * dim * dim;
+        for (int e = 0; e < dim * dim; e++) assert_true(fabs(Mb[e] - Mw[e]) <= 1e-14 * fabs(Mw[0]));
+        assert_int_equal(b->nodal->ptr[k + 1] - b->nodal->ptr[k], whole->nodal->ptr[w + 1] - whole->nodal->ptr[w]);
+      }
+  assert_int_equal(k, b->nquad);
+  assert_int_equal(b->nsets, whole->nsets);
+  for (int s = 0; s < b->nsets; s++) {
+    const MicaBoundarySet *bs = &b->sets[s], *ws = &whole->sets[s];
+    assert_string_equal(bs->name, ws->name);
+    got[2 * s] += (double)bs->n;
+    for (long q = 0; q < bs->n; q++) got[2 * s + 1] += bs->w[q];
+    for (long v = 0; v < bs->nvertices; v++) {
+      const long wv = find_key(ws, bs->vertex_key[v]);
+      assert_true(wv >= 0);
+      for (int d = 0; d < dim; d++) assert_true(fabs(bs->vertex_x[v * dim + d] - ws->vertex_x[wv * dim + d]) <= 1e-13);
+    }
+  }
+  mica_discretization_destroy(&b);
+}
+
+static void check_blocks(const char *name, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                         const long cut[3]) {
+  const MicaCellSpec cells = {.order = 4};
+  MicaDiscretization *whole = nodal(shape, layout);
+  const long *n = whole->grid_particles;
+  double got[64] = {0};
+  for (int c = 0; c < 8; c++) {
+    long lo[3], hi[3];
+    for (int d = 0; d < 3; d++) {
+      const int upper = (c >> d) & 1;
+      if (cut[d] <= 0 && upper) goto next; /* this axis is not cut */
+      lo[d] = cut[d] > 0 && upper ? cut[d] : 0, hi[d] = cut[d] > 0 && !upper ? cut[d] : n[d];
+    }
+    check_block(shape, layout, &cells, whole, lo, hi, got);
+  next:;
+  }
+  for (int s = 0; s < whole->nsets; s++) {
+    double w = 0;
+    for (long q = 0; q < whole->sets[s].n; q++) w += whole->sets[s].w[q];
+    print_message("%-16s set %-8s: %4.0f points in blocks, %4ld whole; weights %.16g / %.16g\n", name,
+                  whole->sets[s].name, got[2 * s], whole->sets[s].n, got[2 * s + 1], w);
+    assert_int_equal((long)got[2 * s], whole->sets[s].n);
+    assert_true(fabs(got[2 * s + 1] - w) <= 1e-13 * w);
+  }
+  mica_discretization_destroy(&whole);
+}
+
+static void test_blocks(void **state) {
+  (void)state;
+  const MicaShapeSpec plate = {.kind = MICA_SHAPE_PLATE_HOLE, .dim = 2, .hole_radius = 1, .plate_size = {5, 4}};
+  const MicaShapeSpec box3 = {.kind = MICA_SHAPE_BOX, .dim = 3, .lower = {0, 0, 0}, .upper = {2, 1, 1.5}};
+  const MicaLayoutSpec lp = layout_of(MICA_LAYOUT_JITTERED, 11, 7, 0), lb = layout_of(MICA_LAYOUT_JITTERED, 5, 4, 6);
+  const long cut2[3] = {5, 3, 0}, cut3[3] = {2, 0, 3};
+  check_blocks("plate with hole", &plate, &lp, cut2);
+  check_blocks("box 3-D", &box3, &lb, cut3);
+}
+
 static void test_refused(void **state) {
   (void)state;
   const MicaShapeSpec box = {.kind = MICA_SHAPE_BOX, .dim = 2, .lower = {0, 0}, .upper = {1, 1}};
@@ -314,7 +396,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_volumes),        cmocka_unit_test(test_regular_weights), cmocka_unit_test(test_closed_cells),
       cmocka_unit_test(test_boundary_sets),  cmocka_unit_test(test_scni_linear),     cmocka_unit_test(test_scni_divergence),
-      cmocka_unit_test(test_refused),
+      cmocka_unit_test(test_blocks),         cmocka_unit_test(test_refused),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
