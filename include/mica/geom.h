@@ -197,6 +197,7 @@ typedef struct MicaGridBlock {
   long particle_lo[3], particle_hi[3]; /* the particles laid out (grid order, the whole layout's values) */
   long cell_lo[3], cell_hi[3];         /* the cells whose volume points are built (cell order) */
   long boundary_lo[3], boundary_hi[3]; /* the cells whose boundary faces' points are built */
+  int mesh;                            /* 1: the output mesh of the cells [cell_lo, cell_hi) (disc->mesh) */
 } MicaGridBlock;
 /* Only the block's particles, volume points and boundary points (no output mesh; grid_* give the whole grids; the
  * sets' boundary vertices and elements are those of the block's faces, numbered per set; volume: the block's). What

@@ -166,6 +166,10 @@ int mls_set_radii(MlsApprox *mls, const double *radii);
  * set of particles (an MPI rank's block and ghosts) takes the whole set's, which its truncated neighborhoods
  * would not reproduce at the subset's edge. */
 int mls_set_spacing(MlsApprox *mls, const double *spacing);
+/* Replaces the weight's per-particle shape parameters (mls_weight_params; an adaptive weight's come from the
+ * particles whose supports cover each one, which a subset's edge would truncate, as for the spacings). Call it
+ * after mls_set_radii, which recomputes them. */
+int mls_set_weight_params(MlsApprox *mls, const double *wparam);
 
 int mls_dim(const MlsApprox *mls);
 long mls_num_particles(const MlsApprox *mls);
@@ -174,6 +178,7 @@ const double *mls_particles(const MlsApprox *mls); /* [n*dim] */
 const double *mls_radii(const MlsApprox *mls);     /* [n*dim] */
 const MlsOptions *mls_options(const MlsApprox *mls); /* as created (spacing_points NULL: it was read then) */
 const double *mls_spacing(const MlsApprox *mls);   /* [n*dim], local spacing h */
+const double *mls_weight_params(const MlsApprox *mls); /* [n*dim], ρ_id / c_i (adaptive weights), else 1 */
 /* The neighbor search with the supports set, and the support kind (src/parallel finds supports with them). */
 const MlsSearch *mls_search(const MlsApprox *mls);
 MlsSupportKind mls_support_kind(const MlsApprox *mls);

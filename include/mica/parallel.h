@@ -100,6 +100,10 @@ int mica_parallel_broadcast(int ierr, double *v, long n, int root);
 /* Collective, after agreeing on ierr: the string *text of rank `root` to all (the others' *text, NULL or
  * allocated, is freed and replaced by a copy). */
 int mica_parallel_broadcast_text(int ierr, char **text, int root);
+/* Collective: each rank's text appended, in rank order, to the file at path (given on rank 0, which has written its
+ * part and flushed; ignored elsewhere) — one rank at a time, a token passed along the ranks, so that a table whose
+ * rows are spread over the ranks is one file and no rank holds more than its own rows. */
+int mica_parallel_append_in_order(int ierr, const char *path, const char *text);
 /* Ends every rank now (MPI_Abort) after printing the current error on this rank; serial: exit. */
 void mica_parallel_abort(const char *program, int status);
 
@@ -197,8 +201,21 @@ typedef struct MicaDistribution {
  * interfaces small (as PETSc's DMDA does: no partitioner); this rank builds its particles, its cells' volume and
  * boundary points, and its ghosts from the supports of those points (a box of the grid around its block, with
  * its own MLS search), and the MLS approximation of its particles (mls_opt) with the whole layout's radii. */
+/* What a rank's points are, beyond its cells' Gauss points. */
+typedef struct MicaOwnedSpec {
+  int error_order;      /* quadrature.error_order: the error norms' own points in the rank's cells (0: none) */
+  int nodal;            /* quadrature at the particles: the volume points are the nodal cells of the rank's particles
+                           (mica_discretization_nodal_block), the boundary sets their faces', and the cells' Gauss
+                           points are kept for the error norms (gauss_x) */
+  int centroids;        /* NSNI: the points at the cells' centroids (mica_discretization_nodal_centroids) */
+  int cell_boundaries;  /* SCNI: the cells' boundary points are evaluated too (the smoothed gradients) */
+  int revolve;          /* an axisymmetric section: the rank's weights times 2πr (mica_discretization_revolve) */
+  int mesh;             /* output.mesh: the output mesh of the rank's cells (local->mesh), its points evaluated */
+  double wider_support; /* > 1: the points also reach the particles within this multiple of the supports' radii
+                           (NSNI's quadratic Hessians for a linear basis); 0 otherwise */
+} MicaOwnedSpec;
 int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
-                                   const MicaCellSpec *cells, const MlsOptions *mls_opt, int error_order,
+                                   const MicaCellSpec *cells, const MlsOptions *mls_opt, const MicaOwnedSpec *spec,
                                    MicaDistribution **dist);
 /* The volume points of order `order` per direction in this rank's cells (quadrature.error_order's points: a
  * discretization without particles or boundary points). */

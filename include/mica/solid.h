@@ -96,14 +96,15 @@ size_t mica_shape_cache_bytes(const MicaShapeCache *cache);
  * MICA_ERR_NUMERIC error naming it. */
 int mica_vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume);
 struct MicaDistribution;
+struct MicaNsni;
 /* Collective. The same on a rank's share of distributed data (parallel.data = "distributed": disc, mls and volume
- * the rank's, its particles owned first): each particle's sums are added at its owner (the ghost plan's reverse
- * exchange), solved there, and ξ copied into the ghosts before the rank's points are corrected. */
+ * the rank's, its particles owned first), with NSNI's stabilization points (the rank's; NULL: none) in the
+ * constraint: each particle's sums are added at its owner (the ghost plan's reverse exchange), solved there, and ξ
+ * copied into the ghosts before the rank's points are corrected. */
 int mica_vci_correct_owned(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
-                           struct MicaDistribution *dist);
+                           const struct MicaNsni *nsni, struct MicaDistribution *dist);
 /* The same with NSNI's stabilization points (nsni may be NULL) in the constraint: their terms of the Galerkin
  * residual, Σ w (H_I g)·∂_g σ, join the volume sum (docs/theory.md §NSNI). */
-struct MicaNsni;
 int mica_vci_correct_stabilized(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
                                 const struct MicaNsni *nsni);
 /* NSNI with a linear basis: one correction of the gradients, for trial and test functions alike (volume->dN is
@@ -126,13 +127,18 @@ int mica_scni_cache_create(const MicaDiscretization *disc, const MlsApprox *mls,
  * (Σ_k w_k g_k ⊗ g_k = M_I), and as shape functions the directional derivatives of the MLS ones: N = g·∇N_J(x_I),
  * dN = H_J(x_I) g. The supports are those of x_I (a linear basis: of a quadratic fit with radii 3/2 as wide). */
 typedef struct MicaNsni {
-  MicaShapeCache *cache; /* order 1, npoints = nparticles × dim */
+  MicaShapeCache *cache; /* order 1, npoints = cells × dim */
   double *w;             /* [npoints] */
   double *dir;           /* [npoints × dim] */
   double *grad;          /* [entries × dim]: ∇N_J(x_I) of each entry (with_gradients), else NULL */
 } MicaNsni;
+/* One stabilization point set per nodal cell (disc->nodal->n = disc->nquad points; with distributed data a rank's
+ * cells, fewer than its particles, which include the ghosts). */
 int mica_nsni_create(const MicaDiscretization *disc, const MlsApprox *mls, int with_gradients, MicaNsni **nsni);
 int mica_nsni_destroy(MicaNsni **nsni);
+/* The Hessians' support radii over the MLS ones for a basis of this order (3/2 for a linear basis, whose Hessians
+ * come from a quadratic fit; 1 otherwise): how far from its points a rank's particles must reach (own.c). */
+double mica_nsni_hessian_reach(int basis_order);
 
 /* ---- Boundary conditions ------------------------------------------------------------------------------- */
 
@@ -210,6 +216,9 @@ typedef struct MicaSolidOptions {
   int nsni;                     /* 1: NSNI's stabilization points (mica_nsni_create): disc must be nodal;
                                    first-order plane or 3-D models; finite-strain classical ones are stabilized
                                    with the linear model of their E, ν (docs/theory.md §NSNI) */
+  int vci_local;                /* 1: VCI solved particle by particle only (the Petrov–Galerkin form), never NSNI's
+                                   symmetric correction, whose global solve runs in one process: what
+                                   parallel.data = "distributed" gives on any number of ranks */
   int general_kernel;           /* 1: the slot-based element stiffness even where the classical kernel applies
                                    (mica/kernel.h; tests and benchmarks compare the two) */
   struct MicaDistribution *parallel; /* NULL: serial. Else (src/parallel, mica/parallel.h) the discretization
@@ -245,6 +254,11 @@ typedef struct MicaSolid {
   MicaShapeCache **collocation;   /* [ndirichlet] (collocation): shape functions at the set's vertices */
   long **collocation_particle;    /* [ndirichlet][vertices]: the particle at each vertex, whose rows are replaced */
   double **collocation_scale;     /* [ndirichlet][vertices]: E h^(dim−2) at that particle, the rows' scale */
+  int *collocation_last;          /* [nparticles·ncomp]: the last condition whose vertex replaces row (I, a) — the
+                                     one that writes it, as serially each overwrites the previous ones — or −1;
+                                     with distributed data over every rank that holds particle I */
+  double *collocation_share;      /* [nparticles·ncomp]: 1 / the ranks that write row (I, a) (a vertex on two
+                                     ranks' faces: each writes half; 1 serially) */
   long nmultiplier_nodes;
   MicaSparse *K;                  /* the tangent, pattern built once */
   double time_vci;                /* seconds spent on the VCI correction (0 without it, or shared) */

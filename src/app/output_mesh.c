@@ -1,8 +1,9 @@
 /* output.mesh: with output.vtu, the same fields on the cells after every converged load step, mesh_NNNN.vtu,
  * part "mesh" of solution.pvd. Each vertex value is what a probe there reports: the shape functions at the mesh's
  * points come through the approximation's points op, as a probe's do (run_output.c). Under MPI each rank writes
- * the piece of its block of cells (run_mesh_piece_range: cells [c P / n ... ) of n, by index), mesh_NNNN_R.vtu,
- * and rank 0 mesh_NNNN.pvtu; a serial run writes mesh_NNNN.vtu as before. */
+ * a piece, mesh_NNNN_R.vtu — with replicated data its range of the whole mesh (run_mesh_piece_range: cells
+ * [c P / n ... ) of n, by index), with distributed data the mesh of its own cells — and rank 0 mesh_NNNN.pvtu; a
+ * serial run writes mesh_NNNN.vtu as before. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -69,7 +70,8 @@ static int mesh_step_piece(MicaOutputRun *run, int step, const double *u) {
   }
   if (mica_parallel_rank() == 0) {
     snprintf(name, sizeof name, run_output_mesh.pieces_pattern, step);
-    MICA_CALL_CLEANUP(run_output_pvtu(run, name, piece_pattern, step, ncells, &f));
+    /* distributed data: every rank has cells and writes a piece (ncells 0: all of them) */
+    MICA_CALL_CLEANUP(run_output_pvtu(run, name, piece_pattern, step, run->rp->owned_data ? 0 : ncells, &f));
   }
 cleanup:
   free(path);

@@ -3,8 +3,10 @@
  * error against a FEniCS overkill solution). One row per point of run_error_points — quadrature.error_order's
  * own points when set, else the solve's volume points (under nodal integration the background Gauss points) —
  * with its weight, every unknown's value and geometric gradient, and the model's energy density W there: over
- * the solve's own points Σ w W is the `energy` probe. Under MPI the error points must be whole on every rank
- * (quadrature.error_order > 0); rank 0 writes. */
+ * the solve's own points Σ w W is the `energy` probe. Under MPI with replicated data the error points must be
+ * whole on every rank (quadrature.error_order > 0) and rank 0 writes; with distributed data each rank has its
+ * cells' (or its nodal cells') points, and the ranks append their rows in rank order to the one file. */
+#define _GNU_SOURCE /* open_memstream */
 #include <stdio.h>
 #include <string.h>
 
@@ -18,7 +20,8 @@ static const MicaDeckKey quadrature_fields_keys[] = {
      "write quadrature_fields.csv: one row per error-norm point (quadrature.error_order's own points when set, "
      "else the solve's volume points): coordinates, weight w, every unknown and its gradient, energy density W "
      "(over the solve's points Σ w W is the energy probe); summary: quadrature_fields_points, "
-     "quadrature_fields_energy. MPI: needs quadrature.error_order > 0, rank 0 writes"},
+     "quadrature_fields_energy. MPI: replicated data needs quadrature.error_order > 0 (rank 0 writes); distributed "
+     "data: each rank's rows, in rank order"},
     {NULL},
 };
 
@@ -61,7 +64,7 @@ static int quadrature_fields_check(MicaOutputRun *run, void *ctx) {
   const MicaDeck *deck = rp->deck;
   long error_order;
   MICA_CALL(mica_deck_int(deck, "quadrature.error_order", &error_order));
-  if (!rp->dist || error_order > 0) return MICA_SUCCESS;
+  if (!rp->dist || rp->owned_data || error_order > 0) return MICA_SUCCESS;
   char where[256];
   mica_deck_where(deck, "output.quadrature_fields", where, sizeof where);
   MICA_ERROR(MICA_ERR_INPUT,
@@ -70,34 +73,69 @@ static int quadrature_fields_check(MicaOutputRun *run, void *ctx) {
              "without mpirun", where);
 }
 
-/* Writes the rows (rank 0) and adds Σ w W and the row count to the summary (every rank computes them). */
+/* The rows of the points c holds (fp: NULL to count only), and Σ w W over them. */
+static int write_rows(const RunProblem *rp, const MicaShapeCache *c, const double *qx, const double *qw,
+                      const double *u, FILE *fp, double *energy) {
+  const MicaSolid *s = rp->solid;
+  double q[128], W;
+  *energy = 0;
+  for (long p = 0; p < c->npoints; p++) {
+    mica_solid_kinematics(s, c, p, u, q);
+    MICA_CALL(s->opt.field.ops->eval(&s->opt.field, s->model_dim, q, &W, NULL, NULL));
+    *energy += qw[p] * W;
+    if (fp) write_row(rp, fp, qx + p * rp->disc->dim, qw[p], q, W);
+  }
+  return MICA_SUCCESS;
+}
+
+/* Distributed data: rank 0's rows into its file, the others' (formatted in memory) appended in rank order; ierr:
+ * rank 0's opening of the file (every rank reaches the collective append). */
+static int write_owned(int ierr, const RunProblem *rp, const MicaShapeCache *c, const double *qx, const double *qw,
+                       const double *u, MicaOutFile *out, double *energy) {
+  char *text = NULL;
+  size_t size = 0;
+  FILE *fp = out->fp;
+  if (!ierr && !fp && !(fp = open_memstream(&text, &size)))
+    ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_MEMORY, "quadrature_fields.csv: no memory stream");
+  if (!ierr) ierr = write_rows(rp, c, qx, qw, u, fp, energy);
+  if (fp && fp != out->fp) fclose(fp);
+  else if (fp && fflush(fp) != 0)
+    ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_IO, "cannot write %s", out->tmp_path);
+  ierr = mica_parallel_append_in_order(ierr, out->tmp_path, text ? text : "");
+  free(text);
+  return ierr;
+}
+
+/* Writes the rows (rank 0; with distributed data every rank its own) and adds Σ w W and the row count to the
+ * summary (every rank computes them). */
 static int quadrature_fields_finish(MicaOutputRun *run, void *ctx, const double *u, MicaJson *summary) {
   (void)ctx;
   RunProblem *rp = run->rp;
   const char *outdir = mica_output_dir(run);
-  const MicaSolid *s = rp->solid;
   const MicaShapeCache *c = NULL;
   const double *qx = NULL, *qw = NULL;
   int whole = 0;
   MICA_CALL(run_error_points(rp, &c, &qx, &qw, &whole));
-  MICA_CHECK(whole || !rp->dist, MICA_ERR_ARGUMENT, "run_quadrature_fields: points split among the ranks");
+  MICA_CHECK(whole || !rp->dist || rp->owned_data, MICA_ERR_ARGUMENT,
+             "run_quadrature_fields: points split among the ranks");
   const int writer = mica_output_writer(run);
   MicaOutFile out = {0};
   int ierr = MICA_SUCCESS;
+  double sums[2] = {0, (double)c->npoints}; /* Σ w W, points */
   if (writer) {
-    MICA_CALL_CLEANUP(mica_out_open_in(outdir, "quadrature_fields.csv", &out));
-    write_header(rp, out.fp);
+    ierr = mica_out_open_in(outdir, "quadrature_fields.csv", &out);
+    if (!ierr) write_header(rp, out.fp);
   }
-  double energy = 0, q[128], W;
-  for (long p = 0; p < c->npoints; p++) {
-    mica_solid_kinematics(s, c, p, u, q);
-    MICA_CALL_CLEANUP(s->opt.field.ops->eval(&s->opt.field, s->model_dim, q, &W, NULL, NULL));
-    energy += qw[p] * W;
-    if (writer) write_row(rp, out.fp, qx + p * rp->disc->dim, qw[p], q, W);
+  if (rp->owned_data) {
+    MICA_CALL_CLEANUP(write_owned(ierr, rp, c, qx, qw, u, &out, &sums[0]));
+    MICA_CALL_CLEANUP(mica_parallel_sum(MICA_SUCCESS, sums, 2));
+  } else {
+    MICA_CALL_CLEANUP(ierr);
+    MICA_CALL_CLEANUP(write_rows(rp, c, qx, qw, u, writer ? out.fp : NULL, &sums[0]));
   }
   if (writer) MICA_CALL_CLEANUP(mica_out_commit(&out));
-  MICA_CALL_CLEANUP(mica_json_int(summary, "quadrature_fields_points", c->npoints));
-  MICA_CALL_CLEANUP(mica_json_number(summary, "quadrature_fields_energy", energy));
+  MICA_CALL_CLEANUP(mica_json_int(summary, "quadrature_fields_points", (long)sums[1]));
+  MICA_CALL_CLEANUP(mica_json_number(summary, "quadrature_fields_energy", sums[0]));
 cleanup:
   mica_out_abort(&out);
   return ierr;

@@ -105,12 +105,13 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   const char *data;
   MICA_CALL_CLEANUP(mica_deck_string(deck, "parallel.data", &data));
   const int distributed = !strcmp(data, "distributed");
+  opt.vci_local = distributed; /* the same VCI form on any number of ranks (NSNI's symmetric one is serial) */
   /* a serial run of a distributed deck is its one-block case: the same refusals, so a deck means the same anywhere */
-  if (distributed && !mica_parallel_active()) MICA_CALL_CLEANUP(run_parallel_owned_check(deck, rp, &opt));
+  if (distributed && !mica_parallel_active()) MICA_CALL_CLEANUP(run_parallel_owned_check(deck, rp));
   if (mica_parallel_active()) { /* MPI: this rank's share of the quadrature points (run_parallel.c) */
-    MICA_CALL_CLEANUP(run_check_serial_only(deck, rp));
+    MICA_CALL_CLEANUP(run_check_serial_only(deck, rp, distributed));
     rp->owned_data = distributed;
-    if (rp->owned_data) MICA_CALL_CLEANUP(run_parallel_owned_check(deck, rp, &opt));
+    if (rp->owned_data) MICA_CALL_CLEANUP(run_parallel_owned_check(deck, rp));
     MICA_CALL_CLEANUP(run_parallel_distribute(deck, rp));
     opt.parallel = rp->dist;
     disc = rp->dist->local;

@@ -124,7 +124,8 @@ int run_read_pressure(const MicaDeck *deck, const RunProblem *rp, MicaSolidOptio
  * checks (grid, order, odd counts, cells = elements; *order from mls.order), the mesh and discretization
  * that replace the shape's, and the model / multiplier restrictions. quadrature.mode: nodal cells for
  * "nodal" and "scni" (run_read_integration, with the discretization), opt->scni and its restrictions
- * (run_read_scni). run_check_serial_only refuses both measuring sticks under MPI. All with the deck line. */
+ * (run_read_scni). run_check_serial_only refuses the FE measuring stick under MPI, and the nodal modes under MPI
+ * with replicated data (distributed data builds each rank's nodal cells). All with the deck line. */
 int run_is_fe(const MicaDeck *deck, int *fe);
 /* quadrature.mode: a registry of types (gauss, the default; nodal; scni; nsni), flags RUN_INTEGRATION_*. */
 enum {
@@ -141,11 +142,12 @@ int run_build_fe(const MicaLayoutSpec *layout, const MicaCellSpec *cells, int or
 int run_check_fe_model(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt);
 int run_check_fe_multipliers(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt, int n,
                              const MicaDirichlet *c);
+/* build = 0: the checks only (parallel.data = "distributed" under MPI: each rank builds its own cells, own.c). */
 int run_read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
-                         const MicaCellSpec *cells, RunProblem *rp);
+                         const MicaCellSpec *cells, int build, RunProblem *rp);
 int run_read_scni(const MicaDeck *deck, RunProblem *rp, MicaSolidOptions *opt);
 
-int run_check_serial_only(const MicaDeck *deck, const RunProblem *rp);
+int run_check_serial_only(const MicaDeck *deck, const RunProblem *rp, int distributed);
 
 /* The deck's geometry (run_geometry.c): the shape (mesh: a buffer for a Gmsh mesh's path, beside the deck), the
  * particle layout and the background cells (gmsh: the counts come from the mesh), checked with the deck line. */
@@ -189,7 +191,7 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp);
 int run_check_rigid(const MicaDeck *deck, const RunProblem *rp, const MicaFieldModel *field, int ndirichlet,
                     const MicaDirichlet *dirichlet);
 /* parallel.data = "distributed": refuses (deck error, the setting named) what it does not cover yet. */
-int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt);
+int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp);
 
 int run_parallel_totals(const RunProblem *rp, RunTotals *totals);
 int run_parallel_counts(const RunProblem *rp, MicaJson *summary);

@@ -199,15 +199,12 @@ static int read_axisymmetric(const MicaDeck *deck, RunProblem *rp) {
  * the conditions, and the grids' sizes. */
 static int names_only(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout, int fe,
                       int *yes) {
-  const char *data, *mode;
-  int axisymmetric;
+  const char *data;
   *yes = 0;
   if (!mica_parallel_active() || fe || shape->kind == MICA_SHAPE_GMSH || layout->kind == MICA_LAYOUT_IRREGULAR)
     return MICA_SUCCESS;
   MICA_CALL(mica_deck_string(deck, "parallel.data", &data));
-  MICA_CALL(mica_deck_string(deck, "quadrature.mode", &mode));
-  MICA_CALL(mica_deck_bool(deck, "geometry.axisymmetric", &axisymmetric));
-  *yes = !strcmp(data, "distributed") && !strcmp(mode, "gauss") && !axisymmetric;
+  *yes = !strcmp(data, "distributed");
   return MICA_SUCCESS;
 }
 
@@ -237,7 +234,8 @@ int run_build_geometry(const MicaDeck *deck, RunProblem *rp) {
   MICA_CALL(names_only(deck, &shape, &layout, fe, &only_names));
   if (only_names) {
     MICA_CALL(build_names_only(&shape, &layout, &cells, rp));
-    MICA_CALL(run_read_integration(deck, &shape, &layout, &cells, rp));
+    MICA_CALL(run_read_integration(deck, &shape, &layout, &cells, 0, rp));
+    MICA_CALL(read_axisymmetric(deck, rp)); /* the flag (and the section's dimension); the ranks revolve their points */
     rp->time_discretize = mica_wtime() - start;
     return MICA_SUCCESS;
   }
@@ -247,7 +245,7 @@ int run_build_geometry(const MicaDeck *deck, RunProblem *rp) {
     MICA_CALL(run_estimate_guard(deck, NULL, rp->disc->dim, &rp->estimate));
   }
   if (fe) MICA_CALL(run_build_fe(&layout, &cells, fe_order, rp));
-  MICA_CALL(run_read_integration(deck, &shape, &layout, &cells, rp));
+  MICA_CALL(run_read_integration(deck, &shape, &layout, &cells, 1, rp));
   MICA_CALL(read_axisymmetric(deck, rp));
   rp->time_discretize = mica_wtime() - start - rp->time_mls;
   if (!fe) {
@@ -275,9 +273,11 @@ int run_error_discretization(const RunProblem *rp, MicaDiscretization **disc) {
   MICA_CALL(run_read_shape(rp->deck, &shape, mesh, sizeof mesh));
   MICA_CALL(run_read_layout(rp->deck, shape.dim, shape.kind == MICA_SHAPE_GMSH, &layout, &cells));
   if (rp->owned_data) /* the points in this rank's cells (the distribution holds their supports) */
-    return mica_owned_cell_points(&shape, &layout, &cells, rp->dist, (int)order, disc);
-  cells.order = (int)order;
-  MICA_CALL(mica_discretization_create(&shape, &layout, &cells, disc));
+    MICA_CALL(mica_owned_cell_points(&shape, &layout, &cells, rp->dist, (int)order, disc));
+  else {
+    cells.order = (int)order;
+    MICA_CALL(mica_discretization_create(&shape, &layout, &cells, disc));
+  }
   const int ierr = rp->axisymmetric ? mica_discretization_revolve(*disc) : MICA_SUCCESS;
   if (ierr) mica_discretization_destroy(disc);
   return ierr;

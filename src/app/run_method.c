@@ -171,7 +171,7 @@ static int check_nodal_mode(const MicaDeck *deck, const char *mode, const MicaSh
 /* Nodal and SCNI modes turn the discretization into a nodal one (src/geom/nodal.c); a failure there (a folded
  * cell) is reported at the mode's line. */
 int run_read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
-                            const MicaCellSpec *cells, RunProblem *rp) {
+                            const MicaCellSpec *cells, int build, RunProblem *rp) {
   unsigned flags;
   MICA_CALL(mica_deck_string(deck, "quadrature.mode", &rp->integration));
   MICA_CALL(run_integration_flags(deck, &flags));
@@ -187,6 +187,7 @@ int run_read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const
   const int from_points = (flags & RUN_INTEGRATION_STABILIZED) &&
                           (shape->kind == MICA_SHAPE_GMSH || layout->kind == MICA_LAYOUT_IRREGULAR);
   MICA_CALL(check_nodal_mode(deck, rp->integration, shape, layout, from_points));
+  if (!build) return MICA_SUCCESS;
   int ierr;
   if (from_points) {
     ierr = mica_discretization_nodal_points(rp->disc);
@@ -247,16 +248,23 @@ int run_read_scni(const MicaDeck *deck, RunProblem *rp, MicaSolidOptions *opt) {
              opt->field.ops->type.name);
 }
 
-/* The measuring sticks of issue 5 run on one process: the FE baseline and the nodal integration modes keep
- * per-point data (elements, nodal cells) that the distribution of the quadrature points does not carry. */
-int run_check_serial_only(const MicaDeck *deck, const RunProblem *rp) {
-  const char *path = rp->fe ? "problem.method" : rp->disc->nodal ? "quadrature.mode" : NULL;
+/* The FE baseline and the nodal integration modes keep per-point data (elements, nodal cells) that replicated
+ * data's distribution of the quadrature points does not carry; with parallel.data = "distributed" each rank builds
+ * the nodal cells of its own particles (own.c), and the FE baseline stays a one-process measuring stick. */
+int run_check_serial_only(const MicaDeck *deck, const RunProblem *rp, int distributed) {
+  unsigned flags;
+  MICA_CALL(run_integration_flags(deck, &flags));
+  const int nodal = (flags & RUN_INTEGRATION_NODAL) && !distributed;
+  const char *path = rp->fe ? "problem.method" : nodal ? "quadrature.mode" : NULL;
   if (!path) return MICA_SUCCESS;
   char where[256];
   const char *value;
   mica_deck_where(deck, path, where, sizeof where);
   MICA_CALL(mica_deck_string(deck, path, &value));
-  MICA_ERROR(MICA_ERR_INPUT, "%s: %s = \"%s\" runs on one process (it is a measuring stick, not distributed); run "
-             "without mpirun, or use %s", where, path, value,
-             rp->fe ? "problem.method = \"efg\"" : "quadrature.mode = \"gauss\"");
+  if (rp->fe)
+    MICA_ERROR(MICA_ERR_INPUT, "%s: %s = \"%s\" runs on one process (it is a measuring stick, not distributed); run "
+               "without mpirun, or use problem.method = \"efg\"", where, path, value);
+  MICA_ERROR(MICA_ERR_INPUT, "%s: %s = \"%s\" under mpirun needs parallel.data = \"distributed\" (each rank builds its "
+             "particles' nodal cells; replicated data distributes Gauss points only); set it, or use quadrature.mode = "
+             "\"gauss\"", where, path, value);
 }

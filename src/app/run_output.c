@@ -309,7 +309,9 @@ int run_output_mesh_piece(RunOutput *out, const double *u, MicaOutputFields *fie
   RunProblem *rp = out->rp;
   const MicaCellMesh *mesh = rp->disc->mesh;
   MICA_CALL(mesh_cache(rp));
-  MICA_CALL(mesh_piece_create(mesh, mica_parallel_rank(), rp->dist->partition->nparts, piece));
+  /* replicated data: the rank's range of the whole mesh; distributed: the mesh of its cells, all of it */
+  if (rp->owned_data) MICA_CALL(mesh_piece_create(mesh, 0, 1, piece));
+  else MICA_CALL(mesh_piece_create(mesh, mica_parallel_rank(), rp->dist->partition->nparts, piece));
   int ierr = fields_publish(rp, rp->at_mesh, mesh->dim, mesh->x, u, piece->npoints, piece->points, fields);
   if (ierr) run_mesh_piece_free(piece);
   return ierr;

@@ -17,31 +17,19 @@ static int refuse_owned(const MicaDeck *deck, const char *path, const char *what
              "parallel.data = \"replicated\"", where, path, what);
 }
 
-int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp, const MicaSolidOptions *opt) {
+int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp) {
   const char *linear, *layout;
-  int flag;
   MICA_CALL(mica_deck_string(deck, "solver.linear", &linear));
   const MicaLinearSolverOps *ops = mica_linear_solver_find(linear); /* NULL: "auto", petsc under MPI */
   if (ops && !mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED))
     return refuse_owned(deck, "solver.linear", "set solver.linear = \"petsc\" or \"auto\" (the distributed matrix)");
+  /* FE first: its discretization (the elements') has no particle grid either */
+  if (rp->fe) return refuse_owned(deck, "problem.method", "use problem.method = \"efg\"");
   if (rp->disc->grid_points_per_cell <= 0) {
     MICA_CALL(mica_deck_string(deck, "particles.layout", &layout));
     return refuse_owned(deck, strcmp(layout, "irregular") ? "geometry.shape" : "particles.layout",
                         "use a built-in shape with a regular, graded or jittered layout");
   }
-  if (rp->axisymmetric) return refuse_owned(deck, "geometry.axisymmetric", "run a plane or 3-D solid");
-  if (rp->fe) return refuse_owned(deck, "problem.method", "use problem.method = \"efg\"");
-  if (rp->disc->nodal) return refuse_owned(deck, "quadrature.mode", "use quadrature.mode = \"gauss\"");
-  if (mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION))
-    return refuse_owned(deck, "bc.method", "use bc.method = \"penalty\", \"nitsche\" or \"lagrange\"");
-  MlsOptions mls_opt;
-  MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
-  if (mls_opt.weight && mica_type_has(&mls_opt.weight->type, MLS_WEIGHT_ADAPTIVE))
-    return refuse_owned(deck, "mls.weight", "use a weight without a per-particle shape parameter");
-  MICA_CALL(mica_deck_bool(deck, "output.mesh", &flag));
-  if (flag) return refuse_owned(deck, "output.mesh", "set output.mesh = false (the particle VTU pieces are written)");
-  MICA_CALL(mica_deck_bool(deck, "output.quadrature_fields", &flag));
-  if (flag) return refuse_owned(deck, "output.quadrature_fields", "set output.quadrature_fields = false");
   return MICA_SUCCESS;
 }
 
@@ -55,9 +43,23 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
     MICA_CALL(run_read_shape(deck, &shape, mesh, sizeof mesh));
     MICA_CALL(run_read_layout(deck, shape.dim, 0, &layout, &cells));
     long error_order;
+    unsigned flags;
+    int output_mesh, output_vtu;
+    MICA_CALL(mica_deck_bool(deck, "output.mesh", &output_mesh));
+    MICA_CALL(mica_deck_bool(deck, "output.vtu", &output_vtu));
     MICA_CALL(mica_study_mls_options(deck, rp->disc->dim, &mls_opt));
     MICA_CALL(mica_deck_int(deck, "quadrature.error_order", &error_order));
-    MICA_CALL(mica_distribution_create_owned(&shape, &layout, &cells, &mls_opt, (int)error_order, &rp->dist));
+    MICA_CALL(run_integration_flags(deck, &flags));
+    const MicaOwnedSpec spec = {
+        .error_order = (int)error_order,
+        .nodal = (flags & RUN_INTEGRATION_NODAL) != 0,
+        .centroids = (flags & RUN_INTEGRATION_STABILIZED) != 0,
+        .cell_boundaries = (flags & RUN_INTEGRATION_SMOOTHED) != 0,
+        .wider_support = (flags & RUN_INTEGRATION_STABILIZED) ? mica_nsni_hessian_reach(mls_opt.order) : 0,
+        .revolve = rp->axisymmetric,
+        .mesh = output_mesh && output_vtu, /* output_mesh.c: enabled with the VTU files */
+    };
+    MICA_CALL(mica_distribution_create_owned(&shape, &layout, &cells, &mls_opt, &spec, &rp->dist));
     const MicaDistribution *d = rp->dist;
     printf("MPI: %d ranks, parallel.data = distributed: blocks %d × %d × %d of the index grids, particles per rank "
            "%ld (+ up to %ld ghosts), quadrature points per rank %ld to %ld (%.3g s)\n",

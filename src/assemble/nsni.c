@@ -86,8 +86,10 @@ static void fill_point(const MicaShapeCache *h, long part, int k, const double *
  * approximation) and on jittered particles they left an L2 floor (7e-4 on manufactured.cfg, docs/verification.md
  * §NSNI); the quadratic fit's is consistent, and zero on linear fields as the linear basis's is, so the linear
  * patch test is unaffected. Its supports are wider than the volume points': the solid's pattern includes them. */
+double mica_nsni_hessian_reach(int basis_order) { return basis_order >= 2 ? 1.0 : 1.5; }
+
 static int hessian_cache(const MicaDiscretization *disc, const MlsApprox *mls, MicaShapeCache **h) {
-  if (mls_options(mls)->order >= 2) return mica_shape_cache_create(mls, disc->nparticles, disc->qx, 2, "NSNI", h);
+  if (mls_options(mls)->order >= 2) return mica_shape_cache_create(mls, disc->nquad, disc->qx, 2, "NSNI", h);
   MlsOptions opt = *mls_options(mls);
   MlsApprox *quadratic = NULL;
   opt.order = 2;
@@ -95,10 +97,10 @@ static int hessian_cache(const MicaDiscretization *disc, const MlsApprox *mls, M
   const long n = mls_num_particles(mls) * disc->dim;
   double *radii = NULL;
   int ierr = MICA_MALLOC(radii, n);
-  for (long i = 0; !ierr && i < n; i++) radii[i] = 1.5 * mls_radii(mls)[i];
+  for (long i = 0; !ierr && i < n; i++) radii[i] = mica_nsni_hessian_reach(1) * mls_radii(mls)[i];
   if (!ierr) ierr = mls_set_radii(quadratic, radii);
   if (!ierr) ierr = mls_set_spacing(quadratic, mls_spacing(mls));
-  if (!ierr) ierr = mica_shape_cache_create(quadratic, disc->nparticles, disc->qx, 2, "NSNI (quadratic Hessians)", h);
+  if (!ierr) ierr = mica_shape_cache_create(quadratic, disc->nquad, disc->qx, 2, "NSNI (quadratic Hessians)", h);
   MICA_FREE(radii);
   mls_destroy(&quadratic);
   return ierr;
@@ -106,10 +108,10 @@ static int hessian_cache(const MicaDiscretization *disc, const MlsApprox *mls, M
 
 int mica_nsni_create(const MicaDiscretization *disc, const MlsApprox *mls, int with_gradients, MicaNsni **out) {
   *out = NULL;
-  MICA_CHECK(disc->nodal && disc->nodal->moment && disc->nquad == disc->nparticles, MICA_ERR_ARGUMENT,
+  MICA_CHECK(disc->nodal && disc->nodal->moment && disc->nquad == disc->nodal->n, MICA_ERR_ARGUMENT,
              "mica_nsni_create: the discretization has no nodal cells (mica_discretization_nodal)");
   const int dim = disc->dim;
-  const long np = disc->nparticles;
+  const long np = disc->nquad; /* cells: with distributed data the rank's, not its ghosts */
   MicaShapeCache *h = NULL;
   MicaNsni *n = NULL;
   int ierr = MICA_SUCCESS;

@@ -107,7 +107,7 @@ static int smooth_cell(const MicaDiscretization *disc, const MlsApprox *mls, lon
 
 int mica_scni_cache_create(const MicaDiscretization *disc, const MlsApprox *mls, MicaShapeCache **out) {
   *out = NULL;
-  MICA_CHECK(disc->nodal && disc->nquad == disc->nparticles && disc->nodal->n == disc->nquad, MICA_ERR_ARGUMENT,
+  MICA_CHECK(disc->nodal && disc->nodal->n == disc->nquad, MICA_ERR_ARGUMENT,
              "mica_scni_cache_create: the discretization has no nodal cells (mica_discretization_nodal)");
   const int dim = disc->dim;
   const long np = disc->nquad;

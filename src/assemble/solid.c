@@ -132,14 +132,56 @@ static int collocation_points(MicaSolid *s, int c) {
   return MICA_SUCCESS;
 }
 
+/* counts[(I·ncomp + a)·ndirichlet + c]: condition c has a vertex at particle I here and prescribes component a. */
+static void collocation_count(const MicaSolid *s, double *counts) {
+  for (int c = 0; c < s->ndirichlet; c++)
+    for (long v = 0; v < s->collocation[c]->npoints; v++)
+      for (int a = 0; a < s->ncomp; a++)
+        if (s->dirichlet[c].mask & (1 << a))
+          counts[(s->collocation_particle[c][v] * s->ncomp + a) * s->ndirichlet + c] += 1;
+}
+
+/* Who writes each row from the counts (over the ranks with distributed data): the last condition, each of its
+ * holders a share. */
+static void collocation_rows(MicaSolid *s, const double *counts) {
+  const int nc = s->ndirichlet;
+  for (long row = 0; row < s->nparticles * s->ncomp; row++) {
+    s->collocation_last[row] = -1, s->collocation_share[row] = 0;
+    for (int c = nc - 1; c >= 0 && s->collocation_last[row] < 0; c--)
+      if (counts[row * nc + c] > 0) s->collocation_last[row] = c, s->collocation_share[row] = 1.0 / counts[row * nc + c];
+  }
+}
+
 static int build_collocation(MicaSolid *s) {
   if (!mica_bc_method_has(s->opt.bc_method, MICA_BC_COLLOCATION)) return MICA_SUCCESS;
   const int n = s->ndirichlet > 0 ? s->ndirichlet : 1;
+  const long rows = s->nparticles * s->ncomp;
   MICA_CALL(MICA_CALLOC(s->collocation, n));
   MICA_CALL(MICA_CALLOC(s->collocation_particle, n));
   MICA_CALL(MICA_CALLOC(s->collocation_scale, n));
+  MICA_CALL(MICA_MALLOC(s->collocation_last, rows + 1));
+  MICA_CALL(MICA_MALLOC(s->collocation_share, rows + 1));
   for (int c = 0; c < s->ndirichlet; c++) MICA_CALL(collocation_points(s, c));
+  if (s->opt.parallel && s->opt.parallel->owned) return MICA_SUCCESS; /* owned_collocation, after the agreement */
+  double *counts = NULL;
+  MICA_CALL(MICA_CALLOC(counts, rows * n + 1));
+  collocation_count(s, counts);
+  collocation_rows(s, counts);
+  MICA_FREE(counts);
   return MICA_SUCCESS;
+}
+
+/* parallel.data = "distributed": a particle's vertices may lie on other ranks' faces (a rank's sets are its cells'
+ * faces), and every rank holding it has volume terms in its rows: the counts are summed over the holders. */
+static int owned_collocation(MicaSolid *s) {
+  const int n = s->ndirichlet > 0 ? s->ndirichlet : 1;
+  double *counts = NULL;
+  int ierr = MICA_CALLOC(counts, s->nparticles * s->ncomp * n + 1);
+  if (!ierr) collocation_count(s, counts);
+  ierr = mica_ghost_sum(s->opt.parallel, ierr, counts, s->ncomp * n);
+  if (!ierr) collocation_rows(s, counts);
+  MICA_FREE(counts);
+  return ierr;
 }
 
 /* Cliques: every cached point's supporting particles (plus, for multipliers, its element's multiplier
@@ -270,9 +312,11 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
   MICA_CHECK(!opt->vci || !opt->parallel || opt->parallel->owned, MICA_ERR_INPUT,
              "quadrature.vci is not available in parallel runs with parallel.data = \"replicated\" (its correction "
              "sums over every particle's support); use parallel.data = \"distributed\", or run on one process");
-  MICA_CHECK(!opt->parallel || !mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION), MICA_ERR_INPUT,
-             "bc.method = \"%s\" replaces equations of the assembled system, which a parallel run sums over the "
-             "ranks; run on one process, or use another bc.method", opt->bc_method->type.name);
+  MICA_CHECK(!opt->parallel || opt->parallel->owned || !mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION),
+             MICA_ERR_INPUT,
+             "bc.method = \"%s\" replaces equations of the assembled system, which a parallel run with "
+             "parallel.data = \"replicated\" sums over the ranks; use parallel.data = \"distributed\", run on one "
+             "process, or use another bc.method", opt->bc_method->type.name);
   MICA_CHECK(opt->field.ops->order == 1 || !mica_bc_method_has(opt->bc_method, MICA_BC_MODEL_TRACTION), MICA_ERR_INPUT,
              "bc.method = \"%s\" needs a classical model or a first-order field model; model '%s' uses second "
              "derivatives (its tractions include double tractions): use \"lagrange\" or \"penalty\"",
@@ -282,7 +326,7 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
 
 /* VCI: corrected test gradients in the volume cache (vci.c), with NSNI's stabilization points in the constraint
  * when there are some, timed for the summary; over the ranks with distributed data (collective: at the end of the
- * solid's creation, owned_collectives; NSNI runs in one process). */
+ * solid's creation, owned_collectives; the Petrov–Galerkin form, opt.vci_local). */
 static int apply_vci(MicaSolid *s) {
   const double start = mica_wtime();
   MicaDistribution *dist = s->opt.parallel;
@@ -290,14 +334,14 @@ static int apply_vci(MicaSolid *s) {
    * with an O(1) defect on jittered particles (Gauss cells do not), and the L2 error stalled (docs/theory.md
    * §NSNI, "one degree more"); the patch tests of degree ≤ n hold either way. */
   const int order = s->opt.basis_order + (s->nsni ? 1 : 0);
-  if (dist && dist->owned) MICA_CALL(mica_vci_correct_owned(s->disc, s->mls, order, s->volume, dist));
+  if (dist && dist->owned) MICA_CALL(mica_vci_correct_owned(s->disc, s->mls, order, s->volume, s->nsni, dist));
   else {
     /* NSNI, linear basis: trial and test gradients corrected alike where the supports admit it (symmetric VCI;
      * the Petrov–Galerkin form's trial gradients violate the constraint by O(1) on jittered cells and its L2
      * error flattened). On a regular grid the boundary rows' supports make (a) and (b) incompatible; there the
      * uncorrected trial gradients nearly meet the constraint, and the Petrov–Galerkin form is kept. */
     int ierr = MICA_ERR_NUMERIC;
-    if (s->nsni && s->opt.basis_order == 1) {
+    if (s->nsni && s->opt.basis_order == 1 && !s->opt.vci_local) {
       ierr = mica_vci_correct_symmetric(s->disc, s->mls, s->volume, s->nsni);
       if (ierr != MICA_SUCCESS && ierr != MICA_ERR_NUMERIC) MICA_CALL(ierr);
       if (ierr) mica_error_clear();
@@ -424,7 +468,9 @@ cleanup:
 /* Whether the solid's creation ends in collectives over distributed data (every rank reaches them, or agrees on
  * the failure that stopped it). */
 static int owned_collectives(const MicaSolidOptions *opt) {
-  return opt->parallel && opt->parallel->owned && (opt->vci || mica_bc_method_has(opt->bc_method, MICA_BC_MULTIPLIERS));
+  return opt->parallel && opt->parallel->owned &&
+         (opt->vci || mica_bc_method_has(opt->bc_method, MICA_BC_MULTIPLIERS) ||
+          mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION));
 }
 
 int mica_solid_create(const MicaDiscretization *disc, const MicaApprox *approx, const MicaSolidOptions *opt,
@@ -477,6 +523,7 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
     MICA_CALL_CLEANUP(mica_parallel_agree(MICA_SUCCESS));
     if (opt->vci) MICA_CALL_CLEANUP(apply_vci(s));
     if (mica_bc_method_has(opt->bc_method, MICA_BC_MULTIPLIERS)) MICA_CALL_CLEANUP(owned_multipliers(s));
+    if (mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION)) MICA_CALL_CLEANUP(owned_collocation(s));
   }
   *out = s;
   return MICA_SUCCESS;
@@ -520,6 +567,8 @@ int mica_solid_destroy(MicaSolid **solid) {
   MICA_FREE(s->collocation);
   MICA_FREE(s->collocation_particle);
   MICA_FREE(s->collocation_scale);
+  MICA_FREE(s->collocation_last);
+  MICA_FREE(s->collocation_share);
   mica_sparse_destroy(&s->K);
   MICA_FREE(s->work);
   MICA_FREE(s->work_nodes);

@@ -460,8 +460,8 @@ int mica_vci_correct_stabilized(const MicaDiscretization *disc, const MlsApprox 
 }
 
 int mica_vci_correct_owned(const MicaDiscretization *disc, const MlsApprox *mls, int n, MicaShapeCache *volume,
-                           MicaDistribution *dist) {
-  return vci_correct(disc, mls, n, volume, NULL, 0, dist);
+                           const MicaNsni *nsni, MicaDistribution *dist) {
+  return vci_correct(disc, mls, n, volume, nsni, 0, dist);
 }
 
 int mica_vci_correct_symmetric(const MicaDiscretization *disc, const MlsApprox *mls, MicaShapeCache *volume,

@@ -12,31 +12,39 @@
  * exactly by a linear basis (the patch test passes). The tangent is unsymmetric (UMFPACK). */
 #include "bc_private.h"
 
-/* Replaces particle I's equations for the prescribed components with the collocated condition at vertex v. */
+/* Writes particle I's collocated rows for the prescribed components at vertex v: the rows whose last condition
+ * this is (collocation_last), times the share of the ranks that write them (1 serially). */
 static int collocate(MicaSolid *s, const MicaDirichlet *c, long v, double t, const double *u, double *R,
                      MicaSparse *K) {
   const int cond = (int)(c - s->dirichlet), ncomp = s->ncomp, dim = s->dim;
   const MicaShapeCache *cache = s->collocation[cond];
   const long I = s->collocation_particle[cond][v];
-  const double scale = s->collocation_scale[cond][v], load = s->opt.ramp ? t : 1.0;
+  const double load = s->opt.ramp ? t : 1.0;
   const double *x = cache->x + v * dim;
   for (int a = 0; a < ncomp; a++) {
-    if (!(c->mask & (1 << a))) continue;
+    const long row = I * ncomp + a;
+    if (!(c->mask & (1 << a)) || s->collocation_last[row] != cond) continue;
+    const double scale = s->collocation_scale[cond][v] * s->collocation_share[row];
     double value, uh = 0;
     MICA_CALL(mica_function_eval_finite(c->value[a], "on the whole set", dim, x, t, &value));
     for (long e = cache->ptr[v]; e < cache->ptr[v + 1]; e++) uh += cache->N[e] * u[cache->index[e] * ncomp + a];
-    const long row = I * ncomp + a;
     R[row] = scale * (uh - load * value);
-    if (!K) continue;
-    mica_sparse_zero_row(K, row);
-    for (long e = cache->ptr[v]; e < cache->ptr[v + 1]; e++)
+    for (long e = cache->ptr[v]; K && e < cache->ptr[v + 1]; e++)
       MICA_CALL(mica_sparse_set(K, row, cache->index[e] * ncomp + a, scale * cache->N[e]));
   }
   return MICA_SUCCESS;
 }
 
+/* The rows this condition replaces are emptied first on every rank that holds them (with distributed data the
+ * volume terms of a ghost's rows would be added to the owner's), then written by the ranks with the vertex. */
 static int collocation_add(MicaSolid *s, const MicaDirichlet *c, double t, const double *u, double *R, MicaSparse *K) {
-  const MicaShapeCache *cache = s->collocation[c - s->dirichlet];
+  const int cond = (int)(c - s->dirichlet);
+  const MicaShapeCache *cache = s->collocation[cond];
+  for (long row = 0; row < s->nparticles * s->ncomp; row++) {
+    if (s->collocation_last[row] != cond) continue;
+    R[row] = 0;
+    if (K) mica_sparse_zero_row(K, row);
+  }
   for (long v = 0; v < cache->npoints; v++) MICA_CALL(collocate(s, c, v, t, u, R, K));
   return MICA_SUCCESS;
 }

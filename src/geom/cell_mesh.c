@@ -142,19 +142,20 @@ static int map_is_multilinear(const GeomMap *map) {
   return map->shape.kind == MICA_SHAPE_BOX || map->shape.kind == MICA_SHAPE_POLYGON;
 }
 
-int geom_grid_mesh(const GeomMap *map, const GeomGrid *grid, MicaCellMesh **out) {
+int geom_grid_mesh_box(const GeomMap *map, const GeomGrid *grid, const long lo[3], const long hi[3],
+                       MicaCellMesh **out) {
   const int dim = map->dim, refine = map_is_multilinear(map) ? 1 : 2;
   const int type = refine == 1 ? (dim == 2 ? MICA_CELL_QUAD : MICA_CELL_HEXAHEDRON)
                                : (dim == 2 ? MICA_CELL_BIQUADRATIC_QUAD : MICA_CELL_TRIQUADRATIC_HEXAHEDRON);
-  long n[3] = {1, 1, 1}, ncells = 1, npoints = 1;
-  for (int d = 0; d < dim; d++) n[d] = refine * grid->n[d] + 1, ncells *= grid->n[d], npoints *= n[d];
+  long n[3] = {1, 1, 1}, w[3] = {1, 1, 1}, ncells = 1, npoints = 1; /* points and cells per axis in the box */
+  for (int d = 0; d < dim; d++) w[d] = hi[d] - lo[d], n[d] = refine * w[d] + 1, ncells *= w[d], npoints *= n[d];
   MicaCellMesh *m = NULL;
   MICA_CALL(mica_cell_mesh_create_uniform(dim, npoints, ncells, type, &m));
   for (long p = 0; p < npoints; p++) { /* lexicographic, axis 0 fastest; midpoints halve the parameter cell */
     double xi[3] = {0, 0, 0};
     long rest = p;
     for (int d = 0; d < dim; d++) {
-      const long i = rest % n[d], e = i / refine;
+      const long i = rest % n[d], e = lo[d] + i / refine;
       rest /= n[d];
       xi[d] = i % refine ? 0.5 * (grid->edges[d][e] + grid->edges[d][e + 1]) : grid->edges[d][e];
     }
@@ -164,7 +165,7 @@ int geom_grid_mesh(const GeomMap *map, const GeomGrid *grid, MicaCellMesh **out)
   const int nodes = mica_cell_lattice(type, lattice);
   for (long c = 0; c < ncells; c++) {
     long cell[3] = {0, 0, 0}, rest = c;
-    for (int d = 0; d < dim; d++) cell[d] = rest % grid->n[d], rest /= grid->n[d];
+    for (int d = 0; d < dim; d++) cell[d] = rest % w[d], rest /= w[d];
     for (int a = 0; a < nodes; a++) {
       long point = 0;
       for (int d = dim - 1; d >= 0; d--) point = point * n[d] + refine * cell[d] + lattice[a * 3 + d] * refine / 2;
@@ -174,6 +175,11 @@ int geom_grid_mesh(const GeomMap *map, const GeomGrid *grid, MicaCellMesh **out)
   mica_cell_mesh_orient(m);
   *out = m;
   return MICA_SUCCESS;
+}
+
+int geom_grid_mesh(const GeomMap *map, const GeomGrid *grid, MicaCellMesh **out) {
+  const long lo[3] = {0, 0, 0}, hi[3] = {grid->n[0], grid->n[1], grid->n[2]};
+  return geom_grid_mesh_box(map, grid, lo, hi, out);
 }
 
 /* ---- a Gmsh mesh's elements ------------------------------------------------------------------------------- */

@@ -123,6 +123,7 @@ static int create_block(const MicaShapeSpec *shape, const MicaLayoutSpec *layout
   MICA_CALL_CLEANUP(MICA_MALLOC(disc->x, disc->nparticles * map.dim + 1));
   for (long p = 0; p < disc->nparticles; p++) geom_map_eval(&map, &xi[p * map.dim], &disc->x[p * map.dim], NULL);
   MICA_CALL_CLEANUP(block_grid_particles(&map, layout, &axes, block, disc));
+  if (block->mesh) MICA_CALL_CLEANUP(geom_grid_mesh_box(&map, &grid, block->cell_lo, block->cell_hi, &disc->mesh));
 cleanup:
   MICA_FREE(xi);
   geom_axes_destroy(&axes);

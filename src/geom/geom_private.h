@@ -91,6 +91,9 @@ int geom_grid_quadrature_box(const GeomMap *map, const GeomGrid *grid, int order
 /* The mapped cells as an output mesh (cell_mesh.c): linear cells where the map is multilinear, biquadratic and
  * triquadratic ones where it bends them. */
 int geom_grid_mesh(const GeomMap *map, const GeomGrid *grid, MicaCellMesh **mesh);
+/* The same for the cells of the index box [lo, hi) (a distributed rank's block), points numbered within it. */
+int geom_grid_mesh_box(const GeomMap *map, const GeomGrid *grid, const long lo[3], const long hi[3],
+                       MicaCellMesh **mesh);
 
 /* ---- boundary sets ------------------------------------------------------------------------------------- */
 

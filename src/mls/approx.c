@@ -186,6 +186,17 @@ int mls_set_spacing(MlsApprox *mls, const double *spacing) {
   return MICA_SUCCESS;
 }
 
+int mls_set_weight_params(MlsApprox *mls, const double *wparam) {
+  const long count = mls->n * mls->dim;
+  for (long i = 0; i < count; i++)
+    MICA_CHECK(wparam[i] > 0 && isfinite(wparam[i]), MICA_ERR_ARGUMENT, "weight parameter of particle %ld is %g",
+               i / mls->dim, wparam[i]);
+  memcpy(mls->wparam, wparam, sizeof(double) * (size_t)count);
+  return MICA_SUCCESS;
+}
+
+const double *mls_weight_params(const MlsApprox *mls) { return mls->wparam; }
+
 int mls_dim(const MlsApprox *mls) { return mls->dim; }
 long mls_num_particles(const MlsApprox *mls) { return mls->n; }
 int mls_num_terms(const MlsApprox *mls) { return mls->m; }

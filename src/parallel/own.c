@@ -7,8 +7,9 @@
  * A rank builds the particles of a box of the grid around its block (mica_discretization_create_block: jittered
  * particles from their own draws of the counter-based stream), its cells' volume and boundary points, and the MLS
  * approximation of that box; the supports of its points in it are its particles; the box grows until they lie
- * MARGIN layers inside it, so that their local spacings and radii are those of the whole layout. Nothing of the
- * whole layout's size is allocated on any rank. */
+ * MARGIN layers inside it, so that their local spacings and radii are those of the whole layout. With nodal
+ * quadrature (MicaOwnedSpec) the points are the nodal cells of the rank's particles instead of its cells' Gauss
+ * points, which the error norms keep. Nothing of the whole layout's size is allocated on any rank. */
 #include <math.h>
 #include <mpi.h>
 #include <stdlib.h>
@@ -164,14 +165,22 @@ static void source_grid(const Source *src, long k, long idx[3]) {
  * hence its radius, as in the whole layout (docs/architecture.md §Parallel runs). */
 enum { MARGIN = 3 };
 
-/* Whether the needed particles stay MARGIN layers inside the box wherever it does not end at the grid's edge. */
-static int source_deep_enough(const Source *src, const long n[3], const long *needed, long nneeded) {
+/* The layers kept beyond the needed particles: MARGIN, and for an adaptive weight, whose shape parameter at a
+ * particle comes from the particles whose supports cover it, as many as a support spans and one for the jitter. */
+static long source_margin(const MlsOptions *mls_opt) {
+  if (!mls_opt->weight || !mica_type_has(&mls_opt->weight->type, MLS_WEIGHT_ADAPTIVE)) return MARGIN;
+  const long span = (long)ceil(mls_opt->dilation > 0 ? mls_opt->dilation : 1.0) + 1;
+  return span > MARGIN ? span : MARGIN;
+}
+
+/* Whether the needed particles stay `margin` layers inside the box wherever it does not end at the grid's edge. */
+static int source_deep_enough(const Source *src, const long n[3], const long *needed, long nneeded, long margin) {
   for (long k = 0; k < nneeded; k++) {
     long idx[3];
     source_grid(src, needed[k], idx);
     for (int d = 0; d < 3; d++) {
-      if (src->lo[d] > 0 && idx[d] - src->lo[d] < MARGIN) return 0;
-      if (src->hi[d] < n[d] && src->hi[d] - 1 - idx[d] < MARGIN) return 0;
+      if (src->lo[d] > 0 && idx[d] - src->lo[d] < margin) return 0;
+      if (src->hi[d] < n[d] && src->hi[d] - 1 - idx[d] < margin) return 0;
     }
   }
   return 1;
@@ -181,9 +190,10 @@ static int source_deep_enough(const Source *src, const long n[3], const long *ne
  * (cell c of m along an axis lies between particle lines about c (n − 1)/m and (c + 1)(n − 1)/m). */
 static int source_build(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                         const MlsOptions *mls_opt, const long n[3], const long m[3], const long plo[3],
-                        const long phi[3], const long clo[3], const long chi[3], long layers, Source *src) {
+                        const long phi[3], const long clo[3], const long chi[3], long layers, int mesh, Source *src) {
   MicaGridBlock block;
   memset(&block, 0, sizeof block);
+  block.mesh = mesh;
   for (int d = 0; d < 3; d++) {
     long a = clo[d] * (n[d] - 1) / m[d], b = (chi[d] * (n[d] - 1) + m[d] - 1) / m[d] + 1;
     a = (a < plo[d] ? a : plo[d]) - layers, b = (b > phi[d] ? b : phi[d]) + layers;
@@ -237,22 +247,58 @@ static int add_error_supports(const MicaShapeSpec *shape, const MicaLayoutSpec *
   return ierr;
 }
 
-/* The source's particles in the supports of its points: grown until they lie MARGIN layers inside it. */
+/* ... and of the sets' points and vertices (collocation evaluates the fields at the vertices). */
+static int add_set_supports(const MlsApprox *mls, const MicaDiscretization *d, long **needed, long *nneeded) {
+  for (int s = 0; s < d->nsets; s++) {
+    MICA_CALL(add_supports(mls, d->sets[s].n, d->sets[s].x, needed, nneeded));
+    MICA_CALL(add_supports(mls, d->sets[s].nvertices, d->sets[s].vertex_x, needed, nneeded));
+  }
+  return MICA_SUCCESS;
+}
+
+/* ... and of the nodal points (parallel.data = "distributed" with nodal quadrature): the cells' points, their
+ * boundary sets' and (SCNI) their boundary points, and the particles a wider support reaches from the points. */
+static int add_nodal_supports(const Source *src, const MicaDiscretization *nodal, const MicaOwnedSpec *spec,
+                              long **needed, long *nneeded) {
+  MICA_CALL(add_supports(src->mls, nodal->nquad, nodal->qx, needed, nneeded));
+  MICA_CALL(add_set_supports(src->mls, nodal, needed, nneeded));
+  if (spec->cell_boundaries)
+    MICA_CALL(add_supports(src->mls, nodal->nodal->ptr[nodal->nodal->n], nodal->nodal->x, needed, nneeded));
+  if (!(spec->wider_support > 1)) return MICA_SUCCESS;
+  const int dim = src->disc->dim;
+  const long n = mls_num_particles(src->mls) * dim;
+  MlsApprox *wide = NULL;
+  double *radii = NULL;
+  int ierr = mls_create(dim, mls_num_particles(src->mls), mls_particles(src->mls), mls_options(src->mls), &wide);
+  if (!ierr) ierr = MICA_MALLOC(radii, n + 1);
+  for (long i = 0; !ierr && i < n; i++) radii[i] = spec->wider_support * mls_radii(src->mls)[i];
+  if (!ierr) ierr = mls_set_radii(wide, radii);
+  if (!ierr) ierr = add_supports(wide, nodal->nquad, nodal->qx, needed, nneeded);
+  free(radii);
+  mls_destroy(&wide);
+  return ierr;
+}
+
+/* The source's particles in the supports of its points: grown until they lie MARGIN layers inside it. nodal: the
+ * rank's nodal cells, whose points replace its cells' volume points and boundary sets (NULL: none). */
 static int source_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                          const MlsOptions *mls_opt, const long n[3], const long m[3], const long plo[3],
-                         const long phi[3], const MicaDistribution *dist, Source *src, long **needed,
-                         long *nneeded) {
+                         const long phi[3], const MicaDistribution *dist, const MicaOwnedSpec *spec,
+                         const MicaDiscretization *nodal, Source *src, long **needed, long *nneeded) {
   const long *clo = dist->cell_lo, *chi = dist->cell_hi;
-  long layers = (long)ceil(mls_opt->dilation > 0 ? mls_opt->dilation : 1.0) + MARGIN;
+  const double reach = (mls_opt->dilation > 0 ? mls_opt->dilation : 1.0) * (spec->wider_support > 1 ? spec->wider_support : 1);
+  long layers = (long)ceil(reach) + source_margin(mls_opt);
   for (;;) {
-    MICA_CALL(source_build(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, layers, src));
+    MICA_CALL(source_build(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, layers, spec->mesh, src));
     const MicaDiscretization *d = src->disc;
     *nneeded = 0;
-    MICA_CALL(add_supports(src->mls, d->nquad, d->qx, needed, nneeded));
-    for (int s = 0; s < d->nsets; s++) MICA_CALL(add_supports(src->mls, d->sets[s].n, d->sets[s].x, needed, nneeded));
+    if (d->mesh) MICA_CALL(add_supports(src->mls, d->mesh->npoints, d->mesh->x, needed, nneeded)); /* output.mesh */
+    MICA_CALL(add_supports(src->mls, d->nquad, d->qx, needed, nneeded)); /* nodal: the error norms' points */
+    if (nodal) MICA_CALL(add_nodal_supports(src, nodal, spec, needed, nneeded));
+    else MICA_CALL(add_set_supports(src->mls, d, needed, nneeded));
     MICA_CALL(add_owned_supports(src, plo, phi, needed, nneeded)); /* the fields are written at them */
     MICA_CALL(add_error_supports(shape, layout, cells, dist, src, needed, nneeded));
-    if (source_deep_enough(src, n, *needed, *nneeded)) return MICA_SUCCESS;
+    if (source_deep_enough(src, n, *needed, *nneeded, source_margin(mls_opt))) return MICA_SUCCESS;
     source_free(src);
     free(*needed);
     *needed = NULL;
@@ -312,10 +358,26 @@ static int local_particles(const Source *src, MicaDistribution *dist, const long
 static void take_points(Source *src, MicaDiscretization *d) {
   MicaDiscretization *sd = src->disc;
   d->dim = sd->dim;
+  d->mesh = sd->mesh, sd->mesh = NULL;
   d->ncells = sd->ncells, d->nquad = sd->nquad, d->qx = sd->qx, d->qw = sd->qw;
   d->nsets = sd->nsets, d->sets = sd->sets;
   sd->qx = sd->qw = NULL, sd->sets = NULL, sd->nsets = 0, sd->nquad = 0;
   d->volume = 0; /* this rank's part: summed once built */
+  for (long q = 0; q < d->nquad; q++) d->volume += d->qw[q];
+}
+
+/* Nodal quadrature: the volume points, weights, cells and boundary sets are the rank's nodal cells' (moved), and
+ * the cells' Gauss points are kept for the error norms, as mica_discretization_nodal keeps the whole ones. */
+static void take_nodal_points(Source *src, MicaDiscretization *nodal, MicaDiscretization *d) {
+  MicaDiscretization *sd = src->disc;
+  d->dim = sd->dim;
+  d->mesh = sd->mesh, sd->mesh = NULL;
+  d->ngauss = sd->nquad, d->gauss_x = sd->qx, d->gauss_w = sd->qw;
+  sd->qx = sd->qw = NULL, sd->nquad = 0;
+  d->ncells = d->nquad = nodal->nquad, d->qx = nodal->qx, d->qw = nodal->qw, d->nodal = nodal->nodal;
+  d->nsets = nodal->nsets, d->sets = nodal->sets;
+  nodal->qx = nodal->qw = NULL, nodal->nodal = NULL, nodal->sets = NULL, nodal->nsets = 0, nodal->nquad = 0;
+  d->volume = 0;
   for (long q = 0; q < d->nquad; q++) d->volume += d->qw[q];
 }
 
@@ -334,6 +396,10 @@ static int local_mls(const Source *src, const MlsOptions *mls_opt, const long *m
   for (long i = 0; i < d->nparticles; i++)
     memcpy(local + i * dim, spacing + map[i] * dim, sizeof(double) * (size_t)dim);
   if (!ierr) ierr = mls_set_spacing(dist->mls, local);
+  const double *wparam = mls_weight_params(src->mls); /* an adaptive weight's: from the supports covering each */
+  for (long i = 0; i < d->nparticles; i++)
+    memcpy(local + i * dim, wparam + map[i] * dim, sizeof(double) * (size_t)dim);
+  if (!ierr) ierr = mls_set_weight_params(dist->mls, local);
   free(local);
   return ierr;
 }
@@ -671,12 +737,21 @@ int mica_owned_point_rank(const MicaDistribution *dist, const double *x, int *ro
 
 /* ---- public ----------------------------------------------------------------------------------------------- */
 
+/* The rank's nodal cells (spec->nodal): those of its particle block, their points at the centroids for NSNI. */
+static int owned_nodal(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
+                       const MicaOwnedSpec *spec, const long plo[3], const long phi[3], MicaDiscretization **nodal) {
+  if (!spec->nodal) return MICA_SUCCESS;
+  MICA_CALL(mica_discretization_nodal_block(shape, layout, cells, plo, phi, nodal));
+  return spec->centroids ? mica_discretization_nodal_centroids(*nodal) : MICA_SUCCESS;
+}
+
 static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
-                       const MlsOptions *mls_opt, MicaDistribution *dist) {
+                       const MlsOptions *mls_opt, const MicaOwnedSpec *spec, MicaDistribution *dist) {
   const int P = mica_parallel_size(), rank = mica_parallel_rank();
   long n[3], m[3], per_cell, plo[3], phi[3], *offsets = NULL, *needed = NULL, nneeded = 0;
   long *map = NULL;
   Source src;
+  MicaDiscretization *nodal = NULL;
   memset(&src, 0, sizeof src);
   int ierr = MICA_SUCCESS;
   MICA_CALL(mica_discretization_grid(shape, layout, cells, n, m, &per_cell));
@@ -700,22 +775,26 @@ static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
       p->imbalance = (double)p->part_size[r] * P / (double)offsets[P];
   block_box(rank, dist->procs, n, plo, phi);
   block_box(rank, dist->procs, m, dist->cell_lo, dist->cell_hi);
-  ierr = source_create(shape, layout, cells, mls_opt, n, m, plo, phi, dist, &src, &needed, &nneeded);
+  ierr = owned_nodal(shape, layout, cells, spec, plo, phi, &nodal);
+  if (!ierr) ierr = source_create(shape, layout, cells, mls_opt, n, m, plo, phi, dist, spec, nodal, &src, &needed, &nneeded);
   if (!ierr) ierr = MICA_CALLOC(dist->local, 1);
-  if (!ierr) take_points(&src, dist->local);
+  if (!ierr && nodal) take_nodal_points(&src, nodal, dist->local);
+  else if (!ierr) take_points(&src, dist->local);
   if (!ierr) ierr = local_particles(&src, dist, n, needed, nneeded, offsets, &map);
+  if (!ierr && spec->revolve) ierr = mica_discretization_revolve(dist->local);
   if (!ierr) ierr = local_mls(&src, mls_opt, map, dist);
   /* every rank reaches the plan's collectives, or none */
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
   MICA_CALL_CLEANUP(ghost_plan(dist, offsets));
 cleanup:
   source_free(&src);
+  mica_discretization_destroy(&nodal);
   free(offsets), free(needed), free(map);
   return ierr;
 }
 
 int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
-                                   const MicaCellSpec *cells, const MlsOptions *mls_opt, int error_order,
+                                   const MicaCellSpec *cells, const MlsOptions *mls_opt, const MicaOwnedSpec *spec,
                                    MicaDistribution **out) {
   *out = NULL;
   const double start = mica_wtime();
@@ -723,8 +802,8 @@ int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutS
   int ierr = MICA_CALLOC(dist, 1);
   if (!ierr) {
     dist->owned = 1;
-    dist->error_order = error_order;
-    ierr = build_owned(shape, layout, cells, mls_opt, dist);
+    dist->error_order = spec->error_order;
+    ierr = build_owned(shape, layout, cells, mls_opt, spec, dist);
     if (!ierr) dist->nsets = dist->local->nsets;
     dist->nowned_nodes = dist->nowned; /* until extra nodes are added */
   }

@@ -233,6 +233,26 @@ int mica_parallel_broadcast_text(int ierr, char **text, int root) {
   return MICA_SUCCESS;
 }
 
+int mica_parallel_append_in_order(int ierr, const char *path, const char *text) {
+  char *where = NULL;
+  if (!ierr && rank_ == 0) ierr = MICA_MALLOC(where, strlen(path) + 1);
+  if (!ierr && rank_ == 0) strcpy(where, path);
+  MICA_CALL(mica_parallel_broadcast_text(ierr, &where, 0));
+  int failed = 0;
+  for (int r = 1; r < size_; r++) { /* rank r appends once rank r − 1 has: the token is its status */
+    if (rank_ == r - 1 && r > 1) MPI_Send(&failed, 1, MPI_INT, r, 0, comm_);
+    if (rank_ != r) continue;
+    if (r > 1) MPI_Recv(&failed, 1, MPI_INT, r - 1, 0, comm_, MPI_STATUS_IGNORE);
+    FILE *fp = failed ? NULL : fopen(where, "a");
+    if (!failed && (!fp || fputs(text, fp) == EOF)) failed = 1;
+    if (fp && fclose(fp) != 0) failed = 1;
+  }
+  if (failed) ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_IO, "cannot append rank %d's rows to %s",
+                                    rank_, where);
+  free(where);
+  return mica_parallel_agree(ierr);
+}
+
 static double residual_wall, residual_cpu;
 static long residual_calls;
 

@@ -82,7 +82,7 @@ MPIRUN=(timeout 120 mpirun --oversubscribe)
 mpi_leak_checks
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 if "${MPIRUN[@]}" -np 2 "$MICA" --version > /dev/null 2>&1; then
-  expect_failure 2 "replaces equations of the assembled system, which a parallel run sums over the ranks" -- \
+  expect_failure 2 "replaces equations of the assembled system, which a parallel run with parallel.data = \"replicated\" sums" -- \
     "${MPIRUN[@]}" -np 2 "$MICA" run input/patch_linear.cfg -o "$work/bad_mpi" --set bc.method=\"collocation\"
 else
   echo "### SKIPPED: mpirun cannot start 2 processes here, so the parallel refusal is untested ###"

@@ -151,12 +151,14 @@ rc=$?
 [ ! -e "$work/bad" ] || fail "a deck error wrote $work/bad"
 ok "deck error under mpirun: exit 2, reported once (replicated and distributed data)"
 
-# the measuring sticks of issue 5 (FE baseline, nodal integration) run on one process: refused with the line
-for set in problem.method=fe quadrature.mode=scni; do
+# the FE measuring stick runs on one process, and the nodal modes need distributed data (each rank builds its
+# particles' nodal cells; replicated data spreads Gauss points): refused with the line and the remedy
+for case in "problem.method=fe|runs on one process" "quadrature.mode=scni|needs parallel.data = \"distributed\""; do
+  set=${case%%|*} why=${case#*|}
   "${MPIRUN[@]}" -np 2 "$MICA" run input/timoshenko.cfg -o "$work/serial_only" --set $set > /dev/null 2> "$work/serial_only.err"
   rc=$?
   [ $rc -eq 2 ] || fail "--set $set under mpirun: exit $rc, expected 2: $(cat "$work/serial_only.err")"
-  [ "$(grep -c -- "--set $set: .* runs on one process" "$work/serial_only.err")" -eq 1 ] \
+  [ "$(grep -c -- "--set $set: .* $why" "$work/serial_only.err")" -eq 1 ] \
     || fail "--set $set under mpirun: no single clear message: $(cat "$work/serial_only.err")"
 done
-ok "FE and nodal modes under mpirun: exit 2, one message naming the setting"
+ok "FE and nodal modes (replicated data) under mpirun: exit 2, one message naming the setting"

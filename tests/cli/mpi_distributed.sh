@@ -20,6 +20,12 @@
 #     (owned + ghosts) fewer than 0.6 of the particles;
 #   - the rigid motions the Dirichlet conditions leave free, found from the ranks' shares of the sets (no rank builds
 #     a whole set): the serial message, once, exit 2, at P = 2, 3;
+#   - nodal quadrature (NSNI, SCNI, direct nodal) with each rank's own nodal cells: as serially at P = 1-4 (below);
+#   - axisymmetric sections (each rank revolves its points): the Lamé cylinder as serially at P = 2, 4;
+#   - the exponential weight (its per-particle shape parameters from the rank's box) as serially at P = 2, 4;
+#   - the output mesh (a piece per rank of its cells) and quadrature_fields.csv (the ranks' rows in rank order) as
+#     serially at P = 2, 4 (tests/cli/mesh_pieces_compare.py, quadrature_rows_compare.py);
+#   - collocation (a ghost's rows emptied, a shared vertex's row written in shares) as serially at P = 2-4;
 #   - what the distributed mode does not cover yet is refused: exit 2, the deck line named.
 # `timeout` only keeps a hang from blocking the suite: no check depends on time.
 source "$(dirname "$0")/common.bash"
@@ -220,6 +226,130 @@ for np in 2 4; do
 done
 ok "error norms with quadrature.error_order = 8 as serially at P = 2, 4"
 
+# ---- nodal quadrature on distributed data ------------------------------------------------------------------
+# Each rank builds the nodal cells of its own particles (mica_discretization_nodal_block): NSNI's points at their
+# centroids, SCNI's boundary points, the boundary sets on the cells' faces (multiplier vertices named by the dual
+# grid's corners). Against the plain serial run where both take the same VCI form (a quadratic basis:
+# Petrov–Galerkin): NSNI on jittered Cook (Neo-Hooke, 2 steps) at P = 1-4 with MUMPS within 1e-10 and with gmg
+# (GMRES) at P = 2, 4 within 1e-7, and the 3-D cube at P = 2, 4; SCNI (linear basis, jittered) on Cook and the cube
+# and direct nodal integration on Cook at P = 2, 4; NSNI with Lagrange multipliers on the glide layer at P = 2, 4
+# against serial UMFPACK. A linear basis's NSNI corrects serially with the symmetric form (a global solve), with
+# distributed data with the Petrov–Galerkin one on any number of ranks (opt.vci_local): P = 2, 4 against P = 1
+# of the distributed deck within 1e-10, and the counts at P = 4 summing to the serial ones.
+NS=(--set quadrature.mode=\"nsni\" --set particles.layout=\"jittered\")
+COOK9=(--set "particles.count=[9,9]" --set solver.steps=2)
+REFERENCE=umfpack serial "$work/nsni" tests/decks/parallel/cook.cfg "${COOK9[@]}" "${NS[@]}"
+for np in 1 2 3 4; do
+  distributed "$np" "$work/nsni-$np" tests/decks/parallel/cook.cfg "${COOK9[@]}" "${NS[@]}" --set solver.petsc=\"mumps\"
+  same "$work/nsni" "$work/nsni-$np" "$np" 1e-10
+done
+for np in 2 4; do
+  distributed "$np" "$work/nsni-gmg-$np" tests/decks/parallel/cook.cfg "${COOK9[@]}" "${NS[@]}" --set solver.petsc=\"gmg\" \
+    --set solver.linear_rtol=1e-12
+  same "$work/nsni" "$work/nsni-gmg-$np" "$np" 1e-7
+done
+CUBE=(--set "particles.count=[6,6,6]")
+CUBE2=("${CUBE[@]}" --set mls.order=2) # a quadratic basis: Petrov–Galerkin VCI serially too (cholmod-sym stalls on it)
+SC=(--set quadrature.mode=\"scni\" --set particles.layout=\"jittered\" --set mls.order=1 --set mls.dilation=2.0)
+REFERENCE=umfpack serial "$work/nsni-cube" tests/decks/parallel/cube.cfg "${CUBE2[@]}" "${NS[@]}" --set solver.linear=\"umfpack\"
+serial "$work/scni" tests/decks/parallel/cook.cfg "${COOK9[@]}" "${SC[@]}"
+serial "$work/scni-cube" tests/decks/parallel/cube.cfg "${CUBE[@]}" "${SC[@]}"
+serial "$work/dni" tests/decks/parallel/cook.cfg "${COOK9[@]}" --set quadrature.mode=\"nodal\"
+REFERENCE=umfpack serial "$work/nsni-glide" tests/decks/parallel/glide.cfg --set quadrature.mode=\"nsni\"
+for np in 2 4; do
+  distributed "$np" "$work/nsni-cube-$np" tests/decks/parallel/cube.cfg "${CUBE2[@]}" "${NS[@]}" --set solver.petsc=\"mumps\"
+  same "$work/nsni-cube" "$work/nsni-cube-$np" "$np" 1e-10
+  distributed "$np" "$work/scni-$np" tests/decks/parallel/cook.cfg "${COOK9[@]}" "${SC[@]}" --set solver.petsc=\"mumps\"
+  same "$work/scni" "$work/scni-$np" "$np" 1e-10
+  distributed "$np" "$work/scni-cube-$np" tests/decks/parallel/cube.cfg "${CUBE[@]}" "${SC[@]}" --set solver.petsc=\"mumps\"
+  same "$work/scni-cube" "$work/scni-cube-$np" "$np" 1e-10
+  distributed "$np" "$work/dni-$np" tests/decks/parallel/cook.cfg "${COOK9[@]}" --set quadrature.mode=\"nodal\" \
+    --set solver.petsc=\"mumps\"
+  same "$work/dni" "$work/dni-$np" "$np" 1e-10
+  distributed "$np" "$work/nsni-glide-$np" tests/decks/parallel/glide.cfg --set quadrature.mode=\"nsni\" --set solver.petsc=\"mumps\"
+  same "$work/nsni-glide" "$work/nsni-glide-$np" "$np" 1e-10
+done
+L1=("${COOK9[@]}" "${NS[@]}" --set mls.order=1 --set mls.dilation=2.0 --set solver.petsc=\"mumps\")
+distributed 1 "$work/nsni1-1" tests/decks/parallel/cook.cfg "${L1[@]}"
+! grep -q "VCI: symmetric" "$work/nsni1-1.log" || fail "nsni1-1: the distributed deck took the symmetric VCI serially"
+for np in 2 4; do
+  distributed "$np" "$work/nsni1-$np" tests/decks/parallel/cook.cfg "${L1[@]}"
+  same "$work/nsni1-1" "$work/nsni1-$np" "$np" 1e-10
+done
+python3 - "$work/nsni-1/summary.json" "$work/nsni-4/summary.json" <<'EOF' || fail "NSNI counts per rank: see above"
+import json, sys
+s, p = (json.load(open(f)) for f in sys.argv[1:3])
+for key, total in (("rank_particles_owned", "particles"), ("rank_points", "quadrature_points"),
+                   ("rank_boundary_points", "boundary_points")):
+    ok = sum(p[key]) == s[total] and max(p[key]) < s[total]
+    print(("ok: " if ok else "FAIL: ") + f"NSNI {key} {p[key]} sum to the one-process {total} {s[total]}, each below")
+    if not ok: sys.exit(1)
+EOF
+ok "nodal quadrature (NSNI, SCNI, direct) on distributed data: as serially at P = 1-4"
+
+# ---- axisymmetric sections on distributed data ----------------------------------------------------------------
+# each rank revolves its own points (weights × 2πr: volume, boundary and error points): the Lamé cylinder (Lagrange
+# multipliers, a probe at the bore) at P = 2, 4 with MUMPS within 1e-10 of the serial UMFPACK run, its error norm
+# on quadrature.error_order's points (each rank's cells, revolved) within 1e-10
+AX=(--set "particles.count=[17,8]" --set quadrature.error_order=7)
+REFERENCE=umfpack serial "$work/lame" input/lame_axisymmetric.cfg "${AX[@]}"
+for np in 2 4; do
+  distributed "$np" "$work/lame-$np" input/lame_axisymmetric.cfg "${AX[@]}" --set solver.petsc=\"mumps\"
+  same "$work/lame" "$work/lame-$np" "$np" 1e-10
+  awk -v a="$(json_value ur_inner "$work/lame/summary.json")" -v b="$(json_value ur_inner "$work/lame-$np/summary.json")" \
+    'BEGIN { d = (a - b) / a; if (d < 0) d = -d; exit !(d <= 1e-10) }' || fail "lame-$np: probe ur_inner differs"
+done
+ok "axisymmetric Lamé cylinder on distributed data: fields, error norm and probe as serially at P = 2, 4"
+
+# ---- an adaptive weight on distributed data ---------------------------------------------------------------------
+# the exponential weight's shape parameter at a particle comes from the particles whose supports cover it: each
+# rank takes its box's (mls_set_weight_params), which the box's margin covers, not its own truncated neighborhood's
+# (that moved the fields by 7e-8 at P = 4): jittered Cook at P = 2, 4 with MUMPS within 1e-10 of serial UMFPACK
+EX=(--set "particles.count=[11,11]" --set solver.steps=2 --set mls.weight=\"exponential\" --set mls.alpha=0.3
+    --set particles.layout=\"jittered\")
+REFERENCE=umfpack serial "$work/exponential" tests/decks/parallel/cook.cfg "${EX[@]}" --set solver.linear=\"umfpack\"
+for np in 2 4; do
+  distributed "$np" "$work/exponential-$np" tests/decks/parallel/cook.cfg "${EX[@]}" --set solver.petsc=\"mumps\"
+  same "$work/exponential" "$work/exponential-$np" "$np" 1e-10
+done
+ok "the exponential (adaptive) weight on distributed data: as serially at P = 2, 4"
+
+# ---- the output mesh and the quadrature fields on distributed data ----------------------------------------------
+# each rank writes the mesh of its block of cells (mesh_NNNN_R.vtu; its points' supports are in its ghosts) and rank
+# 0 the .pvtu of all P pieces; quadrature_fields.csv gets the ranks' rows in rank order. Cook (Neo-Hooke, 2 steps,
+# bent edges: biquadratic cells) and the cube (hexahedra) at P = 2, 4 with MUMPS against the serial run: every mesh
+# point and row within 1e-10, the pieces' cells summing to the serial mesh's
+MO=(--set output.mesh=true --set output.quadrature_fields=true --set quadrature.error_order=4)
+serial "$work/mesh" tests/decks/parallel/cook.cfg "${COOK9[@]}" "${MO[@]}"
+serial "$work/mesh-cube" tests/decks/parallel/cube.cfg "${CUBE[@]}" "${MO[@]}"
+for np in 2 4; do
+  for deck in mesh:cook mesh-cube:cube; do
+    name=${deck%%:*} file=tests/decks/parallel/${deck#*:}.cfg
+    [ "$name" = mesh ] && size=("${COOK9[@]}") || size=("${CUBE[@]}")
+    distributed "$np" "$work/$name-$np" "$file" "${size[@]}" "${MO[@]}" --set solver.petsc=\"mumps\"
+    python3 tests/cli/mesh_pieces_compare.py "$work/$name" "$work/$name-$np" "$np" --tol 1e-10 > "$work/$name-$np.mesh" 2>&1 \
+      || fail "$name-$np: $(tail -n 2 "$work/$name-$np.mesh")"
+    python3 tests/cli/quadrature_rows_compare.py "$work/$name" "$work/$name-$np" --tol 1e-10 > "$work/$name-$np.rows" 2>&1 \
+      || fail "$name-$np: $(tail -n 2 "$work/$name-$np.rows")"
+    ok "$name-$np: $(tail -n 1 "$work/$name-$np.mesh" | cut -c5-); quadrature fields: $(cut -c5- "$work/$name-$np.rows")"
+  done
+done
+
+# ---- collocation on distributed data ---------------------------------------------------------------------------
+# the rows of a particle at a constrained vertex are emptied on every rank that holds it (its volume terms there)
+# and written by the ranks whose faces have the vertex, each its share; the last condition at a particle writes its
+# rows, as serially. Cook (Neo-Hooke, 2 steps) and the cube at P = 2, 3, 4 with MUMPS against serial UMFPACK
+COL=(--set bc.method=\"collocation\")
+REFERENCE=umfpack serial "$work/collocation" tests/decks/parallel/cook.cfg "${COOK9[@]}" "${COL[@]}"
+REFERENCE=umfpack serial "$work/collocation-cube" tests/decks/parallel/cube.cfg "${CUBE[@]}" "${COL[@]}"
+for np in 2 3 4; do
+  distributed "$np" "$work/collocation-$np" tests/decks/parallel/cook.cfg "${COOK9[@]}" "${COL[@]}" --set solver.petsc=\"mumps\"
+  same "$work/collocation" "$work/collocation-$np" "$np" 1e-10
+  distributed "$np" "$work/collocation-cube-$np" tests/decks/parallel/cube.cfg "${CUBE[@]}" "${COL[@]}" --set solver.petsc=\"mumps\"
+  same "$work/collocation-cube" "$work/collocation-cube-$np" "$np" 1e-10
+done
+ok "collocation on distributed data: as serially at P = 2-4"
+
 # ---- no rank holds the whole problem -----------------------------------------------------------------------
 medium=(--set "particles.count=[12,12,12]" --set quadrature.order=2 --set output.vtu=false)
 serial "$work/medium" tests/decks/parallel/cube.cfg "${medium[@]}"
@@ -268,8 +398,6 @@ refuse() { # refuse NAME PATTERN LINES...: exit 2 at -np 2 naming the deck's las
 pd='parallel = { data = "distributed"; };'
 refuse umfpack 'solver.linear is not available with parallel.data = "distributed"' "$pd" \
   'solver = { linear = "umfpack"; steps = 1; };'
-refuse mesh 'output.mesh is not available' 'output = { vtu = false; };' "$pd"
-refuse collocation 'bc.method is not available' "$pd" 'bc = { method = "collocation"; };'
 refuse irregular 'particles.layout is not available' "$pd" 'particles = { count = [9, 9]; layout = "irregular"; };'
 # ---- rigid motions: checked on the ranks' shares of the sets, the sums over all ranks --------------------------
 # Cook's membrane with ux alone on its left edge leaves the translation in y free. At P = 2, 3 some ranks hold none
@@ -293,6 +421,7 @@ done
 ok "rigid motions summed over the ranks' shares of the boundary sets (P = 2, 3)"
 
 # serially too: a distributed deck means the same on one process
-deck=$(variant serial_mesh 'output = { vtu = false; };' "$pd")
-expect_failure 2 "$deck:$(wc -l < "$deck"): output.mesh is not available" -- "$MICA" run "$deck" -o "$work/serial_mesh"
+expect_failure 2 '--set problem.method="fe": problem.method is not available with parallel.data = "distributed"' -- \
+  "$MICA" run tests/decks/parallel/cook.cfg -o "$work/serial_fe" --set parallel.data=\"distributed\" --set problem.method=\"fe\"
+[ ! -e "$work/serial_fe" ] || fail "the refused FE run left $work/serial_fe"
 ok "parallel.data = distributed"
