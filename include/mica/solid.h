@@ -111,9 +111,11 @@ int mica_vci_correct_stabilized(const MicaDiscretization *disc, const MlsApprox 
  * corrected in place, no dN_test: the tangent stays symmetric), that satisfies the constraint above for the
  * monomials of degree ≤ 1 with the stabilization points' terms and keeps the corrected gradients reproducing
  * linear fields at every point (docs/theory.md §NSNI, "symmetric VCI"). MICA_ERR_NUMERIC if a point's support
- * does not determine a linear field or the constraints cannot be met to 1e-10 relative. */
+ * does not determine a linear field or the constraints cannot be met to 1e-10 relative. dist: NULL for the whole
+ * problem (CHOLMOD solves the constraint's system), or distributed data (collective: the rank's share, the system
+ * assembled over the ranks and factored by MUMPS, the outcome the same on every rank). */
 int mica_vci_correct_symmetric(const MicaDiscretization *disc, const MlsApprox *mls, MicaShapeCache *volume,
-                               const struct MicaNsni *nsni);
+                               const struct MicaNsni *nsni, struct MicaDistribution *dist);
 
 /* Stabilized conforming nodal integration (docs/theory.md §nodal integration; Chen, Wu, Yoon & You 2001): a
  * cache of order 1 at the particles (disc's volume points after mica_discretization_nodal) whose dN is the
@@ -216,9 +218,6 @@ typedef struct MicaSolidOptions {
   int nsni;                     /* 1: NSNI's stabilization points (mica_nsni_create): disc must be nodal;
                                    first-order plane or 3-D models; finite-strain classical ones are stabilized
                                    with the linear model of their E, ν (docs/theory.md §NSNI) */
-  int vci_local;                /* 1: VCI solved particle by particle only (the Petrov–Galerkin form), never NSNI's
-                                   symmetric correction, whose global solve runs in one process: what
-                                   parallel.data = "distributed" gives on any number of ranks */
   int general_kernel;           /* 1: the slot-based element stiffness even where the classical kernel applies
                                    (mica/kernel.h; tests and benchmarks compare the two) */
   struct MicaDistribution *parallel; /* NULL: serial. Else (src/parallel, mica/parallel.h) the discretization

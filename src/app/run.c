@@ -105,7 +105,6 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
   const char *data;
   MICA_CALL_CLEANUP(mica_deck_string(deck, "parallel.data", &data));
   const int distributed = !strcmp(data, "distributed");
-  opt.vci_local = distributed; /* the same VCI form on any number of ranks (NSNI's symmetric one is serial) */
   /* a serial run of a distributed deck is its one-block case: the same refusals, so a deck means the same anywhere */
   if (distributed && !mica_parallel_active()) MICA_CALL_CLEANUP(run_parallel_owned_check(deck, rp));
   if (mica_parallel_active()) { /* MPI: this rank's share of the quadrature points (run_parallel.c) */

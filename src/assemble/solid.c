@@ -326,29 +326,28 @@ static int check_model(const MicaSolidOptions *opt, const MicaApprox *approx, in
 
 /* VCI: corrected test gradients in the volume cache (vci.c), with NSNI's stabilization points in the constraint
  * when there are some, timed for the summary; over the ranks with distributed data (collective: at the end of the
- * solid's creation, owned_collectives; the Petrov–Galerkin form, opt.vci_local). */
+ * solid's creation, owned_collectives). */
 static int apply_vci(MicaSolid *s) {
   const double start = mica_wtime();
-  MicaDistribution *dist = s->opt.parallel;
+  MicaDistribution *owned = s->opt.parallel && s->opt.parallel->owned ? s->opt.parallel : NULL;
   /* NSNI: one degree more than the basis. One point per cell integrates ∇N_J·σ for σ of the basis's degree n
    * with an O(1) defect on jittered particles (Gauss cells do not), and the L2 error stalled (docs/theory.md
    * §NSNI, "one degree more"); the patch tests of degree ≤ n hold either way. */
   const int order = s->opt.basis_order + (s->nsni ? 1 : 0);
-  if (dist && dist->owned) MICA_CALL(mica_vci_correct_owned(s->disc, s->mls, order, s->volume, s->nsni, dist));
-  else {
-    /* NSNI, linear basis: trial and test gradients corrected alike where the supports admit it (symmetric VCI;
-     * the Petrov–Galerkin form's trial gradients violate the constraint by O(1) on jittered cells and its L2
-     * error flattened). On a regular grid the boundary rows' supports make (a) and (b) incompatible; there the
-     * uncorrected trial gradients nearly meet the constraint, and the Petrov–Galerkin form is kept. */
-    int ierr = MICA_ERR_NUMERIC;
-    if (s->nsni && s->opt.basis_order == 1 && !s->opt.vci_local) {
-      ierr = mica_vci_correct_symmetric(s->disc, s->mls, s->volume, s->nsni);
-      if (ierr != MICA_SUCCESS && ierr != MICA_ERR_NUMERIC) MICA_CALL(ierr);
-      if (ierr) mica_error_clear();
-    }
-    s->vci_symmetric = ierr == MICA_SUCCESS;
-    if (ierr) MICA_CALL(mica_vci_correct_stabilized(s->disc, s->mls, order, s->volume, s->nsni));
+  /* NSNI, linear basis: trial and test gradients corrected alike where the supports admit it (symmetric VCI;
+   * the Petrov–Galerkin form's trial gradients violate the constraint by O(1) on jittered cells and its L2
+   * error flattened). On a regular grid the boundary rows' supports make (a) and (b) incompatible; there the
+   * uncorrected trial gradients nearly meet the constraint, and the Petrov–Galerkin form is kept. With
+   * distributed data the outcome is agreed, so every rank takes the same form. */
+  int ierr = MICA_ERR_NUMERIC;
+  if (s->nsni && s->opt.basis_order == 1) {
+    ierr = mica_vci_correct_symmetric(s->disc, s->mls, s->volume, s->nsni, owned);
+    if (ierr != MICA_SUCCESS && ierr != MICA_ERR_NUMERIC) MICA_CALL(ierr);
+    if (ierr) mica_error_clear();
   }
+  s->vci_symmetric = ierr == MICA_SUCCESS;
+  if (ierr && owned) MICA_CALL(mica_vci_correct_owned(s->disc, s->mls, order, s->volume, s->nsni, owned));
+  else if (ierr) MICA_CALL(mica_vci_correct_stabilized(s->disc, s->mls, order, s->volume, s->nsni));
   s->time_vci = mica_wtime() - start;
   return MICA_SUCCESS;
 }

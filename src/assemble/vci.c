@@ -10,6 +10,7 @@
  * support radii), which span the same space and keep A well conditioned. */
 #include <lapacke.h> /* it includes complex.h, whose macro I rules out that name: particles are `part` */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "mica/parallel.h"
@@ -292,8 +293,10 @@ static int symmetric_setup(const MicaDiscretization *disc, const MlsApprox *mls,
   return MICA_SUCCESS;
 }
 
-/* S + ε A assembled on the volume points' cliques (m unknowns per particle; S does not couple directions). */
-static int symmetric_matrix(const Symmetric *o, const Systems *sys, double eps, MicaSparse **out) {
+/* S + ε A assembled on the volume points' cliques (m unknowns per particle; S does not couple directions); with
+ * distributed data (nowned < np) the rank's points' part, and ε A at its owned particles only, whose A the owners
+ * hold summed (the distributed solver adds the ranks' parts). */
+static int symmetric_matrix(const Symmetric *o, const Systems *sys, double eps, long nowned, MicaSparse **out) {
   const MicaShapeCache *c = o->c;
   const int m = o->m, mr = o->mr;
   MicaSparse *S = NULL;
@@ -302,9 +305,9 @@ static int symmetric_matrix(const Symmetric *o, const Systems *sys, double eps, 
   MICA_CALL(mica_sparse_create(o->np, m, c->npoints, c->ptr, c->index, &S));
   long maxn = 0;
   for (long p = 0; p < c->npoints; p++) maxn = c->ptr[p + 1] - c->ptr[p] > maxn ? c->ptr[p + 1] - c->ptr[p] : maxn;
-  MICA_CALL_CLEANUP(MICA_MALLOC(Ke, maxn * m * maxn * m));
-  MICA_CALL_CLEANUP(MICA_MALLOC(Pi, maxn * maxn));
-  MICA_CALL_CLEANUP(MICA_MALLOC(Y, maxn * mr));
+  MICA_CALL_CLEANUP(MICA_MALLOC(Ke, maxn * m * maxn * m + 1));
+  MICA_CALL_CLEANUP(MICA_MALLOC(Pi, maxn * maxn + 1));
+  MICA_CALL_CLEANUP(MICA_MALLOC(Y, maxn * mr + 1));
   for (long p = 0; p < c->npoints && !ierr; p++) {
     const long n = c->ptr[p + 1] - c->ptr[p], e0 = c->ptr[p];
     /* Π⊥ = I − P G⁻¹ Pᵀ; Y = G⁻¹ Pᵀ (mr × n, column b at Y + b·mr: the layout of P's rows) */
@@ -324,7 +327,7 @@ static int symmetric_matrix(const Symmetric *o, const Systems *sys, double eps, 
                 o->qw[p] * o->Q[(e0 + a) * m + al] * Pi[a * n + b] * o->Q[(e0 + b) * m + be];
     ierr = mica_sparse_add_clique(S, n, c->index + e0, Ke);
   }
-  for (long part = 0; part < o->np && !ierr; part++)
+  for (long part = 0; part < nowned && !ierr; part++)
     for (int a = 0; a < m; a++)
       for (int b = 0; b < m; b++) {
         const double v = eps * sys->A[part * m * m + a * m + b];
@@ -340,28 +343,56 @@ cleanup:
   return ierr;
 }
 
-/* δ from sys->r (the constraint's right-hand sides, [np][dim][m]) into c->dN; c->dN_test freed (none: symmetric). */
-static int symmetric_correct(const MicaDiscretization *disc, const MlsApprox *mls, MicaShapeCache *c, Systems *sys) {
+/* S's solver: CHOLMOD on the whole; with distributed data PETSc's MUMPS (Cholesky) over the ranks, whatever
+ * solver.petsc the tangent takes (S + ε A is too ill-conditioned for an iterative method). */
+static int symmetric_solver(MicaDistribution *dist, MicaLinearSolver **solver) {
+  if (!dist) return mica_linear_solver_create(&mica_linear_cholmod, solver);
+  MICA_CALL(mica_parallel_linear_create(dist, &mica_linear_petsc, solver));
+  MicaKrylovOptions k = {.rtol = 1e-12, .max_iterations = 1, .spd = 1};
+  snprintf(k.petsc_preset, sizeof k.petsc_preset, "mumps");
+  return mica_linear_solver_set_krylov(*solver, &k);
+}
+
+/* The largest |v_i| over the particles this rank solves for (all, or the owned ones), over the ranks. */
+static int owned_max(MicaDistribution *dist, const double *v, long nrows, double *out) {
+  double mx = 0;
+  for (long i = 0; i < nrows; i++) mx = fmax(mx, fabs(v[i]));
+  if (dist) MICA_CALL(mica_parallel_max(MICA_SUCCESS, &mx, 1));
+  *out = mx;
+  return MICA_SUCCESS;
+}
+
+/* δ from sys->r (the constraint's right-hand sides, [np][dim][m]) into c->dN; c->dN_test freed (none: symmetric).
+ * With distributed data (dist) sys holds the owners' sums (owned_sums): S λ's rows are summed at the owners
+ * (mica_ghost_reduce), the violation is the largest over the ranks, and the solver returns λ at the ghosts too, so
+ * every rank's points get the δ of the whole. */
+static int symmetric_correct(const MicaDiscretization *disc, const MlsApprox *mls, MicaShapeCache *c, Systems *sys,
+                             MicaDistribution *dist) {
   const int dim = c->dim, m = sys->basis.m;
   const long np = mls_num_particles(mls), n = np * m * dim, nnz = c->ptr[c->npoints];
+  const long nowned = dist ? dist->nowned : np, nrows = nowned * m * dim;
   Symmetric o = {c, disc->qw, dim, m, dim + 1, np, NULL, NULL, NULL, NULL};
   MicaSparse *S = NULL;
   MicaLinearSolver *solver = NULL;
   double *lam = NULL, *res = NULL, *rhs = NULL, *x = NULL;
   int ierr = MICA_SUCCESS;
-  for (long part = 0; part < np; part++) /* a particle with no volume point has no constraint */
+  for (long part = 0; part < nowned; part++) /* a particle with no volume point has no constraint */
     if (sys->npoints[part] == 0)
       for (int a = 0; a < m; a++) sys->A[part * m * m + a * m + a] = 1.0;
-  MICA_CALL_CLEANUP(symmetric_setup(disc, mls, sys, &o));
-  MICA_CALL_CLEANUP(symmetric_matrix(&o, sys, 1e-10, &S));
-  MICA_CALL_CLEANUP(mica_linear_solver_create(&mica_linear_cholmod, &solver));
+  ierr = symmetric_setup(disc, mls, sys, &o);
+  if (!ierr) ierr = symmetric_matrix(&o, sys, 1e-10, nowned, &S);
+  if (dist) MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MICA_CALL_CLEANUP(ierr);
+  MICA_CALL_CLEANUP(symmetric_solver(dist, &solver));
   MICA_CALL_CLEANUP(mica_linear_solver_factor(solver, S));
-  MICA_CALL_CLEANUP(MICA_CALLOC(lam, n));
-  MICA_CALL_CLEANUP(MICA_MALLOC(res, n));
-  MICA_CALL_CLEANUP(MICA_MALLOC(rhs, np * m));
-  MICA_CALL_CLEANUP(MICA_MALLOC(x, np * m));
+  ierr = MICA_CALLOC(lam, n + 1);
+  if (!ierr) ierr = MICA_MALLOC(res, n + 1);
+  if (!ierr) ierr = MICA_MALLOC(rhs, np * m + 1);
+  if (!ierr) ierr = MICA_MALLOC(x, np * m + 1);
+  if (dist) MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MICA_CALL_CLEANUP(ierr);
   double scale = 0, viol = 0, previous = INFINITY;
-  for (long i = 0; i < n; i++) scale = fmax(scale, fabs(sys->r[i]));
+  MICA_CALL_CLEANUP(owned_max(dist, sys->r, nrows, &scale));
   memcpy(res, sys->r, sizeof(double) * (size_t)n);
   /* λ += (S + ε A)⁻¹ (r − S λ), until the constraints hold or the violation stops falling: where r is not in
    * S's range (a regular grid, 0.34 relative at 81² after every sweep) the first sweeps already show it. */
@@ -374,8 +405,9 @@ static int symmetric_correct(const MicaDiscretization *disc, const MlsApprox *ml
         for (int a = 0; a < m; a++) lam[(part * dim + d) * m + a] += x[part * m + a];
     }
     symmetric_apply(&o, lam, res);
-    viol = 0;
-    for (long i = 0; i < n; i++) res[i] = sys->r[i] - res[i], viol = fmax(viol, fabs(res[i]));
+    if (dist) MICA_CALL_CLEANUP(mica_ghost_reduce(dist, MICA_SUCCESS, res, m * dim)); /* S λ at the owners */
+    for (long i = 0; i < nrows; i++) res[i] = sys->r[i] - res[i];
+    MICA_CALL_CLEANUP(owned_max(dist, res, nrows, &viol));
     if (viol <= 1e-14 * fmax(scale, 1e-300) || viol > 0.5 * previous) break;
     previous = viol;
   }
@@ -432,7 +464,7 @@ static int vci_correct(const MicaDiscretization *disc, const MlsApprox *mls, int
   if (dist) MICA_CALL_CLEANUP(owned_sums(dist, ierr, &sys, dim));
   MICA_CALL_CLEANUP(ierr);
   if (symmetric) {
-    ierr = symmetric_correct(disc, mls, volume, &sys);
+    ierr = symmetric_correct(disc, mls, volume, &sys, dist);
     goto cleanup;
   }
   const long nsolve = dist ? dist->nowned : np; /* distributed: at the owned particles */
@@ -465,6 +497,6 @@ int mica_vci_correct_owned(const MicaDiscretization *disc, const MlsApprox *mls,
 }
 
 int mica_vci_correct_symmetric(const MicaDiscretization *disc, const MlsApprox *mls, MicaShapeCache *volume,
-                               const MicaNsni *nsni) {
-  return vci_correct(disc, mls, 2, volume, nsni, 1, NULL);
+                               const MicaNsni *nsni, MicaDistribution *dist) {
+  return vci_correct(disc, mls, 2, volume, nsni, 1, dist);
 }

@@ -233,9 +233,12 @@ ok "error norms with quadrature.error_order = 8 as serially at P = 2, 4"
 # Petrov–Galerkin): NSNI on jittered Cook (Neo-Hooke, 2 steps) at P = 1-4 with MUMPS within 1e-10 and with gmg
 # (GMRES) at P = 2, 4 within 1e-7, and the 3-D cube at P = 2, 4; SCNI (linear basis, jittered) on Cook and the cube
 # and direct nodal integration on Cook at P = 2, 4; NSNI with Lagrange multipliers on the glide layer at P = 2, 4
-# against serial UMFPACK. A linear basis's NSNI corrects serially with the symmetric form (a global solve), with
-# distributed data with the Petrov–Galerkin one on any number of ranks (opt.vci_local): P = 2, 4 against P = 1
-# of the distributed deck within 1e-10, and the counts at P = 4 summing to the serial ones.
+# against serial UMFPACK. A linear basis's NSNI takes the symmetric VCI (one correction of trial and test gradients,
+# a global system: CHOLMOD serially, MUMPS over the ranks): jittered Cook at P = 2, 3, 4 and the jittered cube at
+# P = 2, 4 within 1e-10 of the serial CHOLMOD run, the cube with gmg (CG: the tangent is symmetric) within 1e-7,
+# each run saying "VCI: symmetric"; on the regular cube the symmetric system has no solution and every rank falls
+# back to the Petrov–Galerkin form as serially (1e-10, no "VCI: symmetric"). The counts at P = 4 sum to the serial
+# ones.
 NS=(--set quadrature.mode=\"nsni\" --set particles.layout=\"jittered\")
 COOK9=(--set "particles.count=[9,9]" --set solver.steps=2)
 REFERENCE=umfpack serial "$work/nsni" tests/decks/parallel/cook.cfg "${COOK9[@]}" "${NS[@]}"
@@ -269,13 +272,34 @@ for np in 2 4; do
   distributed "$np" "$work/nsni-glide-$np" tests/decks/parallel/glide.cfg --set quadrature.mode=\"nsni\" --set solver.petsc=\"mumps\"
   same "$work/nsni-glide" "$work/nsni-glide-$np" "$np" 1e-10
 done
-L1=("${COOK9[@]}" "${NS[@]}" --set mls.order=1 --set mls.dilation=2.0 --set solver.petsc=\"mumps\")
-distributed 1 "$work/nsni1-1" tests/decks/parallel/cook.cfg "${L1[@]}"
-! grep -q "VCI: symmetric" "$work/nsni1-1.log" || fail "nsni1-1: the distributed deck took the symmetric VCI serially"
-for np in 2 4; do
-  distributed "$np" "$work/nsni1-$np" tests/decks/parallel/cook.cfg "${L1[@]}"
-  same "$work/nsni1-1" "$work/nsni1-$np" "$np" 1e-10
+L1=(--set mls.order=1 --set mls.dilation=2.0)
+symmetric() { # symmetric DIR YES: the run's log says "VCI: symmetric" (YES = 1) or not (0)
+  local n; n=$(grep -c "VCI: symmetric" "$1.log")
+  [ "$n" = "$2" ] || fail "$1: \"VCI: symmetric\" printed $n times, expected $2"
+}
+serial "$work/nsni1" tests/decks/parallel/cook.cfg "${COOK9[@]}" "${NS[@]}" "${L1[@]}"
+symmetric "$work/nsni1" 1
+for np in 2 3 4; do
+  distributed "$np" "$work/nsni1-$np" tests/decks/parallel/cook.cfg "${COOK9[@]}" "${NS[@]}" "${L1[@]}" --set solver.petsc=\"mumps\"
+  symmetric "$work/nsni1-$np" 1
+  same "$work/nsni1" "$work/nsni1-$np" "$np" 1e-10
 done
+serial "$work/nsni1-cube" tests/decks/parallel/cube.cfg "${CUBE[@]}" "${NS[@]}"
+REFERENCE=cholmod-sym serial "$work/nsni1-regular" tests/decks/parallel/cube.cfg "${CUBE[@]}" --set quadrature.mode=\"nsni\"
+symmetric "$work/nsni1-cube" 1
+symmetric "$work/nsni1-regular" 0
+for np in 2 4; do
+  distributed "$np" "$work/nsni1-cube-$np" tests/decks/parallel/cube.cfg "${CUBE[@]}" "${NS[@]}" --set solver.petsc=\"mumps\"
+  symmetric "$work/nsni1-cube-$np" 1
+  same "$work/nsni1-cube" "$work/nsni1-cube-$np" "$np" 1e-10
+  distributed "$np" "$work/nsni1-regular-$np" tests/decks/parallel/cube.cfg "${CUBE[@]}" --set quadrature.mode=\"nsni\" \
+    --set solver.petsc=\"mumps\"
+  symmetric "$work/nsni1-regular-$np" 0
+  same "$work/nsni1-regular" "$work/nsni1-regular-$np" "$np" 1e-10
+done
+distributed 2 "$work/nsni1-cube-gmg" tests/decks/parallel/cube.cfg "${CUBE[@]}" "${NS[@]}" --set solver.petsc=\"gmg\" \
+  --set solver.linear_rtol=1e-12
+same "$work/nsni1-cube" "$work/nsni1-cube-gmg" 2 1e-7
 python3 - "$work/nsni-1/summary.json" "$work/nsni-4/summary.json" <<'EOF' || fail "NSNI counts per rank: see above"
 import json, sys
 s, p = (json.load(open(f)) for f in sys.argv[1:3])
