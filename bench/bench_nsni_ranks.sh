@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The production nodal mode on distributed data (issues 19 and 20; figures only, never pass/fail): the 3-D
 # manufactured solution (input/manufactured3d.cfg: products of sines, no element or basis is exact) on jittered
-# particles, NSNI_N³ particles (default 25: 46 875 dofs), linear basis of dilation 2, parallel.data =
+# particles, NSNI_N³ particles (default 15: 10 125 dofs; at 25 NSNI's symmetric VCI alone took 71 s serially and did
+# not finish in 10 minutes at P = 2: docs/performance.md), linear basis of dilation 2, parallel.data =
 # "distributed", CG / GMRES with solver.petsc = NSNI_PETSC (default gmg), at P = 1 and P = 2, two integrations:
 #   gauss  2 × 2 × 2 Gauss points per cell and VCI (auto: on for jittered particles; Petrov–Galerkin, GMRES);
 #   nsni   one point per particle, NSNI's stabilization, its symmetric VCI (MUMPS over the ranks; CG).
@@ -13,7 +14,7 @@ set -u
 cd "$(dirname "$0")/.."
 MICA=${MICA_BIN:-bin/mica}
 REPEAT=${NSNI_REPEAT:-3}
-N=${NSNI_N:-25} PETSC=${NSNI_PETSC:-gmg}
+N=${NSNI_N:-15} PETSC=${NSNI_PETSC:-gmg}
 out=${OUT_DIR:-build/bench-out}/nsni_ranks
 mkdir -p "$out"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm_rsh_agent=false
