@@ -6,7 +6,6 @@
  * the solve's own points Σ w W is the `energy` probe. Under MPI with replicated data the error points must be
  * whole on every rank (quadrature.error_order > 0) and rank 0 writes; with distributed data each rank has its
  * cells' (or its nodal cells') points, and the ranks append their rows in rank order to the one file. */
-#define _GNU_SOURCE /* open_memstream */
 #include <stdio.h>
 #include <string.h>
 
