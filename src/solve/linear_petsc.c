@@ -6,20 +6,13 @@
  * node after the nodes of the lower ranks, its unknowns consecutive (block size = unknowns per node, which GAMG
  * and the block preconditioners read). One rank's nodes keep mica's order, so a serial run's numbering is mica's.
  *
- * Values: each rank adds its own contributions (its MicaSparse: the quadrature points it owns, in full numbering)
- * with MatSetValues(ADD_VALUES); PETSc moves the entries of rows other ranks own. The matrix is preallocated
- * once per pattern: on one rank from the column lengths (the pattern is symmetric), exactly; with distributed
- * data from the ranks' counts summed at the rows' owners (preallocate_counted: exact but in the rows several ranks
- * contribute to); with replicated data on several ranks by passing the same insertions through a MATPREALLOCATOR
- * first. Every column of a
- * node has the same rows (the pattern couples nodes), so the ndof columns of a node are one dense column-major
- * block of the CSC values: one MatSetValues per node and rank, no copy (a symmetric tangent's block inserted as the
- * node's rows, so that each lands in one AIJ row: set_block). Later factorizations zero the values and
- * add them again into the same pattern; PETSc then sees a changed matrix with the same nonzero structure, and its
- * preconditioners redo only their numeric part (MUMPS and CHOLMOD/UMFPACK in ASM keep their symbolic analysis;
- * GAMG with -pc_gamg_reuse_interpolation keeps its prolongators). The stash of rows other ranks own is freed
- * after each assembly (no MAT_SUBSET_OFF_PROC_ENTRIES: its buffers would stay held through GAMG's setup, where a
- * rank's memory peaks).
+ * Values: petsc_fill.c makes the AIJ matrix on arrays of its own, once per pattern — each rank's rows from its
+ * own contributions (its MicaSparse: the quadrature points it owns) and the pattern of those other ranks send it,
+ * exactly preallocated — and copies each tangent's values into it by position, sending the values of rows other
+ * ranks own to them (no MatSetValues: its search per entry and the stash cost more than the preconditioner's
+ * setup on the 33³ cube, docs/performance.md). PETSc then sees a changed matrix with the same nonzero structure, and
+ * its preconditioners redo only their numeric part (MUMPS and CHOLMOD/UMFPACK in ASM keep their symbolic analysis;
+ * GAMG with -pc_gamg_reuse_interpolation keeps its prolongators).
  *
  * Vectors: with parallel.data = "replicated" they are replicated in mica: the right-hand side is copied into
  * each rank's owned rows, the solution gathered to every rank with VecScatterCreateToAll and put back in mica's
@@ -157,10 +150,9 @@ typedef struct {
   PetscInt *row_of_dof; /* [n] PETSc's row of each mica unknown (replicated) */
   long *local_dofs;     /* [nlocal] mica's unknown of each row this rank owns, in PETSc's order */
   PetscInt nlocal;
-  PetscInt *rows;       /* [longest column] scratch of the insertions */
-  int blocked;          /* each node's ndof columns have the same rows */
-  int symmetric;        /* the values are symmetric (krylov.spd): columns are inserted as rows */
+  int symmetric;        /* the values are symmetric (krylov.spd): each column is copied as its row */
   Mat A;
+  MicaPetscFill *fill;  /* how K's values reach A (petsc_fill.c) */
   KSP ksp;
   Vec b, x, r, all;     /* all: the solution on every rank (local layout: at this rank's nodes, ghosts included) */
   VecScatter to_all;
@@ -202,10 +194,11 @@ static void free_objects(PetscSolver *ps) {
   KSPDestroy(&ps->ksp);
   MatNullSpaceDestroy(&ps->near_null);
   MatDestroy(&ps->A);
+  mica_petsc_fill_destroy(&ps->fill);
   VecDestroy(&ps->b), VecDestroy(&ps->x), VecDestroy(&ps->r), VecDestroy(&ps->all);
   VecScatterDestroy(&ps->to_all);
-  free(ps->row_of_dof), free(ps->local_dofs), free(ps->rows);
-  ps->row_of_dof = NULL, ps->local_dofs = NULL, ps->rows = NULL;
+  free(ps->row_of_dof), free(ps->local_dofs);
+  ps->row_of_dof = NULL, ps->local_dofs = NULL;
   ps->ready = 0;
 }
 
@@ -267,99 +260,6 @@ static int number_rows(PetscSolver *ps, const MicaLinearLayout *layout) {
   return ierr;
 }
 
-/* Whether every node's ndof columns share one row list, and the longest column (the scratch's length). */
-static int check_blocks(PetscSolver *ps, const MicaSparse *L) {
-  long longest = 1;
-  ps->blocked = 1;
-  for (long k = 0; k < ps->nnodes; k++) {
-    const long j0 = k * ps->ndof, len = L->colptr[j0 + 1] - L->colptr[j0];
-    if (len > longest) longest = len;
-    for (int c = 1; c < ps->ndof && ps->blocked; c++) {
-      const long j = j0 + c;
-      if (L->colptr[j + 1] - L->colptr[j] != len) ps->blocked = 0;
-      else if (len && memcmp(L->rowind + L->colptr[j], L->rowind + L->colptr[j0], (size_t)len * sizeof(long)))
-        ps->blocked = 0;
-    }
-    for (int c = 1; c < ps->ndof; c++) {
-      const long j = j0 + c, lj = L->colptr[j + 1] - L->colptr[j];
-      if (lj > longest) longest = lj;
-    }
-  }
-  return MICA_MALLOC(ps->rows, longest);
-}
-
-/* MatSetValues of the (rows × cols) block whose values are column-major (a CSC column block as it is). A
- * symmetric matrix's column block is its row block: inserted as rows (the matrix is MAT_ROW_ORIENTED), each row's
- * entries land in one contiguous AIJ row, where column-oriented insertion visits a different row for every entry
- * (measured, 33³ cube, one process: 1.86 s for 2.8·10⁷ entries, memory latency). */
-static PetscErrorCode set_block(const PetscSolver *ps, Mat M, PetscInt nrows, const PetscInt *rows, PetscInt ncols,
-                                const PetscInt *cols, const double *values) {
-  if (ps->symmetric) return MatSetValues(M, ncols, cols, nrows, rows, values, ADD_VALUES);
-  return MatSetValues(M, nrows, rows, ncols, cols, values, ADD_VALUES);
-}
-
-/* This rank's contributions into M (ADD_VALUES, the CSC values as they are). */
-static int add_contributions(PetscSolver *ps, Mat M, const MicaSparse *L) {
-  const int ndof = ps->ndof;
-  PetscInt cols[64];
-  for (long k = 0; k < ps->nnodes; k++) {
-    const long j0 = k * ndof;
-    const long len = L->colptr[j0 + 1] - L->colptr[j0];
-    if (ps->blocked) {
-      if (!len) continue;
-      const long *rowind = L->rowind + L->colptr[j0];
-      for (long q = 0; q < len; q++) ps->rows[q] = ps->row_of_dof[rowind[q]];
-      for (int c = 0; c < ndof; c++) cols[c] = ps->row_of_dof[j0 + c];
-      PCALL(set_block(ps, M, (PetscInt)len, ps->rows, ndof, cols, L->val + L->colptr[j0]));
-      continue;
-    }
-    for (int c = 0; c < ndof; c++) {
-      const long j = j0 + c, lj = L->colptr[j + 1] - L->colptr[j];
-      if (!lj) continue;
-      for (long q = 0; q < lj; q++) ps->rows[q] = ps->row_of_dof[L->rowind[L->colptr[j] + q]];
-      const PetscInt col = ps->row_of_dof[j];
-      PCALL(set_block(ps, M, (PetscInt)lj, ps->rows, 1, &col, L->val + L->colptr[j]));
-    }
-  }
-  return MICA_SUCCESS;
-}
-
-/* One process: row i's entries are column i's (the pattern of cliques is symmetric), so the exact preallocation
- * is the column lengths, in PETSc's numbering (the identity there). */
-static int preallocate_serial(PetscSolver *ps, const MicaSparse *L) {
-  PetscInt *row_nnz = NULL;
-  MICA_CALL(MICA_MALLOC(row_nnz, ps->n));
-  for (long j = 0; j < ps->n; j++) row_nnz[ps->row_of_dof[j]] = (PetscInt)(L->colptr[j + 1] - L->colptr[j]);
-  PetscErrorCode code = MatSeqAIJSetPreallocation(ps->A, 0, row_nnz);
-  free(row_nnz);
-  PCALL(code);
-  return MICA_SUCCESS;
-}
-
-/* Several ranks with replicated data (each rank's K in full numbering): rows receive other ranks' contributions,
- * which only the insertions know; a MATPREALLOCATOR is given the same insertions (values ignored) and counts them
- * exactly, off-rank rows included. */
-static int preallocate_distributed(PetscSolver *ps, const MicaSparse *L) {
-  const PetscInt N = (PetscInt)ps->N;
-  Mat pre;
-  PCALL(MatCreate(ps->comm, &pre));
-  PCALL(MatSetType(pre, MATPREALLOCATOR));
-  PCALL(MatSetSizes(pre, ps->nlocal, ps->nlocal, N, N));
-  PCALL(MatSetBlockSize(pre, ps->ndof));
-  PCALL(MatSetUp(pre));
-  PCALL(MatSetOption(pre, MAT_ROW_ORIENTED, ps->symmetric ? PETSC_TRUE : PETSC_FALSE));
-  int ierr = add_contributions(ps, pre, L);
-  if (ierr) {
-    MatDestroy(&pre);
-    return ierr;
-  }
-  PCALL(MatAssemblyBegin(pre, MAT_FINAL_ASSEMBLY));
-  PCALL(MatAssemblyEnd(pre, MAT_FINAL_ASSEMBLY));
-  PCALL(MatPreallocatorPreallocate(pre, PETSC_TRUE, ps->A));
-  PCALL(MatDestroy(&pre));
-  return MICA_SUCCESS;
-}
-
 /* The solution at this rank's nodes (local layout: owned and ghosts) from the distributed x: all[i] is x's entry
  * row_of_dof[i]; without a local layout, all of x on every rank. */
 static int create_gather(PetscSolver *ps) {
@@ -376,77 +276,12 @@ static int create_gather(PetscSolver *ps) {
   return MICA_SUCCESS;
 }
 
-/* Distributed data (a local layout): each row's entries counted from the contributions' pattern, which is
- * symmetric (cliques), so local row i's columns are column i's rows — split into the row owner's columns
- * (diagonal block) and the rest — and summed at the rows' owners (ADD_VALUES into two Vecs). A row several ranks
- * contribute to gets the sum of their counts, an overestimate where their columns overlap (the ghost layer's rows);
- * MatAssemblyEnd squeezes out the unused room. O(nnz) without hashing: the MATPREALLOCATOR took 0.9–1.4 s of a
- * 33³ cube at P = 2 and 14–18 s of the 10⁶-dof cube, where the serial column lengths take 0.06 and 2 s. */
-static int preallocate_counted(PetscSolver *ps, const MicaSparse *L) {
-  PetscInt *range = NULL, *d_nnz = NULL, *o_nnz = NULL;
-  MICA_CALL(MICA_MALLOC(range, ps->size + 1));
-  PetscInt mine = ps->nlocal;
-  range[0] = 0;
-  MPI_Allgather(&mine, 1, MPIU_INT, range + 1, 1, MPIU_INT, ps->comm);
-  for (int r = 0; r < ps->size; r++) range[r + 1] += range[r];
-  Vec counts[2] = {NULL, NULL}; /* diagonal, off-diagonal block */
-  PetscErrorCode code = VecCreateMPI(ps->comm, ps->nlocal, (PetscInt)ps->N, &counts[0]);
-  if (!code) code = VecDuplicate(counts[0], &counts[1]);
-  int owner = 0;
-  for (long j = 0; j < ps->n && !code; j++) {
-    const PetscInt row = ps->row_of_dof[j];
-    if (row < range[owner] || row >= range[owner + 1]) { /* the rows come in runs of one owner */
-      int lo = 0, hi = ps->size; /* range[lo] <= row < range[hi] */
-      while (hi - lo > 1) {
-        const int mid = (lo + hi) / 2;
-        if (row < range[mid]) hi = mid;
-        else lo = mid;
-      }
-      owner = lo;
-    }
-    PetscScalar c[2] = {0, 0};
-    for (long q = L->colptr[j]; q < L->colptr[j + 1]; q++) {
-      const PetscInt col = ps->row_of_dof[L->rowind[q]];
-      c[col < range[owner] || col >= range[owner + 1]] += 1;
-    }
-    if (c[0] > 0) code = VecSetValue(counts[0], row, c[0], ADD_VALUES);
-    if (!code && c[1] > 0) code = VecSetValue(counts[1], row, c[1], ADD_VALUES);
-  }
-  int ierr = code ? MICA_SUCCESS : MICA_MALLOC(d_nnz, ps->nlocal + 1);
-  if (!code && !ierr) ierr = MICA_MALLOC(o_nnz, ps->nlocal + 1);
-  for (int b = 0; b < 2 && !code && !ierr; b++) {
-    const PetscScalar *a;
-    code = VecAssemblyBegin(counts[b]);
-    if (!code) code = VecAssemblyEnd(counts[b]);
-    if (!code) code = VecGetArrayRead(counts[b], &a);
-    if (code) break;
-    const PetscInt room = b ? (PetscInt)ps->N - ps->nlocal : ps->nlocal; /* the block's columns */
-    PetscInt *nnz = b ? o_nnz : d_nnz;
-    for (PetscInt i = 0; i < ps->nlocal; i++) nnz[i] = (PetscInt)a[i] < room ? (PetscInt)a[i] : room;
-    code = VecRestoreArrayRead(counts[b], &a);
-  }
-  if (!code && !ierr) code = MatSeqAIJSetPreallocation(ps->A, 0, d_nnz); /* one rank: the diagonal block is all */
-  if (!code && !ierr) code = MatMPIAIJSetPreallocation(ps->A, 0, d_nnz, 0, o_nnz);
-  VecDestroy(&counts[0]), VecDestroy(&counts[1]);
-  free(range), free(d_nnz), free(o_nnz);
-  MICA_CALL(ierr);
-  PCALL(code);
-  return MICA_SUCCESS;
-}
-
 static int create_matrix(PetscSolver *ps, const MicaSparse *L, const MicaKrylovOptions *k) {
   const PetscInt N = (PetscInt)ps->N;
-  PCALL(MatCreate(ps->comm, &ps->A));
-  PCALL(MatSetType(ps->A, MATAIJ));
-  PCALL(MatSetSizes(ps->A, ps->nlocal, ps->nlocal, N, N));
-  PCALL(MatSetBlockSize(ps->A, ps->ndof));
-  if (ps->local) MICA_CALL(preallocate_counted(ps, L));
-  else MICA_CALL(ps->size == 1 ? preallocate_serial(ps, L) : preallocate_distributed(ps, L));
-  PCALL(MatSetOption(ps->A, MAT_ROW_ORIENTED, ps->symmetric ? PETSC_TRUE : PETSC_FALSE));
+  MICA_CALL(mica_petsc_fill_create(ps->comm, L, ps->row_of_dof, ps->nlocal, N, ps->ndof, ps->symmetric, &ps->A,
+                                   &ps->fill));
   PCALL(MatSetOption(ps->A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
-  /* not MAT_SUBSET_OFF_PROC_ENTRIES: it would keep the stash's receive buffers of the ghost rows between assemblies
-   * (measured: 21 MB a rank at 31³ on 4 ranks, about 5 % of its peak, which it reaches in GAMG's setup while they
-   * are held); without it every assembly sets its communication up again (one rendezvous, docs/performance.md) */
+  PCALL(MatSetOption(ps->A, MAT_NO_OFF_PROC_ENTRIES, PETSC_TRUE)); /* other ranks' rows: petsc_fill.c sends them */
   /* symmetric, not MAT_SPD: a tangent positive definite at the start may turn indefinite under load, and MUMPS's
    * Cholesky is then LDLᵀ with pivoting (its sym = 2), right either way; CG and CHOLMOD say so when it happens */
   if (k->spd) {
@@ -584,7 +419,6 @@ static int setup(MicaLinearSolver *solver, const MicaSparse *L, MicaPatternKey k
   ps->symmetric = solver->krylov.spd;
   MICA_CHECK(L->ndof <= 64, MICA_ERR_ARGUMENT, "petsc: %d unknowns per node (at most 64)", L->ndof);
   MICA_CALL(number_rows(ps, &solver->layout));
-  MICA_CALL(check_blocks(ps, L));
   MICA_CALL(create_matrix(ps, L, &solver->krylov));
   MICA_CALL(attach_near_null(ps, &solver->krylov));
   MICA_CALL(create_ksp(ps, &solver->krylov, &solver->stats.multigrid_levels));
@@ -602,12 +436,8 @@ static int petsc_factor(MicaLinearSolver *solver, const MicaSparse *L) {
     int ierr = setup(solver, L, key);
     solver->stats.time_analyze += mica_wtime() - start;
     MICA_CALL(ierr);
-  } else {
-    PCALL(MatZeroEntries(ps->A));
   }
-  MICA_CALL(add_contributions(ps, ps->A, L));
-  PCALL(MatAssemblyBegin(ps->A, MAT_FINAL_ASSEMBLY));
-  PCALL(MatAssemblyEnd(ps->A, MAT_FINAL_ASSEMBLY));
+  MICA_CALL(mica_petsc_fill_values(ps->fill, L, ps->A));
   if (ps->size > 1) { /* the halo of a matrix–vector product, fixed by the pattern */
     PetscInt nghosts;
     const PetscInt *ghosts;

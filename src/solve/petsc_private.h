@@ -5,6 +5,7 @@
 #include <petscksp.h>
 
 #include "mica/error.h"
+#include "mica/sparse.h"
 
 /* A PETSc error code as a mica error (PETSc's message says what failed; its handler printed nothing). */
 int mica_petsc_error(PetscErrorCode code, const char *call, const char *file, int line);
@@ -13,6 +14,18 @@ int mica_petsc_error(PetscErrorCode code, const char *call, const char *file, in
     PetscErrorCode petsc_code_ = (call);                                                                            \
     if (petsc_code_) return mica_petsc_error(petsc_code_, #call, __FILE__, __LINE__);                               \
   } while (0)
+
+/* mica's tangent K (CSC, local or global numbering, its pattern symmetric) into PETSc's AIJ matrix A by
+ * position (petsc_fill.c): mica_petsc_fill_create makes A (MATSEQAIJ on one rank, MATMPIAIJ, block size bs) with
+ * the rows this rank owns (nlocal of the N; unknown i of K is PETSc's row row_of_dof[i]), every rank's
+ * contributions to them included, once per pattern (collective); A's arrays are the fill's, so A is destroyed
+ * first. mica_petsc_fill_values puts a tangent's values into A (collective: the values of other ranks' rows are
+ * sent to them) and assembles it. symmetric: K's values are symmetric (each column is copied as its row). */
+typedef struct MicaPetscFill MicaPetscFill;
+int mica_petsc_fill_create(MPI_Comm comm, const MicaSparse *K, const PetscInt *row_of_dof, PetscInt nlocal,
+                           PetscInt N, int bs, int symmetric, Mat *A, MicaPetscFill **fill);
+int mica_petsc_fill_values(MicaPetscFill *fill, const MicaSparse *K, Mat A);
+void mica_petsc_fill_destroy(MicaPetscFill **fill);
 
 /* Geometric multigrid on particles (petsc_lattice.c): pc becomes PCMG whose coarse spaces are regular lattices
  * over the bounding box of the particles, each about half as fine as the one below, with multilinear

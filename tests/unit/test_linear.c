@@ -348,11 +348,56 @@ static void test_registry_and_arguments(void **state) {
   assert_int_equal(mica_linear_solver_destroy(NULL), MICA_SUCCESS);
 }
 
+/* ---- PETSc: the tangent's values by position (src/solve/petsc_fill.c) ------------------------------------ */
+
+/* One pattern, three sets of values, MUMPS on one process: the residual is taken with mica's own matrix, so a value
+ * put at a wrong position of PETSc's copy fails it. Symmetric values (each column copied as its row) and skew ones
+ * (the transposed walk). */
+static void check_petsc_rounds(int spd) {
+  MicaSparse *A = grid_pattern(0);
+  double *b = random_vector(A->n, 5), *x = calloc((size_t)A->n, sizeof *x);
+  MicaLinearSolver *solver = NULL;
+  assert_int_equal(mica_linear_solver_create(&mica_linear_petsc, &solver), MICA_SUCCESS);
+  MicaKrylovOptions k = {0};
+  k.spd = spd;
+  snprintf(k.petsc_preset, sizeof k.petsc_preset, "mumps");
+  assert_int_equal(mica_linear_solver_set_krylov(solver, &k), MICA_SUCCESS);
+  const double skew[3] = {0.3, 0.9, 0.05};
+  for (int round = 0; round < 3; round++) {
+    if (spd) grid_values(A, 1.0 + round, 0.01 * (round + 1));
+    else grid_skew_values(A, skew[round]);
+    factor_solve_check(solver, A, b, x);
+  }
+  assert_int_equal(solver->stats.analyses, 1);
+  MicaSparse *B = grid_pattern(1); /* a new pattern: made anew */
+  grid_values(B, 1.0, 0.1);
+  factor_solve_check(solver, B, b, x);
+  assert_int_equal(solver->stats.analyses, 2);
+  mica_linear_solver_destroy(&solver);
+  mica_sparse_destroy(&A);
+  mica_sparse_destroy(&B);
+  free(b);
+  free(x);
+}
+
+static void test_petsc_symmetric_values(void **state) {
+  (void)state;
+  check_petsc_rounds(1);
+}
+
+static void test_petsc_unsymmetric_values(void **state) {
+  (void)state;
+  check_petsc_rounds(0);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_petsc_symmetric_values), cmocka_unit_test(test_petsc_unsymmetric_values),
       cmocka_unit_test(test_cholmod_spd), cmocka_unit_test(test_umfpack_spd),
       cmocka_unit_test(test_random_blocks), cmocka_unit_test(test_indefinite), cmocka_unit_test(test_singular),
       cmocka_unit_test(test_cholmod_sym), cmocka_unit_test(test_registry_and_arguments),
   };
-  return cmocka_run_group_tests(tests, NULL, NULL);
+  int failed = cmocka_run_group_tests(tests, NULL, NULL);
+  mica_petsc_finalize();
+  return failed;
 }
