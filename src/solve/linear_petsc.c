@@ -431,7 +431,7 @@ static int petsc_factor(MicaLinearSolver *solver, const MicaSparse *L) {
   PetscSolver *ps = solver->data;
   const MicaPatternKey key = mica_pattern_key(L);
   ps->ready = 0;
-  if (!ps->A || !mica_pattern_key_equal(key, ps->pattern)) {
+  if (!ps->A || !mica_pattern_key_equal(key, ps->pattern) || !mica_petsc_fill_takes(ps->fill, L)) {
     const double start = mica_wtime();
     int ierr = setup(solver, L, key);
     solver->stats.time_analyze += mica_wtime() - start;

@@ -25,6 +25,8 @@ typedef struct MicaPetscFill MicaPetscFill;
 int mica_petsc_fill_create(MPI_Comm comm, const MicaSparse *K, const PetscInt *row_of_dof, PetscInt nlocal,
                            PetscInt N, int bs, int symmetric, Mat *A, MicaPetscFill **fill);
 int mica_petsc_fill_values(MicaPetscFill *fill, const MicaSparse *K, Mat A);
+/* Whether fill_values can take K (one rank with symmetric values shares K's values array: the same K only). */
+int mica_petsc_fill_takes(const MicaPetscFill *fill, const MicaSparse *K);
 void mica_petsc_fill_destroy(MicaPetscFill **fill);
 
 /* Geometric multigrid on particles (petsc_lattice.c): pc becomes PCMG whose coarse spaces are regular lattices
