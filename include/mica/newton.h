@@ -50,7 +50,8 @@ typedef struct MicaNonlinearProblem {
   /* Creates the linear solver with ops (NULL: mica_linear_solver_create), e.g. a distributed one. */
   int (*linear_create)(void *ctx, const MicaLinearSolverOps *ops, MicaLinearSolver **solver);
   /* Auto mode (MicaNewtonOptions.linear NULL): the preferred solver, and the one that replaces it for the rest
-   * of the run when its factorization fails numerically (NULL: none), with the note printed then. */
+   * of the run when its factorization or a solve fails numerically (NULL: none); the note says why (a solve's
+   * failure: its error message) and that the fallback takes over. */
   const MicaLinearSolverOps *linear_preferred, *linear_fallback;
   const char *fallback_note;
   /* Called when the first factorization of a direct solver fails numerically (no load step has changed the

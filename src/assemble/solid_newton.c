@@ -53,8 +53,8 @@ void mica_solid_nonlinear_problem(MicaSolid *s, MicaNonlinearProblem *problem) {
       .linear_create = solid_linear_create,
       .linear_preferred = spd ? &mica_linear_cholmod : near ? &mica_linear_cholmod_sym : &mica_linear_umfpack,
       .linear_fallback = spd || near ? &mica_linear_umfpack : NULL,
-      .fallback_note = near ? "the symmetric part of the tangent is not positive definite; switching to UMFPACK"
-                            : "the tangent is not positive definite; switching to UMFPACK",
+      .fallback_note = near ? "the symmetric part of the tangent is not positive definite"
+                            : "the tangent is not positive definite",
       .first_factor_failed = first_tangent_singular,
       .norm = s->opt.parallel && s->opt.parallel->owned ? solid_owned_norm : NULL,
   };
