@@ -31,6 +31,10 @@ int mica_sparse_create(long nnodes, int ndof, long ncliques, const long *clique_
                        MicaSparse **A);
 int mica_sparse_destroy(MicaSparse **A);
 void mica_sparse_zero(MicaSparse *A);
+/* A's values are dead until it is assembled again (zeroed first): their memory goes back to the system and they
+ * read as zero afterwards (Linux's MADV_DONTNEED on the whole pages inside val; the rest zeroed). For a solver
+ * that has copied them, while its own setup peaks (linear_petsc.c, MicaKrylovOptions.discardable). */
+void mica_sparse_discard_values(MicaSparse *A);
 /* A[dofs of nodes[a], dofs of nodes[b]] += K[(a*ndof + i) * (n*ndof) + (b*ndof + j)] for a clique's nodes
  * in ASCENDING order (n nodes, K dense row-major (n·ndof)²). Every pair must be in the pattern
  * (MICA_ERR_ARGUMENT otherwise). Cost O(Σ column lengths touched), no allocation. */
@@ -95,6 +99,9 @@ typedef struct MicaKrylovOptions {
   int coord_dim;           /* the nodes' coordinates, for geometric multigrid (petsc's gmg): */
   long coord_nodes;        /* [coord_nodes][coord_dim], node k's unknowns k ndof .. (k + 1) ndof − 1; borrowed; */
   const double *coords;    /* NULL: none (finite elements) */
+  /* the caller's matrix whose values it does not read after a factorization until it assembles them again: a
+   * solver that copied them may discard them (mica_sparse_discard_values); NULL: none (Newton's, see newton.c) */
+  MicaSparse *discardable;
 } MicaKrylovOptions;
 
 typedef struct MicaLinearSolver MicaLinearSolver;

@@ -64,7 +64,12 @@ static void linear_residual_update(Newton *nw) {
 static int create_linear(Newton *nw, const MicaLinearSolverOps *ops) {
   if (nw->p->linear_create) MICA_CALL(nw->p->linear_create(nw->p->ctx, ops, &nw->linear));
   else MICA_CALL(mica_linear_solver_create(ops, &nw->linear));
-  MICA_CALL(mica_linear_solver_set_krylov(nw->linear, &nw->opt->krylov));
+  MicaKrylovOptions krylov = nw->opt->krylov;
+  /* K's values are read by nothing between a factorization and the next assembly, unless an affine problem's
+   * residual update (R + K Δu) or a fallback solver refactoring them comes: a solver that copied them may give
+   * their memory back */
+  krylov.discardable = !nw->p->affine && !nw->fallback ? nw->p->K : NULL;
+  MICA_CALL(mica_linear_solver_set_krylov(nw->linear, &krylov));
   nw->stats->linear_name = ops->type.name;
   return MICA_SUCCESS;
 }
@@ -86,9 +91,9 @@ static int move_to_fallback(Newton *nw, const char *why) {
   if (nw->opt->verbose) printf("  note: %s; switching to %s\n", why, nw->fallback->type.name);
   mica_error_clear();
   mica_linear_solver_destroy(&nw->linear);
-  MICA_CALL(create_linear(nw, nw->fallback));
-  nw->fallback = NULL;
-  return MICA_SUCCESS;
+  const MicaLinearSolverOps *fallback = nw->fallback;
+  nw->fallback = NULL; /* the last solver of the run */
+  return create_linear(nw, fallback);
 }
 
 /* Factor and solve K du = −R. In auto mode a factorization that fails numerically (CHOLMOD refuses an

@@ -412,6 +412,8 @@ int mica_petsc_fill_takes(const MicaPetscFill *f, const MicaSparse *K) {
   return f && K->n == f->n && (!f->shared || f->shared == K->val);
 }
 
+int mica_petsc_fill_shares(const MicaPetscFill *f) { return f && f->shared; }
+
 int mica_petsc_fill_values(MicaPetscFill *f, const MicaSparse *K, Mat A) {
   MICA_CHECK(mica_petsc_fill_takes(f, K), MICA_ERR_ARGUMENT, "petsc: a tangent of %ld unknowns (values at %p) for "
              "a pattern of %ld (values at %p)", K->n, (const void *)K->val, f->n, (const void *)f->shared);

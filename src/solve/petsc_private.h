@@ -27,6 +27,8 @@ int mica_petsc_fill_create(MPI_Comm comm, const MicaSparse *K, const PetscInt *r
 int mica_petsc_fill_values(MicaPetscFill *fill, const MicaSparse *K, Mat A);
 /* Whether fill_values can take K (one rank with symmetric values shares K's values array: the same K only). */
 int mica_petsc_fill_takes(const MicaPetscFill *fill, const MicaSparse *K);
+/* Whether A's values are K's own array (one rank, symmetric values): K's values stay alive with A. */
+int mica_petsc_fill_shares(const MicaPetscFill *fill);
 void mica_petsc_fill_destroy(MicaPetscFill **fill);
 
 /* Geometric multigrid on particles (petsc_lattice.c): pc becomes PCMG whose coarse spaces are regular lattices

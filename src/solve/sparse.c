@@ -13,12 +13,16 @@
  * clique's ascending nodes (a merge); every column of b has the same rows, so the offset found once
  * serves all ndof columns and each pair (a, b) costs one merge step plus its ndof² additions.
  */
+#define _DEFAULT_SOURCE /* madvise */
 #include "mica/sparse.h"
 
 #include <limits.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 /* ---- Argument checks ---------------------------------------------------------------------------------- */
 
@@ -214,6 +218,18 @@ int mica_sparse_destroy(MicaSparse **A) {
 
 void mica_sparse_zero(MicaSparse *A) {
   if (A && A->nnz > 0) memset(A->val, 0, (size_t)A->nnz * sizeof *A->val);
+}
+
+void mica_sparse_discard_values(MicaSparse *A) {
+  if (!A || A->nnz <= 0) return;
+  const uintptr_t page = (uintptr_t)sysconf(_SC_PAGESIZE), start = (uintptr_t)A->val, end = (uintptr_t)(A->val + A->nnz);
+  const uintptr_t first = (start + page - 1) & ~(page - 1), last = end & ~(page - 1); /* the whole pages inside */
+  if (last <= first || madvise((void *)first, last - first, MADV_DONTNEED)) {
+    mica_sparse_zero(A); /* too small, or refused: zeroed in place */
+    return;
+  }
+  memset(A->val, 0, first - start); /* the partial pages at both ends */
+  memset((void *)last, 0, end - last);
 }
 
 static int check_clique_nodes(const MicaSparse *A, long n, const long *nodes) {

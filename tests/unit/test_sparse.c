@@ -215,11 +215,36 @@ static void test_scatter_errors(void **state) {
   mica_sparse_destroy(&A);
 }
 
+/* Discarded values read as zero — the whole pages given back, the partial ones at the ends zeroed — and the
+ * matrix takes new values after (a 3-dof pattern of some 10⁵ entries: many pages; and one smaller than a page). */
+static void test_discard_values(void **state) {
+  (void)state;
+  MicaRandom rng = mica_random_seed(5);
+  const long sizes[2] = {600, 3};
+  for (int t = 0; t < 2; t++) {
+    Cliques c = random_cliques(&rng, sizes[t], sizes[t], 6);
+    MicaSparse *A = NULL;
+    assert_int_equal(mica_sparse_create(sizes[t], 3, c.ncliques, c.ptr, c.nodes, &A), MICA_SUCCESS);
+    for (long q = 0; q < A->nnz; q++) A->val[q] = 1.0 + (double)q;
+    mica_sparse_discard_values(A);
+    long nonzero = 0;
+    for (long q = 0; q < A->nnz; q++) nonzero += A->val[q] != 0.0;
+    assert_int_equal(nonzero, 0);
+    for (long q = 0; q < A->nnz; q++) A->val[q] = 2.0 * (double)q;
+    double sum = 0;
+    for (long q = 0; q < A->nnz; q++) sum += A->val[q];
+    assert_true(fabs(sum - (double)A->nnz * (double)(A->nnz - 1)) <= 1e-9 * sum);
+    print_message("  discard: nnz %ld, all zero after, writable again\n", A->nnz);
+    mica_sparse_destroy(&A);
+    cliques_free(&c);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_pattern_matches_brute_force), cmocka_unit_test(test_pattern_edge_cases),
       cmocka_unit_test(test_scatter_symmetric),          cmocka_unit_test(test_scatter_unsymmetric),
-      cmocka_unit_test(test_scatter_errors),
+      cmocka_unit_test(test_scatter_errors),             cmocka_unit_test(test_discard_values),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
