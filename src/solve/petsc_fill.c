@@ -17,13 +17,16 @@
  * which adds them. Each row of PETSc's matrix is the union of its own slots' columns and those received, sorted: a
  * row whose own slots are already in PETSc's order — its diagonal block (owned columns) first, ascending, then the
  * off-diagonal block ascending — and which receives nothing is copied (memcpy of the column's values: one process,
- * and the interior of a rank's part); the other rows keep a position per slot. The matrix is made from these rows
- * (MatXAIJSetPreallocationCSR: rows inserted whole and sorted, the fast case of MatSetValues), once per pattern.
+ * and the interior of a rank's part); the other rows keep a position per slot. PETSc's matrix is made on arrays of
+ * ours holding these rows (MatCreateSeqAIJWithArrays, MatCreateMPIAIJWithSplitArrays: nothing inserted, nothing
+ * searched; PETSc's MatXAIJSetPreallocationCSR still inserts row by row through MatSetValues, 4.1 s on the cube),
+ * once per pattern; one process with symmetric values and K's columns in row order gives it K's own values array.
  *
  * Each tangent: the copies and positions into the diagonal and off-diagonal blocks' value arrays, the slots of
  * other ranks' rows into one buffer per neighbour (MPI_Isend/Irecv: one message each way per neighbour), the received
- * values added at their positions; no search, no stash. Memory beyond PETSc's matrix: a position (PetscInt) per slot
- * of a mapped row and per received value, a send offset per column and a row number per unknown. */
+ * values added at their positions; no search, no stash. Memory beyond the matrix's arrays: a position (PetscInt) per
+ * slot of a mapped row and per received value, the send and receive buffers, a send offset per column and a row
+ * number per unknown. */
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
