@@ -118,20 +118,21 @@ static int solve_linear(Newton *nw) {
   for (long i = 0; i < n; i++) nw->R[i] = -nw->R[i];
   start = mica_wtime();
   ierr = mica_linear_solver_solve(nw->linear, nw->R, nw->du);
-  if (ierr == MICA_ERR_NUMERIC && nw->fallback) {
+  nw->stats->time_solve += mica_wtime() - start;
+  if (ierr == MICA_ERR_NUMERIC && nw->fallback) { /* the fallback's factorization, then its solve */
     char why[512];
     snprintf(why, sizeof why, "%s", mica_error_message());
     MICA_CALL(move_to_fallback(nw, why));
-    const double factor_start = mica_wtime();
+    start = mica_wtime();
     MICA_CALL(mica_linear_solver_factor(nw->linear, nw->p->K));
-    nw->stats->time_factor += mica_wtime() - factor_start;
+    nw->stats->time_factor += mica_wtime() - start;
+    start = mica_wtime();
     ierr = mica_linear_solver_solve(nw->linear, nw->R, nw->du);
+    nw->stats->time_solve += mica_wtime() - start;
   }
   MICA_CALL(ierr);
-  nw->stats->time_solve += mica_wtime() - start;
   return MICA_SUCCESS;
 }
-
 
 /* Backtracking on |R|: halve the step until the residual decreases (at most 6 halvings). *have_residual = 1
  * when a step was accepted: R then holds R(u + α Δu), which the next iteration need not assemble again. */
