@@ -155,7 +155,9 @@ const MicaDeckKey mica_run_schema[] = {
     {.path = "solver.linear", .type = MICA_KEY_CHOICE, .def = "\"auto\"", .min = 1.0, .max = 0.0, .choices = "auto",
      .registry = &mica_linear_solver_registry,
      .help = "auto: in one process CHOLMOD for symmetric positive definite tangents, cholmod-sym for VCI's "
-             "(CHOLMOD on the symmetric part, refined to solver.linear_rtol), UMFPACK otherwise; under mpirun petsc "
+             "(CHOLMOD on the symmetric part, refined to solver.linear_rtol), UMFPACK otherwise, and UMFPACK for the "
+             "rest of the run, with a note, when CHOLMOD's factorization or cholmod-sym's refinement fails; under "
+             "mpirun petsc "
              "with its default method (MUMPS); petsc: PETSc's solvers on the tangent distributed over the ranks, "
              "also in one process (solver.petsc chooses the method: MUMPS, GAMG, hypre, or Schwarz / block Jacobi "
              "with CHOLMOD or UMFPACK subdomains; iterative ones for problems whose factor does not fit)"},
