@@ -278,8 +278,8 @@ static int create_gather(PetscSolver *ps) {
 
 static int create_matrix(PetscSolver *ps, const MicaSparse *L, const MicaKrylovOptions *k) {
   const PetscInt N = (PetscInt)ps->N;
-  MICA_CALL(mica_petsc_fill_create(ps->comm, L, ps->row_of_dof, ps->nlocal, N, ps->ndof, ps->symmetric, &ps->A,
-                                   &ps->fill));
+  MICA_CALL(mica_petsc_fill_create(ps->comm, L, ps->row_of_dof, ps->nlocal, N, ps->ndof, ps->symmetric,
+                                   k->discardable == L, &ps->A, &ps->fill));
   PCALL(MatSetOption(ps->A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   PCALL(MatSetOption(ps->A, MAT_NO_OFF_PROC_ENTRIES, PETSC_TRUE)); /* other ranks' rows: petsc_fill.c sends them */
   /* symmetric, not MAT_SPD: a tangent positive definite at the start may turn indefinite under load, and MUMPS's

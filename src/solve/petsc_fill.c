@@ -46,7 +46,11 @@ struct MicaPetscFill {
    * (global columns, which PETSc renumbers in place), CSR */
   PetscInt *diag_start, *diag_col, *off_start, *off_col;
   double *diag_val, *off_val;
-  const double *shared;   /* one rank, symmetric values, K's columns in PETSc's row order: diag_val is K's val */
+  const double *shared;   /* diag_val is K's val: one rank with symmetric values and K's columns in PETSc's row order,
+                           * or in_place */
+  int in_place;           /* K's values lent (several ranks, symmetric values): each fill rearranges them in place */
+  double *row_values;     /* in_place: [row_cap] a mapped row's own values, saved before its place is written */
+  long row_cap;
   long *mapped;           /* [nlocal] -1: the row is copied; else its first position in pos */
   PetscInt *pos;          /* positions of the slots of mapped rows: k in the diagonal block, -1 - k off it */
   long *send_start;       /* [n] an unknown owned elsewhere: its column's first value in send, else -1 */
@@ -66,7 +70,7 @@ void mica_petsc_fill_destroy(MicaPetscFill **fill) {
   free(f->row), free(f->dof_of_row), free(f->mapped), free(f->pos);
   if (f->shared) f->diag_val = NULL; /* K's */
   free(f->diag_start), free(f->diag_col), free(f->diag_val), free(f->off_start), free(f->off_col), free(f->off_val);
-  free(f->send_start), free(f->next), free(f->send), free(f->recv), free(f->recv_pos);
+  free(f->send_start), free(f->next), free(f->send), free(f->recv), free(f->recv_pos), free(f->row_values);
   free(f->send_rank), free(f->recv_rank), free(f->send_offset), free(f->recv_offset), free(f->requests);
   free(f);
   *fill = NULL;
@@ -202,12 +206,28 @@ static int copied(const MicaSparse *K, const PetscInt *g, long c, PetscInt rstar
   return 1;
 }
 
+/* Whether the diagonal block fits in K's values array, each row's place written only after its own slots were
+ * read: the rows' columns ascending in memory and row r's place ending before row r + 1's slots begin (the rows
+ * with entries from other ranks may be longer than their own slots; the interior rows are as long or shorter).
+ * The slots of other ranks' rows (send) and of the off-diagonal block are copied out before any place is written.
+ * Sets row_cap, the longest mapped row. */
+static int in_place_fits(MicaPetscFill *f, const MicaSparse *K) {
+  for (PetscInt r = 0; r < f->nlocal; r++) {
+    const long c = f->dof_of_row[r], len = K->colptr[c + 1] - K->colptr[c];
+    if (r > 0 && c <= f->dof_of_row[r - 1]) return 0;
+    const long end = r + 1 < f->nlocal ? K->colptr[f->dof_of_row[r + 1]] : K->nnz;
+    if (f->diag_start[r + 1] > end) return 0;
+    if (f->mapped[r] >= 0 && len > f->row_cap) f->row_cap = len;
+  }
+  return 1;
+}
+
 /* The rows as PETSc's two blocks keep them (CSR: diagonal block with local columns diag_start, diag_col;
  * off-diagonal block with global columns off_start, off_col) and where each slot and received value goes.
  * received: the (row, column) pairs for this rank's rows. The column arrays are allocated for the most they could
  * hold (pages never written cost nothing) and cut to their length at the end. */
 static int build_rows(MicaPetscFill *f, const MicaSparse *K, const PetscInt *g, PetscInt rstart, PetscInt rend,
-                      const PetscInt *received) {
+                      const PetscInt *received, int lend) {
   long *rptr = NULL, *rlist = NULL, nmapped = 0, nown = 0;
   Item *items = NULL;
   long item_cap = 0;
@@ -271,7 +291,10 @@ static int build_rows(MicaPetscFill *f, const MicaSparse *K, const PetscInt *g, 
   int share = f->size == 1 && f->symmetric;
   for (PetscInt r = 0; r < f->nlocal && share; r++) share = f->mapped[r] < 0 && f->dof_of_row[r] == r;
   if (share) f->shared = f->diag_val = K->val;
-  else MICA_CALL_CLEANUP(MICA_CALLOC(f->diag_val, nd + 1));
+  else if (lend && f->symmetric && in_place_fits(f, K)) {
+    f->shared = f->diag_val = K->val, f->in_place = 1;
+    MICA_CALL_CLEANUP(MICA_MALLOC(f->row_values, f->row_cap + 1));
+  } else MICA_CALL_CLEANUP(MICA_CALLOC(f->diag_val, nd + 1));
 cleanup:
   free(rptr), free(rlist), free(items);
   return ierr;
@@ -319,7 +342,7 @@ static int check_blocks(const MicaPetscFill *f, Mat A) {
 }
 
 int mica_petsc_fill_create(MPI_Comm comm, const MicaSparse *K, const PetscInt *row_of_dof, PetscInt nlocal,
-                           PetscInt N, int bs, int symmetric, Mat *A, MicaPetscFill **out) {
+                           PetscInt N, int bs, int symmetric, int lend, Mat *A, MicaPetscFill **out) {
   *out = NULL;
   MicaPetscFill *f = NULL;
   MICA_CALL(MICA_CALLOC(f, 1));
@@ -349,7 +372,7 @@ int mica_petsc_fill_create(MPI_Comm comm, const MicaSparse *K, const PetscInt *r
   }
   MICA_CALL_CLEANUP(plan_send(f, K, row_of_dof, range, rank, &pairs, counts));
   MICA_CALL_CLEANUP(exchange_pairs(f, pairs, counts, &received));
-  MICA_CALL_CLEANUP(build_rows(f, K, row_of_dof, range[rank], range[rank + 1], received));
+  MICA_CALL_CLEANUP(build_rows(f, K, row_of_dof, range[rank], range[rank + 1], received, lend));
   free(pairs), free(received);
   pairs = received = NULL;
   /* PETSc's matrix on these arrays (not copied: they are freed after it) */
@@ -400,6 +423,29 @@ static void fill_symmetric(MicaPetscFill *f, const MicaSparse *K, double *ad, do
              (size_t)(K->colptr[c + 1] - K->colptr[c]) * sizeof *f->send);
 }
 
+/* Symmetric values lent (in_place_fits): the slots of other ranks' rows and the off-diagonal entries copied out,
+ * then, row after row, the diagonal block's entries moved down into place in K's values array (ad is K->val); a
+ * mapped row's own values saved first, its place zeroed and its slots added by position. */
+static void fill_in_place(MicaPetscFill *f, const MicaSparse *K, double *ad, double *ao) {
+  for (long c = 0; c < f->n; c++)
+    if (f->send_start[c] >= 0)
+      memcpy(f->send + f->send_start[c], K->val + K->colptr[c],
+             (size_t)(K->colptr[c + 1] - K->colptr[c]) * sizeof *f->send);
+  for (PetscInt r = 0; r < f->nlocal; r++) {
+    const long c = f->dof_of_row[r], first = K->colptr[c], len = K->colptr[c + 1] - first;
+    const PetscInt d0 = f->diag_start[r], nd = f->diag_start[r + 1] - d0;
+    if (f->mapped[r] >= 0) {
+      memcpy(f->row_values, K->val + first, (size_t)len * sizeof *ad);
+      memset(ad + d0, 0, (size_t)nd * sizeof *ad);
+      memset(ao + f->off_start[r], 0, (size_t)(f->off_start[r + 1] - f->off_start[r]) * sizeof *ao);
+      for (long k = 0; k < len; k++) put(f, r, k, f->row_values[k], ad, ao);
+      continue;
+    }
+    if (len > nd) memcpy(ao + f->off_start[r], K->val + first + nd, (size_t)(len - nd) * sizeof *ao);
+    if (ad + d0 != K->val + first) memmove(ad + d0, K->val + first, (size_t)nd * sizeof *ad);
+  }
+}
+
 /* Unsymmetric values: entry (i, j) is slot next[i]++ of column i (the transposed walk). */
 static void fill_general(MicaPetscFill *f, const MicaSparse *K, double *ad, double *ao) {
   memset(f->next, 0, (size_t)f->n * sizeof *f->next);
@@ -430,13 +476,14 @@ int mica_petsc_fill_values(MicaPetscFill *f, const MicaSparse *K, Mat A) {
   for (int k = 0; k < f->nrecv_ranks; k++)
     MPI_Irecv(f->recv + f->recv_offset[k], (int)(f->recv_offset[k + 1] - f->recv_offset[k]), MPI_DOUBLE,
               f->recv_rank[k], FILL_TAG, f->comm, &f->requests[nreq++]);
-  /* mapped rows add (several slots or received values may share an entry): zeroed first */
-  for (PetscInt r = 0; r < f->nlocal; r++)
+  /* mapped rows add (several slots or received values may share an entry): zeroed first (in place: row by row) */
+  for (PetscInt r = 0; r < f->nlocal && !f->in_place; r++)
     if (f->mapped[r] >= 0) {
       memset(ad + f->diag_start[r], 0, (size_t)(f->diag_start[r + 1] - f->diag_start[r]) * sizeof *ad);
       if (ao) memset(ao + f->off_start[r], 0, (size_t)(f->off_start[r + 1] - f->off_start[r]) * sizeof *ao);
     }
   if (!f->symmetric) fill_general(f, K, ad, ao);
+  else if (f->in_place) fill_in_place(f, K, ad, ao);
   else if (!f->shared) fill_symmetric(f, K, ad, ao); /* shared: A's values are K's already */
   for (int k = 0; k < f->nsend_ranks; k++)
     MPI_Isend(f->send + f->send_offset[k], (int)(f->send_offset[k + 1] - f->send_offset[k]), MPI_DOUBLE,

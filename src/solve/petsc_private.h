@@ -20,14 +20,18 @@ int mica_petsc_error(PetscErrorCode code, const char *call, const char *file, in
  * the rows this rank owns (nlocal of the N; unknown i of K is PETSc's row row_of_dof[i]), every rank's
  * contributions to them included, once per pattern (collective); A's arrays are the fill's, so A is destroyed
  * first. mica_petsc_fill_values puts a tangent's values into A (collective: the values of other ranks' rows are
- * sent to them) and assembles it. symmetric: K's values are symmetric (each column is copied as its row). */
+ * sent to them) and assembles it. symmetric: K's values are symmetric (each column is copied as its row).
+ * lend: the caller lends K's values array (Newton's discardable tangent: K is assembled anew, zeroed first, before
+ * its values or A are read again after a fill): with several ranks and symmetric values the fill then rearranges
+ * K's values in place into A's diagonal block (no copy into fresh memory), and A holds the tangent only until K is
+ * assembled again. */
 typedef struct MicaPetscFill MicaPetscFill;
 int mica_petsc_fill_create(MPI_Comm comm, const MicaSparse *K, const PetscInt *row_of_dof, PetscInt nlocal,
-                           PetscInt N, int bs, int symmetric, Mat *A, MicaPetscFill **fill);
+                           PetscInt N, int bs, int symmetric, int lend, Mat *A, MicaPetscFill **fill);
 int mica_petsc_fill_values(MicaPetscFill *fill, const MicaSparse *K, Mat A);
 /* Whether fill_values can take K (one rank with symmetric values shares K's values array: the same K only). */
 int mica_petsc_fill_takes(const MicaPetscFill *fill, const MicaSparse *K);
-/* Whether A's values are K's own array (one rank, symmetric values): K's values stay alive with A. */
+/* Whether A's values are K's own array (one rank, symmetric values; or lent): K's values stay alive with A. */
 int mica_petsc_fill_shares(const MicaPetscFill *fill);
 void mica_petsc_fill_destroy(MicaPetscFill **fill);
 
