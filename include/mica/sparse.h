@@ -29,6 +29,9 @@ typedef struct MicaSparse {
  * clique_nodes[clique_ptr[c] .. clique_ptr[c+1]) (any order; duplicates allowed). Values are zero. */
 int mica_sparse_create(long nnodes, int ndof, long ncliques, const long *clique_ptr, const long *clique_nodes,
                        MicaSparse **A);
+/* The same from a node graph: node i's neighbors adj[ptr[i] .. ptr[i+1]) (any order, no repeats, the node itself
+ * included where its diagonal block is wanted), the graph symmetric (j lists i whenever i lists j). */
+int mica_sparse_create_graph(long nnodes, int ndof, const long *ptr, const long *adj, MicaSparse **A);
 int mica_sparse_destroy(MicaSparse **A);
 void mica_sparse_zero(MicaSparse *A);
 /* A's values are dead until it is assembled again (zeroed first): their memory goes back to the system and they

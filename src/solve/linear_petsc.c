@@ -338,7 +338,8 @@ static int attach_lattice_mg(PetscSolver *ps, const MicaKrylovOptions *k, int *l
   PetscErrorCode code = KSPGetPC(ps->ksp, &pc);
   int ierr = code ? MICA_SUCCESS
                   : mica_petsc_lattice_mg_create(pc, ps->comm, dim, ps->ndof, ps->nlocal, points, ps->N / ps->ndof,
-                                                 k->petsc_preset_where, &ps->lattice);
+                                                 ps->nnodes, k->coords, ps->symmetric, k->petsc_preset_where,
+                                                 &ps->lattice);
   free(points);
   PCALL(code);
   *levels = mica_petsc_lattice_mg_levels(ps->lattice);
@@ -437,6 +438,8 @@ static int petsc_factor(MicaLinearSolver *solver, const MicaSparse *L) {
     solver->stats.time_analyze += mica_wtime() - start;
     MICA_CALL(ierr);
   }
+  /* gmg's first coarse operator from K itself, before the fill may rearrange K's values */
+  if (ps->lattice) MICA_CALL(mica_petsc_lattice_mg_first(ps->lattice, L));
   MICA_CALL(mica_petsc_fill_values(ps->fill, L, ps->A));
   /* the caller will not read K's values again before it assembles them: their memory goes back before the
    * preconditioner's setup, where a rank's memory peaks (GAMG, P = 4, 47³ cube: 1074 → 900 MB a rank) */

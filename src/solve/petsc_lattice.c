@@ -28,6 +28,8 @@
  * 0, summed at the nodes' owners), renumbered consecutively rank by rank; the next lattice's rows are these. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "petsc_private.h"
 
@@ -257,32 +259,63 @@ static int coarser_lattice(const Lattice *g, Lattice *c) {
   return changed;
 }
 
-/* Lattice l: its rows (the active nodes of the level below, or the particles), its active nodes and P. */
+/* Lattice l: its rows (the active nodes of the level below, or the particles), its active nodes (this rank's
+ * from *first on) and P. extra (the first lattice only, or NULL): more rows renumbered alike (K's nodes). */
 static int make_level(MPI_Comm comm, int ndof, const Lattice *g, PetscInt npoints, const double *points,
                       const Lattice *below, const PetscInt *below_active, PetscInt **active, PetscInt *nactive,
-                      PetscInt *total, Mat *P) {
+                      PetscInt *first, PetscInt *total, Mat *P, Rows *extra) {
   Rows rows = {0};
   Vec ids = NULL;
-  PetscInt first = 0;
   int ierr = rows_create(g, npoints, points, below, below_active, &rows);
-  if (!ierr) ierr = activate(comm, g, &rows, &ids, active, nactive, &first, total);
+  if (!ierr) ierr = activate(comm, g, &rows, &ids, active, nactive, first, total);
   if (!ierr) ierr = renumber(&rows, ids);
-  if (!ierr) ierr = interpolation(comm, ndof, &rows, *nactive, first, P);
+  if (!ierr && extra) ierr = renumber(extra, ids);
+  if (!ierr) ierr = interpolation(comm, ndof, &rows, *nactive, *first, P);
   VecDestroy(&ids);
   rows_destroy(&rows);
   return ierr;
 }
 
+/* The first coarse operator made by mica (mica_petsc_lattice_mg_first): C = Σ over the ranks of Pᵀ K_r P, each
+ * rank's K_r (its own points' contributions, owned and ghost nodes) times the interpolation rows of its K's nodes,
+ * which it computes from their coordinates; C's rows of coarse nodes another rank owns go to it through a fill
+ * (petsc_fill.c), as the tangent's do.
+ *
+ * Why: PETSc's parallel PᵀAP on the MAIJ interpolation converts it to AIJ and hashes every entry of its symbolic
+ * phase (33³ cube, P = 2: 0.95 s a rank, against 0.44 s serially for twice the rows), and keeps the intermediate
+ * products for reuse (gmg's excess memory per rank). Here: no P_oth exchange (a rank has its ghosts' coordinates),
+ * no hashing (marker arrays over the rank's coarse nodes), the interlaced 3 × 3 blocks kept, nothing held but C. */
+typedef struct {
+  long nfine;              /* K's nodes */
+  PetscInt nc;             /* the coarse nodes this rank's C has: those K's nodes interpolate from, and its own */
+  PetscInt *cid;           /* [nc] their active numbers, ascending */
+  PetscInt *sn;            /* [nfine · MAX_CORNERS] a K node's coarse nodes (index into cid; −1: none) */
+  double *sw;              /* [nfine · MAX_CORNERS] their weights */
+  MicaSparse *C;           /* the rank's part of the coarse operator (its nodes' numbering) */
+  MicaPetscFill *fill;     /* C into coarse[0] */
+  PetscInt *row_of_dof;    /* [nc · ndof] C's unknowns as PETSc's rows */
+  double *W;               /* [nc · ndof²] a fine node's column of Pᵀ K, by coarse node */
+  PetscInt *touched;       /* [nc] the coarse nodes W holds */
+  long *mark, *posmap;     /* [nc] */
+} FirstProduct;
+
 struct MicaLatticeMG {
   PC pc;                 /* borrowed: the PCMG these levels are */
+  MPI_Comm comm;
   int count;             /* lattices */
   int size;              /* ranks */
+  int ndof, symmetric;
   Mat P[MAX_LEVELS];     /* P[l]: from lattice l + 1 to the level below (l = 0: the particles) */
   Mat coarse[MAX_LEVELS]; /* coarse[l] = P[l]ᵀ (level below) P[l]: the operator of lattice l + 1 */
+  Rows K_rows;           /* the first lattice's interpolation rows of K's nodes (active numbers) */
+  PetscInt first, nactive, total; /* the first lattice's active nodes: this rank's from first on, all */
+  FirstProduct fp;
+  int made_first;        /* coarse[0] holds this tangent's C (mica_petsc_lattice_mg_first) */
 };
 
 int mica_petsc_lattice_mg_create(PC pc, MPI_Comm comm, int dim, int ndof, PetscInt nrows_local, const double *points,
-                                 long nglobal_nodes, const char *where, MicaLatticeMG **out) {
+                                 long nglobal_nodes, long nnodes_K, const double *coords_K, int symmetric,
+                                 const char *where, MicaLatticeMG **out) {
   int rank, size;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -293,19 +326,22 @@ int mica_petsc_lattice_mg_create(PC pc, MPI_Comm comm, int dim, int ndof, PetscI
   MICA_CALL(first_lattice(comm, dim, nrows_local / ndof, points, nglobal_nodes, where, &lattice[0]));
   MicaLatticeMG *mg = NULL;
   MICA_CALL(MICA_CALLOC(mg, 1));
-  mg->pc = pc, mg->size = size;
-  int ierr = MICA_SUCCESS;
-  do {
+  mg->pc = pc, mg->comm = comm, mg->size = size, mg->ndof = ndof, mg->symmetric = symmetric;
+  int ierr = rows_create(&lattice[0], (PetscInt)nnodes_K, coords_K, NULL, NULL, &mg->K_rows);
+  while (!ierr) {
     Lattice *g = &lattice[mg->count];
     lattice_own(g, rank, size);
     const Lattice *below = mg->count ? &lattice[mg->count - 1] : NULL;
+    PetscInt first = 0;
     ierr = make_level(comm, ndof, g, below ? nactive[mg->count - 1] : nrows_local / ndof, points, below,
-                      below ? active[mg->count - 1] : NULL, &active[mg->count], &nactive[mg->count], &total,
-                      &mg->P[mg->count]);
+                      below ? active[mg->count - 1] : NULL, &active[mg->count], &nactive[mg->count], &first, &total,
+                      &mg->P[mg->count], below ? NULL : &mg->K_rows);
     if (ierr) break;
+    if (!below) mg->first = first, mg->nactive = nactive[0], mg->total = total;
     mg->count++;
-  } while (total > COARSEST && mg->count < MAX_LEVELS &&
-           coarser_lattice(&lattice[mg->count - 1], &lattice[mg->count]));
+    if (!(total > COARSEST && mg->count < MAX_LEVELS && coarser_lattice(&lattice[mg->count - 1], &lattice[mg->count])))
+      break;
+  }
   for (int l = 0; l < MAX_LEVELS; l++) free(active[l]);
   /* PCMG's numbering: level 0 the coarsest lattice, level count the particles; the coarse operators are ours
    * (mica_petsc_lattice_mg_operators), not PCMG's Galerkin products, so that their algorithm is chosen */
@@ -325,9 +361,228 @@ int mica_petsc_lattice_mg_create(PC pc, MPI_Comm comm, int dim, int ndof, PetscI
 
 int mica_petsc_lattice_mg_levels(const MicaLatticeMG *mg) { return mg ? mg->count + 1 : 0; }
 
+/* ---- the first coarse operator, from K ------------------------------------------------------------------- */
+
+/* The rank's coarse nodes (those its K's nodes interpolate from, and its own active ones) and each K node's
+ * coarse nodes as indices into them. */
+static int first_nodes(MicaLatticeMG *mg, FirstProduct *fp) {
+  const long entries = fp->nfine * MAX_CORNERS;
+  PetscInt *ids = NULL, count = 0;
+  MICA_CALL(MICA_MALLOC(ids, entries + mg->nactive + 1));
+  for (long e = 0; e < entries; e++)
+    if (mg->K_rows.node[e] >= 0) ids[count++] = mg->K_rows.node[e];
+  for (PetscInt k = 0; k < mg->nactive; k++) ids[count++] = mg->first + k;
+  PetscErrorCode code = PetscSortRemoveDupsInt(&count, ids);
+  if (code) free(ids);
+  PCALL(code);
+  fp->cid = ids, fp->nc = count;
+  MICA_CALL(MICA_MALLOC(fp->sn, entries + 1));
+  MICA_CALL(MICA_MALLOC(fp->sw, entries + 1));
+  for (long e = 0; e < entries; e++) {
+    fp->sn[e] = -1, fp->sw[e] = mg->K_rows.weight[e];
+    if (mg->K_rows.node[e] >= 0) PetscFindInt(mg->K_rows.node[e], count, ids, &fp->sn[e]);
+  }
+  return MICA_SUCCESS;
+}
+
+/* Whether K's columns list their rows in whole node blocks (ndof consecutive rows from a multiple of ndof), as
+ * K's pattern from cliques of nodes does: the product walks them a node at a time. */
+static int node_blocks(const MicaSparse *K, int ndof) {
+  if (K->ndof != ndof || K->n % ndof) return 0;
+  for (long c = 0; c < K->n; c++) {
+    if ((K->colptr[c + 1] - K->colptr[c]) % ndof) return 0;
+    for (long q = K->colptr[c]; q < K->colptr[c + 1]; q += ndof)
+      if (K->rowind[q] % ndof || K->rowind[q + ndof - 1] != K->rowind[q] + ndof - 1) return 0;
+  }
+  return 1;
+}
+
+/* C's node graph: R(j), the coarse nodes of fine node j's neighbors (the columns of K's row j after P), then
+ * column J of C = ∪ R(j) over the fine nodes j that interpolate from J. */
+static int first_pattern(const MicaSparse *K, int ndof, FirstProduct *fp, long **cptr_out, long **cadj_out) {
+  const long nfine = fp->nfine, nc = fp->nc;
+  long *rptr = NULL, *radj = NULL, rcap = 0, count = 0, *tptr = NULL, *tlist = NULL, *cptr = NULL, *cadj = NULL, ccap = 0;
+  int ierr = MICA_CALLOC(rptr, nfine + 1);
+  if (!ierr) ierr = MICA_CALLOC(tptr, nc + 2);
+  for (long i = 0; i < nc && !ierr; i++) fp->mark[i] = -1;
+  for (long j = 0; j < nfine && !ierr; j++) {
+    const long c = j * ndof;
+    for (long q = K->colptr[c]; q < K->colptr[c + 1] && !ierr; q += ndof) {
+      const PetscInt *S = fp->sn + K->rowind[q] / ndof * MAX_CORNERS;
+      for (int e = 0; e < MAX_CORNERS && S[e] >= 0 && !ierr; e++) {
+        if (fp->mark[S[e]] == j) continue;
+        fp->mark[S[e]] = j;
+        if (count == rcap) ierr = MICA_REALLOC(radj, rcap = rcap ? 2 * rcap : 1 << 16);
+        if (!ierr) radj[count++] = S[e];
+      }
+    }
+    rptr[j + 1] = count;
+    for (int e = 0; e < MAX_CORNERS && fp->sn[j * MAX_CORNERS + e] >= 0; e++) tptr[fp->sn[j * MAX_CORNERS + e] + 2]++;
+  }
+  /* the transpose of the fine nodes' coarse nodes: the fine nodes of each coarse node */
+  for (long ci = 0; ci < nc && !ierr; ci++) tptr[ci + 2] += tptr[ci + 1];
+  if (!ierr) ierr = MICA_MALLOC(tlist, tptr[nc + 1] + 1);
+  for (long j = 0; j < nfine && !ierr; j++)
+    for (int e = 0; e < MAX_CORNERS && fp->sn[j * MAX_CORNERS + e] >= 0; e++) tlist[tptr[fp->sn[j * MAX_CORNERS + e] + 1]++] = j;
+  if (!ierr) ierr = MICA_CALLOC(cptr, nc + 1);
+  for (long i = 0; i < nc && !ierr; i++) fp->mark[i] = -1;
+  count = 0;
+  for (long cj = 0; cj < nc && !ierr; cj++) {
+    for (long t = tptr[cj]; t < tptr[cj + 1] && !ierr; t++)
+      for (long r = rptr[tlist[t]]; r < rptr[tlist[t] + 1] && !ierr; r++) {
+        if (fp->mark[radj[r]] == cj) continue;
+        fp->mark[radj[r]] = cj;
+        if (count == ccap) ierr = MICA_REALLOC(cadj, ccap = ccap ? 2 * ccap : 1 << 16);
+        if (!ierr) cadj[count++] = radj[r];
+      }
+    cptr[cj + 1] = count;
+  }
+  free(rptr), free(radj), free(tptr), free(tlist);
+  if (ierr) free(cptr), free(cadj);
+  else *cptr_out = cptr, *cadj_out = cadj;
+  return ierr;
+}
+
+/* Once per pattern: the coarse nodes, C's pattern and the fill that makes coarse[0] of C. */
+static int first_symbolic(MicaLatticeMG *mg, const MicaSparse *K) {
+  FirstProduct *fp = &mg->fp;
+  const int ndof = mg->ndof;
+  fp->nfine = K->n / ndof;
+  MICA_CALL(first_nodes(mg, fp));
+  MICA_CALL(MICA_MALLOC(fp->mark, fp->nc + 1));
+  MICA_CALL(MICA_MALLOC(fp->posmap, fp->nc + 1));
+  MICA_CALL(MICA_MALLOC(fp->touched, fp->nc + 1));
+  MICA_CALL(MICA_MALLOC(fp->W, (long)fp->nc * ndof * ndof + 1));
+  MICA_CALL(MICA_MALLOC(fp->row_of_dof, (long)fp->nc * ndof + 1));
+  for (PetscInt ci = 0; ci < fp->nc; ci++)
+    for (int a = 0; a < ndof; a++) fp->row_of_dof[(long)ci * ndof + a] = fp->cid[ci] * ndof + a;
+  long *cptr = NULL, *cadj = NULL;
+  MICA_CALL(first_pattern(K, ndof, fp, &cptr, &cadj));
+  int ierr = mica_sparse_create_graph(fp->nc, ndof, cptr, cadj, &fp->C);
+  free(cptr), free(cadj);
+  MICA_CALL(ierr);
+  /* C is ours and read by nothing after its fill: lent, so that the fill rearranges it in place */
+  MICA_CALL(mica_petsc_fill_create(mg->comm, fp->C, fp->row_of_dof, mg->nactive * ndof, mg->total * ndof, ndof,
+                                   mg->symmetric, 1, &mg->coarse[0], &fp->fill));
+  KSP smoother;
+  PCALL(PCMGGetSmoother(mg->pc, mg->count - 1, &smoother));
+  PCALL(KSPSetOperators(smoother, mg->coarse[0], mg->coarse[0]));
+  return MICA_SUCCESS;
+}
+
+/* C(I, J) += Σ over K's entries (i, j) of w_iI K_ij w_jJ, a fine node j (K's column block) at a time: its column
+ * of Pᵀ K into W by coarse node, then W times each of j's weights into C's columns of j's coarse nodes. */
+static void first_numeric(const MicaLatticeMG *mg, FirstProduct *fp, const MicaSparse *K) {
+  const int ndof = mg->ndof, nd2 = ndof * ndof;
+  MicaSparse *C = fp->C;
+  mica_sparse_zero(C);
+  for (long ci = 0; ci < fp->nc; ci++) fp->mark[ci] = -1;
+  for (long j = 0; j < fp->nfine; j++) {
+    long ntouched = 0;
+    for (int a = 0; a < ndof; a++) {
+      const long c = j * ndof + a;
+      for (long q = K->colptr[c]; q < K->colptr[c + 1]; q += ndof) {
+        const long i = K->rowind[q] / ndof;
+        const PetscInt *S = fp->sn + i * MAX_CORNERS;
+        const double *w = fp->sw + i * MAX_CORNERS, *v = K->val + q;
+        for (int e = 0; e < MAX_CORNERS && S[e] >= 0; e++) {
+          double *Wi = fp->W + (long)S[e] * nd2;
+          if (fp->mark[S[e]] != j) {
+            fp->mark[S[e]] = j, fp->touched[ntouched++] = S[e];
+            memset(Wi, 0, sizeof(double) * (size_t)nd2);
+          }
+          for (int b = 0; b < ndof; b++) Wi[b * ndof + a] += w[e] * v[b];
+        }
+      }
+    }
+    const PetscInt *S = fp->sn + j * MAX_CORNERS;
+    for (int e = 0; e < MAX_CORNERS && S[e] >= 0; e++) {
+      const long cj = S[e], first = C->colptr[cj * ndof];
+      const double s = fp->sw[j * MAX_CORNERS + e];
+      for (long k = 0; k < (C->colptr[cj * ndof + 1] - first) / ndof; k++) fp->posmap[C->rowind[first + k * ndof] / ndof] = k;
+      for (long t = 0; t < ntouched; t++) {
+        const PetscInt ci = fp->touched[t];
+        const double *Wi = fp->W + (long)ci * nd2;
+        for (int a = 0; a < ndof; a++) {
+          double *col = C->val + C->colptr[cj * ndof + a] + fp->posmap[ci] * ndof;
+          for (int b = 0; b < ndof; b++) col[b] += s * Wi[b * ndof + a];
+        }
+      }
+    }
+  }
+}
+
+/* PETSc log events of the product (-log_view lists them; tests/cli/petsc.sh counts them) */
+static PetscLogEvent event_symbolic = -1, event_numeric = -1;
+
+static int register_events(void) {
+  if (event_symbolic >= 0) return MICA_SUCCESS;
+  PCALL(PetscLogEventRegister("MicaGalerkinSym", PC_CLASSID, &event_symbolic));
+  PCALL(PetscLogEventRegister("MicaGalerkinNum", PC_CLASSID, &event_numeric));
+  return MICA_SUCCESS;
+}
+
+int mica_petsc_lattice_mg_first(MicaLatticeMG *mg, const MicaSparse *K) {
+  mg->made_first = 0;
+  if (!mg->count) return MICA_SUCCESS;
+  MICA_CALL(register_events());
+  if (!mg->fp.C) {
+    MICA_CHECK(K->n / mg->ndof == (long)mg->K_rows.npoints, MICA_ERR_ARGUMENT,
+               "petsc gmg: a tangent of %ld nodes for %ld coordinates", K->n / mg->ndof, (long)mg->K_rows.npoints);
+    /* collective decision: a rank whose K is not in node blocks would leave the others waiting in the fill */
+    int blocks = node_blocks(K, mg->ndof);
+    MPI_Allreduce(MPI_IN_PLACE, &blocks, 1, MPI_INT, MPI_MIN, mg->comm);
+    if (!blocks) return MICA_SUCCESS; /* PETSc's product then (mica_petsc_lattice_mg_operators) */
+    PCALL(PetscLogEventBegin(event_symbolic, 0, 0, 0, 0));
+    const int ierr = first_symbolic(mg, K);
+    PCALL(PetscLogEventEnd(event_symbolic, 0, 0, 0, 0));
+    MICA_CALL(ierr);
+  }
+  PCALL(PetscLogEventBegin(event_numeric, 0, 0, 0, 0));
+  first_numeric(mg, &mg->fp, K);
+  const int ierr = mica_petsc_fill_values(mg->fp.fill, mg->fp.C, mg->coarse[0]);
+  PCALL(PetscLogEventEnd(event_numeric, 0, 0, 0, 0));
+  MICA_CALL(ierr);
+  mg->made_first = 1;
+  return MICA_SUCCESS;
+}
+
+/* -mica_gmg_check_galerkin (a diagnostic under the solver's prefix): mica's first coarse operator against PETSc's
+ * PᵀAP of the same tangent; an error when they differ by more than 1e-12 relative (Frobenius). */
+static int check_first(MicaLatticeMG *mg, Mat A) {
+  const char *prefix = NULL;
+  PetscBool check = PETSC_FALSE;
+  PCALL(PCGetOptionsPrefix(mg->pc, &prefix));
+  PCALL(PetscOptionsGetBool(NULL, prefix, "-mica_gmg_check_galerkin", &check, NULL));
+  if (!check) return MICA_SUCCESS;
+  Mat reference, difference;
+  PetscReal norm, diff;
+  PCALL(MatPtAP(A, mg->P[0], MAT_INITIAL_MATRIX, PETSC_DEFAULT, &reference));
+  PCALL(MatDuplicate(reference, MAT_COPY_VALUES, &difference));
+  PCALL(MatAXPY(difference, -1.0, mg->coarse[0], DIFFERENT_NONZERO_PATTERN));
+  PCALL(MatNorm(reference, NORM_FROBENIUS, &norm));
+  PCALL(MatNorm(difference, NORM_FROBENIUS, &diff));
+  MatDestroy(&reference), MatDestroy(&difference);
+  PetscInt rows;
+  PCALL(MatGetSize(mg->coarse[0], &rows, NULL));
+  int rank;
+  MPI_Comm_rank(mg->comm, &rank);
+  if (rank == 0)
+    printf("gmg: the first coarse operator (%ld rows), mica's against PETSc's PᵀAP: relative difference %.3e\n",
+           (long)rows, (double)(diff / norm));
+  MICA_CHECK(diff <= 1e-12 * norm, MICA_ERR_ARGUMENT, "gmg: the first coarse operator differs from PETSc's PᵀAP by "
+             "%.3e relative", (double)(diff / norm));
+  return MICA_SUCCESS;
+}
+
 int mica_petsc_lattice_mg_operators(MicaLatticeMG *mg, Mat A) {
   Mat fine = A;
   for (int l = 0; l < mg->count; l++) {
+    if (l == 0 && mg->made_first) { /* mica's own (mica_petsc_lattice_mg_first) */
+      MICA_CALL(check_first(mg, A));
+      fine = mg->coarse[0];
+      continue;
+    }
     if (!mg->coarse[l]) { /* the first tangent of this pattern: the products' symbolic phase, once */
       PCALL(MatProductCreate(fine, mg->P[l], NULL, &mg->coarse[l]));
       PCALL(MatProductSetType(mg->coarse[l], MATPRODUCT_PtAP));
@@ -351,6 +606,12 @@ int mica_petsc_lattice_mg_operators(MicaLatticeMG *mg, Mat A) {
 void mica_petsc_lattice_mg_destroy(MicaLatticeMG **mg) {
   if (!*mg) return;
   for (int l = 0; l < MAX_LEVELS; l++) MatDestroy(&(*mg)->P[l]), MatDestroy(&(*mg)->coarse[l]);
+  FirstProduct *fp = &(*mg)->fp; /* after coarse[0], which is made on the fill's arrays */
+  mica_petsc_fill_destroy(&fp->fill);
+  mica_sparse_destroy(&fp->C);
+  free(fp->cid), free(fp->sn), free(fp->sw), free(fp->row_of_dof), free(fp->W), free(fp->touched);
+  free(fp->mark), free(fp->posmap);
+  rows_destroy(&(*mg)->K_rows);
   free(*mg);
   *mg = NULL;
 }

@@ -39,13 +39,17 @@ void mica_petsc_fill_destroy(MicaPetscFill **fill);
  * over the bounding box of the particles, each about half as fine as the one below, with multilinear
  * interpolation; the finest level is the matrix's rows, nrows_local of them on this rank, ndof consecutive unknowns
  * per node, node i of them at points[i * dim ..]. nglobal_nodes: the nodes over all ranks; where: the deck's
- * solver.petsc, for the errors. The coarse operators, Galerkin's PᵀAP level by level, are made by
- * mica_petsc_lattice_mg_operators for each new tangent A (of one pattern: the symbolic phase once), before the PC
- * is set up. */
+ * solver.petsc, for the errors. K's nodes (this rank's tangent, owned and ghost nodes: nnodes_K of them at
+ * coords_K) give the first coarse operator: mica_petsc_lattice_mg_first makes it from K (Σ over the ranks of
+ * Pᵀ K_r P) before K's values go into A (the fill may rearrange them); then mica_petsc_lattice_mg_operators makes
+ * the coarser ones, PETSc's PᵀAP level by level, for each new tangent A (of one pattern: the symbolic phases once),
+ * before the PC is set up. symmetric: K's values are symmetric. */
 typedef struct MicaLatticeMG MicaLatticeMG;
 int mica_petsc_lattice_mg_create(PC pc, MPI_Comm comm, int dim, int ndof, PetscInt nrows_local, const double *points,
-                                 long nglobal_nodes, const char *where, MicaLatticeMG **mg);
+                                 long nglobal_nodes, long nnodes_K, const double *coords_K, int symmetric,
+                                 const char *where, MicaLatticeMG **mg);
 int mica_petsc_lattice_mg_levels(const MicaLatticeMG *mg); /* the lattices and the particles */
+int mica_petsc_lattice_mg_first(MicaLatticeMG *mg, const MicaSparse *K);
 int mica_petsc_lattice_mg_operators(MicaLatticeMG *mg, Mat A);
 void mica_petsc_lattice_mg_destroy(MicaLatticeMG **mg);
 

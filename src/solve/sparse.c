@@ -206,6 +206,30 @@ cleanup:
   return ierr;
 }
 
+int mica_sparse_create_graph(long nnodes, int ndof, const long *ptr, const long *adj, MicaSparse **A_out) {
+  MICA_CHECK(A_out && ptr && (ptr[nnodes] == 0 || adj), MICA_ERR_ARGUMENT, "mica_sparse_create_graph: NULL argument");
+  *A_out = NULL;
+  MICA_CHECK(nnodes >= 0 && ndof >= 1 && nnodes <= LONG_MAX / ndof, MICA_ERR_ARGUMENT,
+             "mica_sparse_create_graph: nnodes %ld, ndof %d", nnodes, ndof);
+  for (long q = 0; q < ptr[nnodes]; q++)
+    MICA_CHECK(adj[q] >= 0 && adj[q] < nnodes, MICA_ERR_ARGUMENT,
+               "mica_sparse_create_graph: neighbor %ld outside [0, %ld)", adj[q], nnodes);
+  const NodeGraph graph = {(long *)ptr, (long *)adj, ptr[nnodes]};
+  long *sorted = NULL;
+  MicaSparse *A = NULL;
+  int ierr = MICA_SUCCESS;
+  MICA_CALL_CLEANUP(sort_by_transpose(nnodes, &graph, &sorted));
+  MICA_CALL_CLEANUP(MICA_CALLOC(A, 1));
+  A->ndof = ndof;
+  MICA_CALL_CLEANUP(expand_to_dofs(nnodes, ndof, ptr, sorted, A));
+  *A_out = A;
+  A = NULL;
+cleanup:
+  free(sorted);
+  mica_sparse_destroy(&A);
+  return ierr;
+}
+
 int mica_sparse_destroy(MicaSparse **A) {
   if (!A || !*A) return MICA_SUCCESS;
   free((*A)->colptr);
