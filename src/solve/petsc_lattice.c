@@ -15,9 +15,10 @@
  * operator PCMG factors (LU; redundantly on every rank under MPI). Interpolation P_l from lattice l to the level
  * below it: the row of unknown c at a point x holds the multilinear weights of the 2^dim nodes of the lattice cell
  * around x, at the same component c (each of the ndof unknowns interpolated alone: displacements, rotations,
- * micro-deformations alike), as PETSc's MAIJ of the scalar interpolation. Coarse operators: Galerkin, PᵀAP,
- * made here through PETSc's MatProduct (not PCMG's own -pc_mg_galerkin, whose parallel algorithm cannot be chosen
- * from a prefix), the symbolic phase once per matrix pattern and the numeric one at every new tangent; the
+ * micro-deformations alike), as PETSc's MAIJ of the scalar interpolation. Coarse operators: Galerkin, PᵀAP — the
+ * first lattice's made by mica from each rank's own tangent K_r (Σ_r Pᵀ K_r P, FirstProduct below), the coarser
+ * ones through PETSc's MatProduct (not PCMG's own -pc_mg_galerkin, whose parallel algorithm cannot be chosen from a
+ * prefix) — the symbolic phases once per matrix pattern and the numeric ones at every new tangent; the
  * interpolations are made once per matrix pattern.
  *
  * Ownership: lattice node (i, j, k) has the number i + m₀ (j + m₁ k) and rank r owns the numbers
