@@ -273,7 +273,7 @@ static int add_owned_supports(const Source *src, const long plo[3], const long p
         memcpy(x + k * dim, src->disc->x + owned[k] * dim, sizeof(double) * (size_t)dim);
       }
   if (!ierr) {
-    memcpy(owned + nowned, *needed, sizeof(long) * (size_t)*nneeded); /* the set's order does not matter */
+    if (*nneeded) memcpy(owned + nowned, *needed, sizeof(long) * (size_t)*nneeded); /* in any order */
     free(*needed);
     *needed = owned, *nneeded += nowned;
     owned = NULL;
