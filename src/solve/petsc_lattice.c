@@ -292,7 +292,10 @@ typedef struct {
   PetscInt *cid;           /* [nc] their active numbers, ascending */
   PetscInt *sn;            /* [nfine · MAX_CORNERS] a K node's coarse nodes (index into cid; −1: none) */
   double *sw;              /* [nfine · MAX_CORNERS] their weights */
-  MicaSparse *C;           /* the rank's part of the coarse operator (its nodes' numbering) */
+  MicaSparse *C;           /* the rank's part of the coarse operator (its nodes' numbering); with symmetric values
+                            * its row indices are dropped once the fill is made (C's node rows below serve) */
+  long *cnode_ptr;         /* [nc + 1] C's columns' node rows: column block cj lists cnode_rows[cnode_ptr[cj] ..] */
+  PetscInt *cnode_rows;
   MicaPetscFill *fill;     /* C into coarse[0] */
   PetscInt *row_of_dof;    /* [nc · ndof] C's unknowns as PETSc's rows */
   double *W;               /* [nc · ndof²] a fine node's column of Pᵀ K, by coarse node */
@@ -402,7 +405,8 @@ static int node_blocks(const MicaSparse *K, int ndof) {
  * column J of C = ∪ R(j) over the fine nodes j that interpolate from J. */
 static int first_pattern(const MicaSparse *K, int ndof, FirstProduct *fp, long **cptr_out, long **cadj_out) {
   const long nfine = fp->nfine, nc = fp->nc;
-  long *rptr = NULL, *radj = NULL, rcap = 0, count = 0, *tptr = NULL, *tlist = NULL, *cptr = NULL, *cadj = NULL, ccap = 0;
+  long *rptr = NULL, rcap = 0, count = 0, *tptr = NULL, *tlist = NULL, *cptr = NULL, *cadj = NULL, ccap = 0;
+  PetscInt *radj = NULL; /* 4 bytes: Σ |R(j)| entries, the symbolic phase's largest array (0.1 GB serially at 47³) */
   int ierr = MICA_CALLOC(rptr, nfine + 1);
   if (!ierr) ierr = MICA_CALLOC(tptr, nc + 2);
   for (long i = 0; i < nc && !ierr; i++) fp->mark[i] = -1;
@@ -465,6 +469,18 @@ static int first_symbolic(MicaLatticeMG *mg, const MicaSparse *K) {
   /* C is ours and read by nothing after its fill: lent, so that the fill rearranges it in place */
   MICA_CALL(mica_petsc_fill_create(mg->comm, fp->C, fp->row_of_dof, mg->nactive * ndof, mg->total * ndof, ndof,
                                    mg->symmetric, 1, &mg->coarse[0], &fp->fill));
+  MicaSparse *C = fp->C;
+  MICA_CALL(MICA_MALLOC(fp->cnode_ptr, fp->nc + 1));
+  MICA_CALL(MICA_MALLOC(fp->cnode_rows, C->nnz / ndof / ndof + 1));
+  fp->cnode_ptr[0] = 0;
+  for (PetscInt cj = 0; cj < fp->nc; cj++) {
+    const long first = C->colptr[(long)cj * ndof], nodes = (C->colptr[(long)cj * ndof + 1] - first) / ndof;
+    for (long k = 0; k < nodes; k++) fp->cnode_rows[fp->cnode_ptr[cj] + k] = (PetscInt)(C->rowind[first + k * ndof] / ndof);
+    fp->cnode_ptr[cj + 1] = fp->cnode_ptr[cj] + nodes;
+  }
+  /* the fill of symmetric values reads C's column pointers and values only: its row indices (8 bytes an entry,
+   * 96 MB serially at 47³) go */
+  if (mg->symmetric) free(C->rowind), C->rowind = NULL;
   KSP smoother;
   PCALL(PCMGGetSmoother(mg->pc, mg->count - 1, &smoother));
   PCALL(KSPSetOperators(smoother, mg->coarse[0], mg->coarse[0]));
@@ -498,9 +514,9 @@ static void first_numeric(const MicaLatticeMG *mg, FirstProduct *fp, const MicaS
     }
     const PetscInt *S = fp->sn + j * MAX_CORNERS;
     for (int e = 0; e < MAX_CORNERS && S[e] >= 0; e++) {
-      const long cj = S[e], first = C->colptr[cj * ndof];
+      const long cj = S[e];
       const double s = fp->sw[j * MAX_CORNERS + e];
-      for (long k = 0; k < (C->colptr[cj * ndof + 1] - first) / ndof; k++) fp->posmap[C->rowind[first + k * ndof] / ndof] = k;
+      for (long k = fp->cnode_ptr[cj]; k < fp->cnode_ptr[cj + 1]; k++) fp->posmap[fp->cnode_rows[k]] = k - fp->cnode_ptr[cj];
       for (long t = 0; t < ntouched; t++) {
         const PetscInt ci = fp->touched[t];
         const double *Wi = fp->W + (long)ci * nd2;
@@ -611,7 +627,7 @@ void mica_petsc_lattice_mg_destroy(MicaLatticeMG **mg) {
   mica_petsc_fill_destroy(&fp->fill);
   mica_sparse_destroy(&fp->C);
   free(fp->cid), free(fp->sn), free(fp->sw), free(fp->row_of_dof), free(fp->W), free(fp->touched);
-  free(fp->mark), free(fp->posmap);
+  free(fp->mark), free(fp->posmap), free(fp->cnode_ptr), free(fp->cnode_rows);
   rows_destroy(&(*mg)->K_rows);
   free(*mg);
   *mg = NULL;
