@@ -290,8 +290,10 @@ typedef struct {
   long nfine;              /* K's nodes */
   PetscInt nc;             /* the coarse nodes this rank's C has: those K's nodes interpolate from, and its own */
   PetscInt *cid;           /* [nc] their active numbers, ascending */
-  PetscInt *sn;            /* [nfine · MAX_CORNERS] a K node's coarse nodes (index into cid; −1: none) */
-  double *sw;              /* [nfine · MAX_CORNERS] their weights */
+  PetscInt *sn;            /* [nfine · MAX_CORNERS] a K node's coarse nodes (index into cid; −1: none): K_rows.node,
+                            * renumbered in place */
+  const double *sw;        /* [nfine · MAX_CORNERS] their weights: K_rows.weight */
+  int unusable;            /* K is not in whole node blocks on some rank: PETSc's product instead */
   MicaSparse *C;           /* the rank's part of the coarse operator (its nodes' numbering); with symmetric values
                             * its row indices are dropped once the fill is made (C's node rows below serve) */
   long *cnode_ptr;         /* [nc + 1] C's columns' node rows: column block cj lists cnode_rows[cnode_ptr[cj] ..] */
@@ -368,7 +370,7 @@ int mica_petsc_lattice_mg_levels(const MicaLatticeMG *mg) { return mg ? mg->coun
 /* ---- the first coarse operator, from K ------------------------------------------------------------------- */
 
 /* The rank's coarse nodes (those its K's nodes interpolate from, and its own active ones) and each K node's
- * coarse nodes as indices into them. */
+ * coarse nodes as indices into them (K_rows renumbered in place: it serves nothing else). */
 static int first_nodes(MicaLatticeMG *mg, FirstProduct *fp) {
   const long entries = fp->nfine * MAX_CORNERS;
   PetscInt *ids = NULL, count = 0;
@@ -380,12 +382,9 @@ static int first_nodes(MicaLatticeMG *mg, FirstProduct *fp) {
   if (code) free(ids);
   PCALL(code);
   fp->cid = ids, fp->nc = count;
-  MICA_CALL(MICA_MALLOC(fp->sn, entries + 1));
-  MICA_CALL(MICA_MALLOC(fp->sw, entries + 1));
-  for (long e = 0; e < entries; e++) {
-    fp->sn[e] = -1, fp->sw[e] = mg->K_rows.weight[e];
-    if (mg->K_rows.node[e] >= 0) PetscFindInt(mg->K_rows.node[e], count, ids, &fp->sn[e]);
-  }
+  fp->sn = mg->K_rows.node, fp->sw = mg->K_rows.weight;
+  for (long e = 0; e < entries; e++)
+    if (fp->sn[e] >= 0) PetscFindInt(fp->sn[e], count, ids, &fp->sn[e]);
   return MICA_SUCCESS;
 }
 
@@ -541,7 +540,7 @@ static int register_events(void) {
 
 int mica_petsc_lattice_mg_first(MicaLatticeMG *mg, const MicaSparse *K) {
   mg->made_first = 0;
-  if (!mg->count) return MICA_SUCCESS;
+  if (!mg->count || mg->fp.unusable) return MICA_SUCCESS;
   MICA_CALL(register_events());
   if (!mg->fp.C) {
     MICA_CHECK(K->n / mg->ndof == (long)mg->K_rows.npoints, MICA_ERR_ARGUMENT,
@@ -549,7 +548,8 @@ int mica_petsc_lattice_mg_first(MicaLatticeMG *mg, const MicaSparse *K) {
     /* collective decision: a rank whose K is not in node blocks would leave the others waiting in the fill */
     int blocks = node_blocks(K, mg->ndof);
     MPI_Allreduce(MPI_IN_PLACE, &blocks, 1, MPI_INT, MPI_MIN, mg->comm);
-    if (!blocks) return MICA_SUCCESS; /* PETSc's product then (mica_petsc_lattice_mg_operators) */
+    mg->fp.unusable = !blocks;
+    if (!blocks) return MICA_SUCCESS; /* PETSc's product then (mica_petsc_lattice_mg_operators), for this pattern */
     PCALL(PetscLogEventBegin(event_symbolic, 0, 0, 0, 0));
     const int ierr = first_symbolic(mg, K);
     PCALL(PetscLogEventEnd(event_symbolic, 0, 0, 0, 0));
@@ -626,7 +626,7 @@ void mica_petsc_lattice_mg_destroy(MicaLatticeMG **mg) {
   FirstProduct *fp = &(*mg)->fp; /* after coarse[0], which is made on the fill's arrays */
   mica_petsc_fill_destroy(&fp->fill);
   mica_sparse_destroy(&fp->C);
-  free(fp->cid), free(fp->sn), free(fp->sw), free(fp->row_of_dof), free(fp->W), free(fp->touched);
+  free(fp->cid), free(fp->row_of_dof), free(fp->W), free(fp->touched); /* sn, sw: K_rows's */
   free(fp->mark), free(fp->posmap), free(fp->cnode_ptr), free(fp->cnode_rows);
   rows_destroy(&(*mg)->K_rows);
   free(*mg);
