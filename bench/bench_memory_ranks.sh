@@ -2,8 +2,8 @@
 # Peak memory per rank, replicated against distributed data (issue 19 item 1; figures only, never pass/fail).
 # input/cube3d_million.cfg's lean 3-D tension deck at N³ particles (N = 47: 311 469 dofs), solved by PETSc
 # (CG with MEMORY_PETSC, default gamg: GAMG with the rigid motions as near-null space; gmg: geometric multigrid on
-# lattices, whose parallel Galerkin products hold more per rank: 0.431 at P = 4 against GAMG's 0.341 on
-# 2026-12-07, docs/performance.md) in every
+# lattices: 0.345 at P = 4 as GAMG's 0.345 on 2026-12-07, since its first Galerkin product is mica's — 0.431 before,
+# when PETSc's parallel products held their intermediates; docs/performance.md) in every
 # run, so that the runs differ in how the data is
 # held, not in the solver: serially (P = 1, the baseline), and at P = 2 and 4 with parallel.data = "replicated"
 # (every rank builds every particle, METIS on rank 0, replicated vectors) and "distributed" (each rank its block
