@@ -246,6 +246,29 @@ int mica_discretization_find_set(const MicaDiscretization *disc, const char *nam
 /* The names of the sets, comma-separated, for error messages ("left, right, bottom, top"). */
 void mica_discretization_set_names(const MicaDiscretization *disc, char *buf, int size);
 
+/* ---- A Gmsh mesh in parts (src/geom/mesh_part.c), for parallel.data = "distributed" ------------------------ */
+
+/* The mesh of a shape specification (geometry.shape = "gmsh") as read, with its particles: the nodes of its volume
+ * elements in the order mica_discretization_create numbers them. */
+typedef struct MicaMesh MicaMesh;
+int mica_mesh_read(const MicaShapeSpec *shape, MicaMesh **mesh);
+int mica_mesh_destroy(MicaMesh **mesh);
+int mica_mesh_dim(const MicaMesh *mesh);
+long mica_mesh_num_particles(const MicaMesh *mesh); /* a part: 0 */
+const double *mica_mesh_particles(const MicaMesh *mesh);
+/* The largest distance between two nodes of one volume element (of the whole mesh, also for a part). */
+double mica_mesh_element_size(const MicaMesh *mesh);
+/* Accepts a volume element by its centroid (the mean of its nodes; 3 coordinates). */
+typedef int (*MicaMeshKeep)(const double *centroid, void *ctx);
+/* A part: the volume elements `keep` accepts, the boundary elements that are sides of them, their nodes; every
+ * physical group (so the part's discretization names every set, with no points if it holds none of it) and the
+ * whole mesh's count of uncovered boundary faces. */
+int mica_mesh_part(const MicaMesh *mesh, MicaMeshKeep keep, void *ctx, MicaMesh **part);
+/* What mica_discretization_create builds from a Gmsh mesh, for a mesh or a part already read: particles (its
+ * nodes), its elements' volume points, boundary sets (the output mesh of its elements if output_mesh). */
+int mica_discretization_create_mesh(const MicaMesh *mesh, const MicaCellSpec *cells, int output_mesh,
+                                    MicaDiscretization **disc);
+
 /* ---- Inside the body (src/geom/inside.c) ------------------------------------------------------------- */
 
 /* The body of a shape specification, for asking whether a point lies in it: a built-in shape by its exact

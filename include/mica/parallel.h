@@ -194,6 +194,7 @@ typedef struct MicaDistribution {
   long *owned_node;       /* [nowned_nodes] the local nodes this rank owns, in the order of their numbers */
   long nglobal_nodes;     /* the nodes over all ranks (nparticles without extra nodes) */
   MicaGhostPlan node_ghosts; /* the plan over ghost particles and ghost extra nodes */
+  MicaMesh *cells_mesh;   /* a Gmsh mesh (own_mesh.c): the part of it this rank owns (its elements), else NULL */
 } MicaDistribution;
 
 /* Collective. parallel.data = "distributed": the particle and cell index grids of a built-in shape's regular,
@@ -217,6 +218,12 @@ typedef struct MicaOwnedSpec {
 int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
                                    const MicaCellSpec *cells, const MlsOptions *mls_opt, const MicaOwnedSpec *spec,
                                    MicaDistribution **dist);
+/* Collective. parallel.data = "distributed" for a Gmsh mesh read whole (mesh, freed by the caller once this returns):
+ * its particles split into one box of coordinates per rank (procs[] boxes per axis: slabs, columns and blocks of
+ * equal particle counts), each volume element owned by the box of its centroid and each boundary element by the
+ * owner of the element it bounds; the rest as mica_distribution_create_owned (no nodal quadrature). */
+int mica_distribution_create_owned_mesh(const MicaMesh *mesh, const MicaCellSpec *cells, const MlsOptions *mls_opt,
+                                        const MicaOwnedSpec *spec, MicaDistribution **dist);
 /* The volume points of order `order` per direction in this rank's cells (quadrature.error_order's points: a
  * discretization without particles or boundary points). */
 int mica_owned_cell_points(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,

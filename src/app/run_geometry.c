@@ -196,22 +196,36 @@ static int read_axisymmetric(const MicaDeck *deck, RunProblem *rp) {
 /* parallel.data = "distributed" under MPI, for what it covers (what it does not is refused later, with the deck
  * line: run_parallel_owned_check, on the whole discretization built as usual): each rank builds its own block
  * once the run is distributed (run_parallel_distribute), so here only the boundary sets' names, for the checks of
- * the conditions, and the grids' sizes. */
-static int names_only(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout, int fe,
-                      int *yes) {
+ * the conditions, and the grids' sizes (a Gmsh mesh: read, and kept for the distribution to cut). */
+static int names_only(const MicaDeck *deck, const MicaLayoutSpec *layout, int fe, int *yes) {
   const char *data;
   *yes = 0;
-  if (!mica_parallel_active() || fe || shape->kind == MICA_SHAPE_GMSH || layout->kind == MICA_LAYOUT_IRREGULAR)
-    return MICA_SUCCESS;
+  if (!mica_parallel_active() || fe || layout->kind == MICA_LAYOUT_IRREGULAR) return MICA_SUCCESS;
   MICA_CALL(mica_deck_string(deck, "parallel.data", &data));
   *yes = !strcmp(data, "distributed");
   return MICA_SUCCESS;
+}
+
+static int keep_none(const double *centroid, void *ctx) {
+  (void)centroid, (void)ctx;
+  return 0;
+}
+
+/* A Gmsh mesh: read whole, kept for the distribution (rp->whole_mesh), and its empty part's sets (their names). */
+static int mesh_names_only(const MicaShapeSpec *shape, const MicaCellSpec *cells, RunProblem *rp) {
+  MicaMesh *none = NULL;
+  MICA_CALL(mica_mesh_read(shape, &rp->whole_mesh));
+  MICA_CALL(mica_mesh_part(rp->whole_mesh, keep_none, NULL, &none));
+  const int ierr = mica_discretization_create_mesh(none, cells, 0, &rp->disc);
+  mica_mesh_destroy(&none);
+  return ierr;
 }
 
 /* The empty block: the grids' sizes and the boundary sets' names, no particle, cell or point (nothing of the body's
  * size; the checks that need the sets' points sum the ranks' shares later: run_check_rigid). */
 static int build_names_only(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                             RunProblem *rp) {
+  if (shape->kind == MICA_SHAPE_GMSH) return mesh_names_only(shape, cells, rp);
   MicaGridBlock block;
   memset(&block, 0, sizeof block);
   return mica_discretization_create_block(shape, layout, cells, &block, &rp->disc);
@@ -231,7 +245,7 @@ int run_build_geometry(const MicaDeck *deck, RunProblem *rp) {
   if (fe) MICA_CALL(run_check_fe_deck(deck, &shape, &layout, &cells, &fe_order));
   double start = mica_wtime();
   int only_names;
-  MICA_CALL(names_only(deck, &shape, &layout, fe, &only_names));
+  MICA_CALL(names_only(deck, &layout, fe, &only_names));
   if (only_names) {
     MICA_CALL(build_names_only(&shape, &layout, &cells, rp));
     MICA_CALL(run_read_integration(deck, &shape, &layout, &cells, 0, rp));

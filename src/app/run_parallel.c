@@ -25,10 +25,20 @@ int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp) {
     return refuse_owned(deck, "solver.linear", "set solver.linear = \"petsc\" or \"auto\" (the distributed matrix)");
   /* FE first: its discretization (the elements') has no particle grid either */
   if (rp->fe) return refuse_owned(deck, "problem.method", "use problem.method = \"efg\"");
+  const char *shape;
+  MICA_CALL(mica_deck_string(deck, "geometry.shape", &shape));
+  if (!strcmp(shape, "gmsh")) {
+    unsigned flags;
+    MICA_CALL(run_integration_flags(deck, &flags));
+    if (flags & RUN_INTEGRATION_NODAL)
+      return refuse_owned(deck, "quadrature.mode", "a Gmsh mesh is distributed with Gauss points in its elements: "
+                          "use quadrature.mode = \"gauss\"");
+    return MICA_SUCCESS;
+  }
   if (rp->disc->grid_points_per_cell <= 0) {
     MICA_CALL(mica_deck_string(deck, "particles.layout", &layout));
     return refuse_owned(deck, strcmp(layout, "irregular") ? "geometry.shape" : "particles.layout",
-                        "use a built-in shape with a regular, graded or jittered layout");
+                        "use a Gmsh mesh or a built-in shape with a regular, graded or jittered layout");
   }
   return MICA_SUCCESS;
 }
@@ -41,7 +51,7 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
     MicaCellSpec cells;
     char mesh[PATH_MAX];
     MICA_CALL(run_read_shape(deck, &shape, mesh, sizeof mesh));
-    MICA_CALL(run_read_layout(deck, shape.dim, 0, &layout, &cells));
+    MICA_CALL(run_read_layout(deck, shape.dim, shape.kind == MICA_SHAPE_GMSH, &layout, &cells));
     long error_order;
     unsigned flags;
     int output_mesh, output_vtu;
@@ -59,12 +69,20 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
         .revolve = rp->axisymmetric,
         .mesh = output_mesh && output_vtu, /* output_mesh.c: enabled with the VTU files */
     };
-    MICA_CALL(mica_distribution_create_owned(&shape, &layout, &cells, &mls_opt, &spec, &rp->dist));
+    if (shape.kind == MICA_SHAPE_GMSH) {
+      MICA_CHECK(rp->whole_mesh, MICA_ERR_ARGUMENT, "run_parallel_distribute: the Gmsh mesh was not kept");
+      const int ierr = mica_distribution_create_owned_mesh(rp->whole_mesh, &cells, &mls_opt, &spec, &rp->dist);
+      mica_mesh_destroy(&rp->whole_mesh); /* each rank keeps its part (dist->cells_mesh) */
+      MICA_CALL(ierr);
+    } else {
+      MICA_CALL(mica_distribution_create_owned(&shape, &layout, &cells, &mls_opt, &spec, &rp->dist));
+    }
     const MicaDistribution *d = rp->dist;
-    printf("MPI: %d ranks, parallel.data = distributed: blocks %d × %d × %d of the index grids, particles per rank "
+    printf("MPI: %d ranks, parallel.data = distributed: blocks %d × %d × %d of the %s, particles per rank "
            "%ld (+ up to %ld ghosts), quadrature points per rank %ld to %ld (%.3g s)\n",
-           mica_parallel_size(), d->procs[0], d->procs[1], d->procs[2], d->nowned, d->stats.ghost_particles_max,
-           d->stats.min_owned_points, d->stats.max_owned_points, d->stats.time_partition);
+           mica_parallel_size(), d->procs[0], d->procs[1], d->procs[2],
+           shape.kind == MICA_SHAPE_GMSH ? "mesh's particles (coordinate cuts)" : "index grids", d->nowned,
+           d->stats.ghost_particles_max, d->stats.min_owned_points, d->stats.max_owned_points, d->stats.time_partition);
     fflush(stdout);
     return MICA_SUCCESS;
   }

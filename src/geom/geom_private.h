@@ -153,6 +153,10 @@ typedef struct {
   /* the entities of each dimension sorted by (tag, position), built once the mesh is read, so that finding an
    * element's entity is a binary search rather than a scan of them all (gmsh_entity_physicals) */
   GmshEntityKey *entity_index[4];
+  /* a part of a mesh (mesh_part.c, parallel.data = "distributed"): its dimension and the whole mesh's count of
+   * uncovered boundary faces (a part's cut faces would look uncovered); 0 / unused for a whole mesh */
+  int part_dim;
+  long part_uncovered;
 } GmshMesh;
 
 /* Reads a .msh file, or meshes a .geo (a name ending in .geo) with the Gmsh library: size_factor > 0
@@ -176,6 +180,15 @@ long gmsh_entity_physicals(const GmshMesh *mesh, int dim, int tag, const int **p
 
 /* The discretization of a mesh: particles, element quadrature, boundary sets from physical groups. */
 int geom_mesh_discretize(const GmshMesh *mesh, int order, int boundary_order, MicaDiscretization *disc);
+/* (uncovered != NULL) The mesh's boundary faces in no set or several, plus set elements inside
+ * (disc->boundary_uncovered), and (side_of != NULL) for each element of dimension dim − 1 the volume element it is a side of (−1: none). */
+int geom_mesh_faces(const GmshMesh *mesh, int dim, long *uncovered, long *side_of);
+/* The dimension of the mesh's volume elements (a part's: its own, even with no element). */
+int geom_mesh_dimension(const GmshMesh *mesh);
+/* MICA_ERR_INPUT unless the mesh has 2-D or 3-D elements (naming the physical-group pitfall). */
+int geom_mesh_check_dimension(const GmshMesh *mesh);
+/* Centroid of element e (the mean of its nodes). */
+void geom_mesh_centroid(const GmshMesh *mesh, long e, double c[3]);
 /* The mesh's elements of dimension dim as an output mesh on the particles (cell_mesh.c). */
 int geom_mesh_cells(const GmshMesh *mesh, int dim, MicaCellMesh **cells);
 

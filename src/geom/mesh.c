@@ -137,7 +137,7 @@ static void element_map(const GmshMesh *mesh, long e, const double *r, double *x
   }
 }
 
-static void element_centroid(const GmshMesh *mesh, long e, double *c) {
+void geom_mesh_centroid(const GmshMesh *mesh, long e, double c[3]) {
   const long *node = &mesh->node[mesh->node_start[e]];
   const int n = gmsh_element_nodes(mesh->type[e]);
   c[0] = c[1] = c[2] = 0.0;
@@ -166,7 +166,8 @@ static void face_normal(int dim, const double *tang, double *n) {
 
 /* ---- volume ---- */
 
-static int mesh_dimension(const GmshMesh *mesh) {
+int geom_mesh_dimension(const GmshMesh *mesh) {
+  if (mesh->part_dim) return mesh->part_dim;
   int dim = 0;
   for (long e = 0; e < mesh->nelements; e++)
     if (gmsh_element_dim(mesh->type[e]) > dim) dim = gmsh_element_dim(mesh->type[e]);
@@ -348,7 +349,7 @@ static int normal_sign(const MeshContext *ctx, const char *set, long e, double *
   double x[3], tang[9], N[NODES_MAX], nrm[3], c[3];
   element_map(mesh, e, mesh->type[e] == GMSH_TRI3 ? center : square_center, x, tang, N);
   face_normal(ctx->dim, tang, nrm);
-  element_centroid(mesh, hit->element, c);
+  geom_mesh_centroid(mesh, hit->element, c);
   double dot = 0.0;
   for (int i = 0; i < ctx->dim; i++) dot += (x[i] - c[i]) * nrm[i];
   *sign = dot >= 0 ? 1.0 : -1.0;
@@ -548,17 +549,22 @@ static int has_groups(const GmshMesh *mesh) {
   return 0;
 }
 
+int geom_mesh_check_dimension(const GmshMesh *mesh) {
+  MICA_CHECK(geom_mesh_dimension(mesh) >= 2, MICA_ERR_INPUT, "%s: the mesh has no 2-D or 3-D elements%s", mesh->path,
+             has_groups(mesh) ? ": with physical groups defined, Gmsh keeps only the elements of physical groups; "
+                                "add one that holds the body, e.g. Physical Surface(\"body\") = {1}; (3-D: Physical "
+                                "Volume)"
+                              : "");
+  return MICA_SUCCESS;
+}
+
 int geom_mesh_discretize(const GmshMesh *mesh, int order, int boundary_order, MicaDiscretization *disc) {
   int ierr = MICA_SUCCESS;
   Rule rules[TYPE_MAX] = {{0}};
   FaceKey *faces = NULL;
   long nfaces = 0;
-  const int dim = mesh_dimension(mesh);
-  MICA_CHECK(dim >= 2, MICA_ERR_INPUT, "%s: the mesh has no 2-D or 3-D elements%s", mesh->path,
-             has_groups(mesh) ? ": with physical groups defined, Gmsh keeps only the elements of physical groups; "
-                                "add one that holds the body, e.g. Physical Surface(\"body\") = {1}; (3-D: Physical "
-                                "Volume)"
-                              : "");
+  const int dim = geom_mesh_dimension(mesh);
+  MICA_CALL(geom_mesh_check_dimension(mesh));
   disc->dim = dim;
   MICA_CALL_CLEANUP(make_rules(mesh, dim, order, boundary_order, rules));
   MICA_CALL_CLEANUP(mesh_particles(mesh, dim, disc));
@@ -566,9 +572,29 @@ int geom_mesh_discretize(const GmshMesh *mesh, int order, int boundary_order, Mi
   MICA_CALL_CLEANUP(face_table(mesh, dim, &faces, &nfaces));
   const MeshContext ctx = {mesh, dim, rules, faces, nfaces};
   MICA_CALL_CLEANUP(mesh_boundary(&ctx, disc));
-  MICA_CALL_CLEANUP(count_uncovered(&ctx, &disc->boundary_uncovered));
+  if (mesh->part_dim) disc->boundary_uncovered = mesh->part_uncovered; /* its cut faces are not the body's */
+  else MICA_CALL_CLEANUP(count_uncovered(&ctx, &disc->boundary_uncovered));
 cleanup:
   free_rules(rules);
+  MICA_FREE(faces);
+  return ierr;
+}
+
+int geom_mesh_faces(const GmshMesh *mesh, int dim, long *uncovered, long *side_of) {
+  int ierr = MICA_SUCCESS;
+  FaceKey *faces = NULL;
+  long nfaces = 0;
+  MICA_CALL_CLEANUP(face_table(mesh, dim, &faces, &nfaces));
+  const MeshContext ctx = {mesh, dim, NULL, faces, nfaces};
+  if (uncovered) MICA_CALL_CLEANUP(count_uncovered(&ctx, uncovered));
+  for (long e = 0; side_of && e < mesh->nelements; e++) {
+    side_of[e] = -1;
+    if (gmsh_element_dim(mesh->type[e]) != dim - 1) continue;
+    const FaceKey key = make_key(&mesh->node[mesh->node_start[e]], gmsh_element_nodes(mesh->type[e]), -1);
+    const FaceKey *hit = bsearch(&key, faces, (size_t)nfaces, sizeof key, compare_face);
+    if (hit) side_of[e] = hit->element;
+  }
+cleanup:
   MICA_FREE(faces);
   return ierr;
 }

@@ -111,10 +111,6 @@ static long global_number(long t, const long n[3], const int procs[3], const lon
  * owned block along axis d, high[d]: the smallest above it). A point farther than every support radius inside
  * these bounds on every axis has only owned particles in its support — they are in the set from the start — and
  * is not searched: the search becomes one of the block's rim (33³ cube, P = 2: 0.39 s a rank before). */
-typedef struct {
-  double low[3], high[3];
-} OwnedZone;
-
 static int inside_zone(const OwnedZone *z, int dim, double reach, const double *x) {
   for (int d = 0; d < dim; d++)
     if (!(x[d] - reach > z->low[d] && x[d] + reach < z->high[d])) return 0;
@@ -132,8 +128,8 @@ static double largest_radius(const MlsApprox *mls) {
  * approximation's particles and read back in ascending order, so no index list is sorted (a qsort of each chunk's
  * supports made this 2.5 times the cost of the search itself: 1.1 s of the 33³ cube's 131 072 points a rank at
  * P = 2). set holds the owned particles already. */
-static int add_supports(const MlsApprox *mls, const OwnedZone *zone, long n, const double *x, long **set,
-                        long *nset) {
+int parallel_add_supports(const MlsApprox *mls, const OwnedZone *zone, long n, const double *x, long **set,
+                          long *nset) {
   enum { CHUNK = 4096 };
   const int dim = mls_dim(mls);
   const long nparticles = mls_num_particles(mls);
@@ -277,7 +273,7 @@ static int add_owned_supports(const Source *src, const long plo[3], const long p
     free(*needed);
     *needed = owned, *nneeded += nowned;
     owned = NULL;
-    ierr = add_supports(src->mls, &src->zone, nowned, x, needed, nneeded);
+    ierr = parallel_add_supports(src->mls, &src->zone, nowned, x, needed, nneeded);
   }
   free(x), free(owned);
   return ierr;
@@ -287,10 +283,11 @@ int mica_owned_cell_points(const MicaShapeSpec *shape, const MicaLayoutSpec *lay
                            const MicaDistribution *dist, int order, MicaDiscretization **disc) {
   MicaGridBlock block;
   MicaCellSpec c = *cells;
+  c.order = order;
+  if (dist->cells_mesh) return mica_discretization_create_mesh(dist->cells_mesh, &c, 0, disc); /* own_mesh.c */
   memset(&block, 0, sizeof block);
   memcpy(block.cell_lo, dist->cell_lo, sizeof block.cell_lo);
   memcpy(block.cell_hi, dist->cell_hi, sizeof block.cell_hi);
-  c.order = order;
   return mica_discretization_create_block(shape, layout, &c, &block, disc);
 }
 
@@ -300,16 +297,17 @@ static int add_error_supports(const MicaShapeSpec *shape, const MicaLayoutSpec *
   if (dist->error_order <= 0) return MICA_SUCCESS;
   MicaDiscretization *e = NULL;
   MICA_CALL(mica_owned_cell_points(shape, layout, cells, dist, dist->error_order, &e));
-  const int ierr = add_supports(src->mls, &src->zone, e->nquad, e->qx, needed, nneeded);
+  const int ierr = parallel_add_supports(src->mls, &src->zone, e->nquad, e->qx, needed, nneeded);
   mica_discretization_destroy(&e);
   return ierr;
 }
 
 /* ... and of the sets' points and vertices (collocation evaluates the fields at the vertices). */
-static int add_set_supports(const Source *src, const MicaDiscretization *d, long **needed, long *nneeded) {
+int parallel_add_set_supports(const MlsApprox *mls, const OwnedZone *zone, const MicaDiscretization *d, long **needed,
+                              long *nneeded) {
   for (int s = 0; s < d->nsets; s++) {
-    MICA_CALL(add_supports(src->mls, &src->zone, d->sets[s].n, d->sets[s].x, needed, nneeded));
-    MICA_CALL(add_supports(src->mls, &src->zone, d->sets[s].nvertices, d->sets[s].vertex_x, needed, nneeded));
+    MICA_CALL(parallel_add_supports(mls, zone, d->sets[s].n, d->sets[s].x, needed, nneeded));
+    MICA_CALL(parallel_add_supports(mls, zone, d->sets[s].nvertices, d->sets[s].vertex_x, needed, nneeded));
   }
   return MICA_SUCCESS;
 }
@@ -318,10 +316,10 @@ static int add_set_supports(const Source *src, const MicaDiscretization *d, long
  * boundary sets' and (SCNI) their boundary points, and the particles a wider support reaches from the points. */
 static int add_nodal_supports(const Source *src, const MicaDiscretization *nodal, const MicaOwnedSpec *spec,
                               long **needed, long *nneeded) {
-  MICA_CALL(add_supports(src->mls, &src->zone, nodal->nquad, nodal->qx, needed, nneeded));
-  MICA_CALL(add_set_supports(src, nodal, needed, nneeded));
+  MICA_CALL(parallel_add_supports(src->mls, &src->zone, nodal->nquad, nodal->qx, needed, nneeded));
+  MICA_CALL(parallel_add_set_supports(src->mls, &src->zone, nodal, needed, nneeded));
   if (spec->cell_boundaries)
-    MICA_CALL(add_supports(src->mls, &src->zone, nodal->nodal->ptr[nodal->nodal->n], nodal->nodal->x, needed, nneeded));
+    MICA_CALL(parallel_add_supports(src->mls, &src->zone, nodal->nodal->ptr[nodal->nodal->n], nodal->nodal->x, needed, nneeded));
   if (!(spec->wider_support > 1)) return MICA_SUCCESS;
   const int dim = src->disc->dim;
   const long n = mls_num_particles(src->mls) * dim;
@@ -331,7 +329,7 @@ static int add_nodal_supports(const Source *src, const MicaDiscretization *nodal
   if (!ierr) ierr = MICA_MALLOC(radii, n + 1);
   for (long i = 0; !ierr && i < n; i++) radii[i] = spec->wider_support * mls_radii(src->mls)[i];
   if (!ierr) ierr = mls_set_radii(wide, radii);
-  if (!ierr) ierr = add_supports(wide, &src->zone, nodal->nquad, nodal->qx, needed, nneeded);
+  if (!ierr) ierr = parallel_add_supports(wide, &src->zone, nodal->nquad, nodal->qx, needed, nneeded);
   free(radii);
   mls_destroy(&wide);
   return ierr;
@@ -351,10 +349,10 @@ static int source_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layou
     const MicaDiscretization *d = src->disc;
     *nneeded = 0;
     MICA_CALL(add_owned_supports(src, plo, phi, needed, nneeded)); /* first: the zone's points are theirs */
-    if (d->mesh) MICA_CALL(add_supports(src->mls, &src->zone, d->mesh->npoints, d->mesh->x, needed, nneeded)); /* output.mesh */
-    MICA_CALL(add_supports(src->mls, &src->zone, d->nquad, d->qx, needed, nneeded)); /* nodal: the error norms' points */
+    if (d->mesh) MICA_CALL(parallel_add_supports(src->mls, &src->zone, d->mesh->npoints, d->mesh->x, needed, nneeded)); /* output.mesh */
+    MICA_CALL(parallel_add_supports(src->mls, &src->zone, d->nquad, d->qx, needed, nneeded)); /* nodal: the error norms' points */
     if (nodal) MICA_CALL(add_nodal_supports(src, nodal, spec, needed, nneeded));
-    else MICA_CALL(add_set_supports(src, d, needed, nneeded));
+    else MICA_CALL(parallel_add_set_supports(src->mls, &src->zone, d, needed, nneeded));
     MICA_CALL(add_error_supports(shape, layout, cells, dist, src, needed, nneeded));
     if (source_deep_enough(src, n, *needed, *nneeded, source_margin(mls_opt))) return MICA_SUCCESS;
     source_free(src);
@@ -441,10 +439,10 @@ static void take_nodal_points(Source *src, MicaDiscretization *nodal, MicaDiscre
 
 /* The MLS approximation of the local particles with the source's radii and local spacings (a ghost at the
  * source's edge would get other ones from its truncated neighborhood; the spacings are the boundary methods' h). */
-static int local_mls(const Source *src, const MlsOptions *mls_opt, const long *map, MicaDistribution *dist) {
+int parallel_local_mls(const MlsApprox *source, const MlsOptions *mls_opt, const long *map, MicaDistribution *dist) {
   const MicaDiscretization *d = dist->local;
   const int dim = d->dim;
-  const double *radii = mls_radii(src->mls), *spacing = mls_spacing(src->mls);
+  const double *radii = mls_radii(source), *spacing = mls_spacing(source);
   double *local = NULL;
   MICA_CALL(mls_create(dim, d->nparticles, d->x, mls_opt, &dist->mls));
   MICA_CALL(MICA_MALLOC(local, d->nparticles * dim + 1));
@@ -454,7 +452,7 @@ static int local_mls(const Source *src, const MlsOptions *mls_opt, const long *m
   for (long i = 0; i < d->nparticles; i++)
     memcpy(local + i * dim, spacing + map[i] * dim, sizeof(double) * (size_t)dim);
   if (!ierr) ierr = mls_set_spacing(dist->mls, local);
-  const double *wparam = mls_weight_params(src->mls); /* an adaptive weight's: from the supports covering each */
+  const double *wparam = mls_weight_params(source); /* an adaptive weight's: from the supports covering each */
   for (long i = 0; i < d->nparticles; i++)
     memcpy(local + i * dim, wparam + map[i] * dim, sizeof(double) * (size_t)dim);
   if (!ierr) ierr = mls_set_weight_params(dist->mls, local);
@@ -511,7 +509,7 @@ static int ghost_plan_build(MicaDistribution *dist, MicaGhostPlan *g, long nreq,
 }
 
 /* The ghost particles' plan: each asked of its owner by its position in the owner's block. */
-static int ghost_plan(MicaDistribution *dist, const long *offsets) {
+int parallel_ghost_plan(MicaDistribution *dist, const long *offsets) {
   const long n = dist->nghost;
   long *ghost = NULL, *code = NULL;
   int ierr = MICA_MALLOC(ghost, n + 1);
@@ -840,10 +838,10 @@ static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
   else if (!ierr) take_points(&src, dist->local);
   if (!ierr) ierr = local_particles(&src, dist, n, needed, nneeded, offsets, &map);
   if (!ierr && spec->revolve) ierr = mica_discretization_revolve(dist->local);
-  if (!ierr) ierr = local_mls(&src, mls_opt, map, dist);
+  if (!ierr) ierr = parallel_local_mls(src.mls, mls_opt, map, dist);
   /* every rank reaches the plan's collectives, or none */
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
-  MICA_CALL_CLEANUP(ghost_plan(dist, offsets));
+  MICA_CALL_CLEANUP(parallel_ghost_plan(dist, offsets));
 cleanup:
   source_free(&src);
   mica_discretization_destroy(&nodal);
@@ -865,10 +863,19 @@ int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutS
     if (!ierr) dist->nsets = dist->local->nsets;
     dist->nowned_nodes = dist->nowned; /* until extra nodes are added */
   }
+  MICA_CALL_CLEANUP(parallel_owned_finish(ierr, dist, start));
+  *out = dist;
+  dist = NULL;
+cleanup:
+  mica_distribution_destroy(&dist);
+  return ierr;
+}
+
+int parallel_owned_finish(int ierr, MicaDistribution *dist, double start) {
   if (!ierr) ierr = mica_parallel_inject("build");
-  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MICA_CALL(mica_parallel_agree(ierr));
   /* the body's volume, not the rank's part (the penalty's length scale L = volume^(1/dim) is the body's) */
-  MICA_CALL_CLEANUP(mica_parallel_sum(MICA_SUCCESS, &dist->local->volume, 1));
+  MICA_CALL(mica_parallel_sum(MICA_SUCCESS, &dist->local->volume, 1));
   dist->nparticles = dist->nglobal_nodes = mica_parallel_sum_long(dist->nowned);
   MicaParallelStats *st = &dist->stats;
   st->owned_particles = dist->nowned;
@@ -878,11 +885,7 @@ int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutS
   MPI_Allreduce(&st->owned_points, &st->max_owned_points, 1, MPI_LONG, MPI_MAX, mica_parallel_comm());
   MPI_Allreduce(&st->owned_points, &st->min_owned_points, 1, MPI_LONG, MPI_MIN, mica_parallel_comm());
   st->time_partition = mica_wtime() - start;
-  *out = dist;
-  dist = NULL;
-cleanup:
-  mica_distribution_destroy(&dist);
-  return ierr;
+  return MICA_SUCCESS;
 }
 
 void parallel_owned_free(MicaDistribution *dist) {
@@ -893,4 +896,5 @@ void parallel_owned_free(MicaDistribution *dist) {
   free(dist->global_node);
   dist->global_node = NULL;
   mls_destroy(&dist->mls);
+  mica_mesh_destroy(&dist->cells_mesh);
 }

@@ -2,9 +2,32 @@
 #ifndef MICA_PARALLEL_PRIVATE_H
 #define MICA_PARALLEL_PRIVATE_H
 
+#include "mica/geom.h"
 #include "mica/parallel.h"
 
 /* own.c: what parallel.data = "distributed" adds to a distribution (its ghost plan, numbering, local MLS). */
 void parallel_owned_free(MicaDistribution *dist);
+
+/* Where the rank's own particles alone can support a point: no particle of another rank lies within
+ * low[d] < x_d < high[d] on any axis d (own.c, parallel_add_supports). */
+typedef struct {
+  double low[3], high[3];
+} OwnedZone;
+/* set[nset] ∪= the particles (of mls) in the supports of the n points x[n·dim] outside the zone; ascending; set
+ * holds the owned particles already (a point in the zone has only those). */
+int parallel_add_supports(const MlsApprox *mls, const OwnedZone *zone, long n, const double *x, long **set,
+                          long *nset);
+/* ... of a discretization's boundary points and vertices. */
+int parallel_add_set_supports(const MlsApprox *mls, const OwnedZone *zone, const MicaDiscretization *d, long **needed,
+                              long *nneeded);
+/* dist->mls: the MLS approximation of dist->local's particles with the radii, spacings and weight parameters of
+ * particles map[i] of `source` (the approximation they were sized in). */
+int parallel_local_mls(const MlsApprox *source, const MlsOptions *mls_opt, const long *map, MicaDistribution *dist);
+/* The ghost particles' plan: each asked of its owner (partition->part) by its position there, global_node minus
+ * offsets[owner] (offsets: the owners' first numbers). */
+int parallel_ghost_plan(MicaDistribution *dist, const long *offsets);
+/* Collective, after agreeing on ierr: the body's volume, the global counts and the statistics (start: when the
+ * distribution's build began). */
+int parallel_owned_finish(int ierr, MicaDistribution *dist, double start);
 
 #endif
