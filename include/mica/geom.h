@@ -91,8 +91,8 @@ typedef struct MicaBoundarySet {
   long *grid_cell;  /* [n] the background cell of a built-in shape's index grid the point lies on (axis 0
                        fastest; what parallel.data = "distributed" gives each point's owner by), or NULL */
   long *vertex_key; /* [nvertices] a built-in shape's vertex as its index in the grid of cell corners (axis 0
-                       fastest: the same on every rank, which parallel.data = "distributed" names a multiplier
-                       node by), or NULL */
+                       fastest), a Gmsh mesh's as its node's index in the whole mesh: the same on every rank, which
+                       parallel.data = "distributed" names a multiplier node by; or NULL */
 } MicaBoundarySet;
 
 /* Nodal cells (mica_discretization_nodal): one cell Ω_I per particle, tiling the body, each given by Gauss

@@ -163,10 +163,11 @@ const MicaDeckKey mica_run_schema[] = {
              "with CHOLMOD or UMFPACK subdomains; iterative ones for problems whose factor does not fit)"},
     {"parallel.data", MICA_KEY_CHOICE, "\"replicated\"", NOLIMIT, "replicated|distributed", 0, 0,
      "MPI runs: replicated — every rank builds all particles, the partition is METIS's and vectors are whole on "
-     "every rank; distributed — each rank owns a block of a built-in shape's particle and cell index grids and "
-     "holds only those, its points and a ghost layer (solver.linear = \"petsc\" or \"auto\"; every boundary method, "
-     "background-cell quadrature with or without VCI, the nodal modes with the rank's own nodal cells, "
-     "axisymmetric sections, probes, error norms and every output; no Gmsh mesh or irregular layout, no FE)"},
+     "every rank; distributed — each rank owns a block of a built-in shape's particle and cell index grids, or a "
+     "box of a Gmsh mesh's particles and the elements whose centroids it holds, and keeps only those, its points "
+     "and a ghost layer (solver.linear = \"petsc\" or \"auto\"; every boundary method, background-cell quadrature "
+     "with or without VCI, the nodal modes with the rank's own nodal cells on built-in shapes, axisymmetric "
+     "sections, probes, error norms and every output; no irregular layout, no FE)"},
     {"solver.linear_rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "petsc (its Krylov methods), cholmod-sym: the iterations stop at |r| ≤ linear_rtol |b|"},
     {"solver.linear_max_iterations", MICA_KEY_INT, "2000", 1, 1000000, NULL, 0, 0, "petsc (its Krylov methods), cholmod-sym: iterations per solve"},
     {"solver.steps", MICA_KEY_INT, "1", 1, 100000, NULL, 0, 0, "load steps; the load factor t goes from 1/steps to 1"},

@@ -157,6 +157,8 @@ typedef struct {
    * uncovered boundary faces (a part's cut faces would look uncovered); 0 / unused for a whole mesh */
   int part_dim;
   long part_uncovered;
+  long *node_key; /* a part: [nnodes] each node's index in the whole mesh, which names a boundary vertex alike on
+                     every rank (MicaBoundarySet.vertex_key); NULL: the node's own index */
 } GmshMesh;
 
 /* Reads a .msh file, or meshes a .geo (a name ending in .geo) with the Gmsh library: size_factor > 0

@@ -702,6 +702,7 @@ void gmsh_free(GmshMesh *mesh) {
   MICA_FREE(mesh->line);
   MICA_FREE(mesh->node_start);
   MICA_FREE(mesh->node);
+  MICA_FREE(mesh->node_key);
   MICA_FREE(mesh->physicals);
   for (int d = 0; d < 4; d++) {
     MICA_FREE(mesh->entity_index[d]);

@@ -433,8 +433,11 @@ static int build_set(const MeshContext *ctx, int phys, const char *name, MicaBou
   set->nelements = nelem, set->element_size = size;
   MICA_CALL_CLEANUP(set_vertices(ctx, phys, set, &nodes));
   MICA_CALL_CLEANUP(geom_set_alloc(set, dim, npts, nelem, size, set->nvertices));
-  for (long v = 0; v < set->nvertices; v++)
+  MICA_CALL_CLEANUP(MICA_MALLOC(set->vertex_key, set->nvertices + 1));
+  for (long v = 0; v < set->nvertices; v++) {
     for (int d = 0; d < dim; d++) set->vertex_x[v * dim + d] = mesh->x[nodes[v] * 3 + d];
+    set->vertex_key[v] = mesh->node_key ? mesh->node_key[nodes[v]] : nodes[v];
+  }
   for (long e = 0; e < mesh->nelements; e++) {
     if (!in_set(ctx, e, phys)) continue;
     for (int a = 0; a < size; a++) {

@@ -132,8 +132,12 @@ static int copy_elements(const GmshMesh *g, const char *keep, GmshMesh *p) {
   for (long i = 0; i < g->nnodes; i++)
     if (node_map[i] == 0) node_map[i] = p->nnodes++;
   int ierr = MICA_MALLOC(p->x, p->nnodes * 3 + 1);
+  if (!ierr) ierr = MICA_MALLOC(p->node_key, p->nnodes + 1);
   for (long i = 0; !ierr && i < g->nnodes; i++)
-    if (node_map[i] >= 0) memcpy(p->x + node_map[i] * 3, g->x + i * 3, sizeof(double) * 3);
+    if (node_map[i] >= 0) {
+      memcpy(p->x + node_map[i] * 3, g->x + i * 3, sizeof(double) * 3);
+      p->node_key[node_map[i]] = i;
+    }
   for (long e = 0; !ierr && e < g->nelements; e++) {
     if (!keep[e]) continue;
     const long k = p->nelements++;

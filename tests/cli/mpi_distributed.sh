@@ -26,6 +26,11 @@
 #   - the output mesh (a piece per rank of its cells) and quadrature_fields.csv (the ranks' rows in rank order) as
 #     serially at P = 2, 4 (tests/cli/mesh_pieces_compare.py, quadrature_rows_compare.py);
 #   - collocation (a ghost's rows emptied, a shared vertex's row written in shares) as serially at P = 2-4;
+#   - Gmsh meshes (coordinate boxes of equal particle counts, elements by their centroids): Kirsch's plate from
+#     plate_hole.msh (VCI on) at P = 1-4 within 1e-10 with MUMPS, its mesh pieces and SCF probe, with Lagrange
+#     multipliers at P = 2, 3; the cube of cube.geo (meshed on every rank) at P = 2-4 with MUMPS and 2, 4 with GAMG
+#     (1e-7), error norms on quadrature.error_order's points; the ranks' counts sum to the serial ones, each rank
+#     holds fewer than 0.6 of the particles at P = 4;
 #   - what the distributed mode does not cover yet is refused: exit 2, the deck line named.
 # `timeout` only keeps a hang from blocking the suite: no check depends on time.
 source "$(dirname "$0")/common.bash"
@@ -397,6 +402,56 @@ check(len(held) == 4 and max(held) < 0.6 * s["particles"],
       f"particles held per rank (owned + ghosts) {held}: each below 0.6 of {s['particles']}")
 EOF
 
+# ---- Gmsh meshes: coordinate boxes of equal particle counts, elements by their centroids ---------------------
+# Kirsch's plate from plate_hole.msh (VCI on: Gauss cells off a grid; MUMPS's LU) at P = 1-4, its output mesh in
+# pieces, the SCF probe; with Lagrange multipliers (named by their nodes' indices in the whole mesh) at P = 2, 3
+# against UMFPACK with the serial dofs and nnz; the 3-D cube of cube.geo (meshed by the Gmsh library on every rank)
+# at P = 2-4 with MUMPS and at P = 2, 4 with GAMG, with the error norms' own points (quadrature.error_order)
+REFERENCE=cholmod-sym serial "$work/kirsch" input/plate_hole_gmsh.cfg --set output.mesh=true
+for np in 1 2 3 4; do
+  distributed "$np" "$work/kirsch-$np" input/plate_hole_gmsh.cfg --set output.mesh=true --set solver.petsc=\"mumps\"
+  same "$work/kirsch" "$work/kirsch-$np" "$np" 1e-10
+  [ "$np" = 1 ] || probe_same "$work/kirsch" "$work/kirsch-$np" scf
+done
+REFERENCE=umfpack serial "$work/kirsch_lagrange" input/plate_hole_gmsh.cfg --set bc.method=\"lagrange\"
+for np in 2 3; do
+  distributed "$np" "$work/kirsch_lagrange-$np" input/plate_hole_gmsh.cfg --set bc.method=\"lagrange\" \
+    --set solver.petsc=\"mumps\"
+  same "$work/kirsch_lagrange" "$work/kirsch_lagrange-$np" "$np" 1e-10
+  for key in dofs nnz; do
+    [ "$(json_value $key "$work/kirsch_lagrange-$np/summary.json")" = "$(json_value $key "$work/kirsch_lagrange/summary.json")" ] \
+      || fail "kirsch_lagrange-$np: $key differs from the serial run's"
+  done
+done
+REFERENCE=cholmod-sym serial "$work/cube_gmsh" tests/decks/parallel/cube_gmsh.cfg --set quadrature.error_order=3
+for np in 2 3 4; do
+  distributed "$np" "$work/cube_gmsh-$np" tests/decks/parallel/cube_gmsh.cfg --set quadrature.error_order=3 \
+    --set solver.petsc=\"mumps\"
+  same "$work/cube_gmsh" "$work/cube_gmsh-$np" "$np" 1e-10
+done
+for np in 2 4; do
+  distributed "$np" "$work/cube_gmsh-$np-gamg" tests/decks/parallel/cube_gmsh.cfg --set quadrature.error_order=3 \
+    --set solver.petsc=\"gamg\" --set solver.linear_rtol=1e-12
+  same "$work/cube_gmsh" "$work/cube_gmsh-$np-gamg" "$np" 1e-7
+done
+python3 - "$work/cube_gmsh/summary.json" "$work/cube_gmsh-4-gamg/summary.json" <<'EOF' || fail "Gmsh counts per rank: see above"
+import json, sys
+s, p = (json.load(open(f)) for f in sys.argv[1:3])
+def check(cond, what):
+    print(("ok: " if cond else "FAIL: ") + what)
+    if not cond: sys.exit(1)
+for key in ("particles", "quadrature_points", "boundary_points", "nnz", "dofs"):
+    check(p[key] == s[key], f"{key}: {p[key]} in the distributed run, {s[key]} serially")
+for key, total in (("rank_particles_owned", "particles"), ("rank_points", "quadrature_points"),
+                   ("rank_boundary_points", "boundary_points")):
+    check(sum(p[key]) == s[total], f"{key} {p[key]} sum to the serial {total} {s[total]}")
+    check(max(p[key]) < 0.3 * s[total], f"{key}: each rank below 0.3 of the whole {s[total]}")
+held = p["rank_particles_local"]
+check(len(held) == 4 and max(held) < 0.6 * s["particles"],
+      f"particles held per rank (owned + ghosts) {held}: each below 0.6 of {s['particles']}")
+EOF
+ok "Gmsh meshes on distributed data: Kirsch (2-D, VCI, Lagrange) and the cube of cube.geo as serially"
+
 # ---- refusals ------------------------------------------------------------------------------------------------
 # variant NAME GROUPS...: the cook deck with the group lines appended (particles, quadrature, solver and output:
 # 9 x 9 particles, order 5, petsc over one step, no mesh, unless given); prints its path
@@ -423,6 +478,12 @@ pd='parallel = { data = "distributed"; };'
 refuse umfpack 'solver.linear is not available with parallel.data = "distributed"' "$pd" \
   'solver = { linear = "umfpack"; steps = 1; };'
 refuse irregular 'particles.layout is not available' "$pd" 'particles = { count = [9, 9]; layout = "irregular"; };'
+# a Gmsh mesh takes Gauss points in its elements: nodal quadrature refused, naming quadrature.mode
+gmsh_nodal="$work/gmsh_nodal.cfg"
+{ grep -v '^quadrature' input/plate_hole_gmsh.cfg | sed "s|\"meshes/plate_hole.msh\"|\"$PWD/input/meshes/plate_hole.msh\"|"
+  echo 'parallel = { data = "distributed"; };'; echo 'quadrature = { mode = "nsni"; };'; } > "$gmsh_nodal"
+expect_failure 2 "$gmsh_nodal:$(wc -l < "$gmsh_nodal"): quadrature.mode is not available with parallel.data = \"distributed\"" -- \
+  "${MPIRUN[@]}" -np 2 "$MICA" run "$gmsh_nodal" -o "$work/gmsh_nodal" --set output.monitor=false
 # ---- rigid motions: checked on the ranks' shares of the sets, the sums over all ranks --------------------------
 # Cook's membrane with ux alone on its left edge leaves the translation in y free. At P = 2, 3 some ranks hold none
 # of that edge's points and the others part of it (no rank builds a whole set); the message is the serial one,

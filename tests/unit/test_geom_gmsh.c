@@ -29,6 +29,12 @@
  *   - a .geo that would run a shell command, run a program, end the process or write files is refused with
  *     file:LINE before Gmsh runs it (SystemCall "touch pwned" creates no file), also inside an Included file;
  *     the same words in comments, strings, option names and variables are not refused.
+ *   - parts (src/geom/mesh_part.c, parallel.data = "distributed"): plate_hole.msh and cube.msh cut into three
+ *     parts by their elements' centroids (x below 1/3, 2/3 of the extent): the parts' volume points and weights,
+ *     every set's points, weights and outward normals (the divergence theorem over the union), output cells and
+ *     uncovered-face counts add up to the whole mesh's (1e-13); every part names every set; a part's boundary
+ *     vertex keeps its node's index in the whole mesh (the whole set's vertex with that key sits at the same
+ *     coordinates); the whole mesh's particles are the discretization's, in its order.
  *   - 3000 random byte changes of a binary, a 2.2 and a 4.1 ASCII file each either load or fail with
  *     MICA_ERR_INPUT (under `make test SAN=1`: without an out-of-bounds access or a leak).
  */
@@ -649,6 +655,79 @@ static void test_damaged_files(void **state) {
   mutate_and_load("tests/meshes/square_quads.msh", 3000, 3);
 }
 
+/* ---- parts (mesh_part.c) ---- */
+
+typedef struct {
+  double lo, hi;
+} Slab;
+
+static int keep_slab(const double *c, void *ctx) {
+  const Slab *slab = ctx;
+  return c[0] >= slab->lo && c[0] < slab->hi;
+}
+
+static void check_parts(const char *path, double x0, double x1) {
+  const MicaShapeSpec shape = {.kind = MICA_SHAPE_GMSH, .mesh_path = path};
+  const MicaCellSpec cells = {.order = 2};
+  MicaDiscretization *whole = load(path, 2, 0);
+  MicaMesh *mesh = NULL;
+  check_ok(mica_mesh_read(&shape, &mesh));
+  const int dim = whole->dim;
+  assert_int_equal(mica_mesh_dim(mesh), dim);
+  assert_int_equal(mica_mesh_num_particles(mesh), whole->nparticles);
+  assert_memory_equal(mica_mesh_particles(mesh), whole->x, sizeof(double) * (size_t)(whole->nparticles * dim));
+  long nquad = 0, ncells = 0, npoints[16] = {0};
+  double volume = 0, measure[16] = {0}, flux = 0;
+  assert_true(whole->nsets <= 16);
+  for (int k = 0; k < 3; k++) {
+    const Slab slab = {k ? x0 + (x1 - x0) * k / 3.0 : -HUGE_VAL, k < 2 ? x0 + (x1 - x0) * (k + 1) / 3.0 : HUGE_VAL};
+    MicaMesh *part = NULL;
+    MicaDiscretization *d = NULL;
+    check_ok(mica_mesh_part(mesh, keep_slab, (void *)&slab, &part));
+    check_ok(mica_discretization_create_mesh(part, &cells, 1, &d));
+    assert_int_equal(d->nsets, whole->nsets);
+    assert_int_equal(d->boundary_uncovered, whole->boundary_uncovered);
+    assert_true(d->nquad > 0 && d->nquad < whole->nquad);
+    nquad += d->nquad, ncells += d->mesh->ncells;
+    for (long q = 0; q < d->nquad; q++) volume += d->qw[q];
+    for (int s = 0; s < d->nsets; s++) {
+      const MicaBoundarySet *set = &d->sets[s], *ws = &whole->sets[s];
+      assert_string_equal(set->name, ws->name);
+      npoints[s] += set->n, measure[s] += set_measure(set);
+      for (long q = 0; q < set->n; q++)
+        for (int i = 0; i < dim; i++) flux += set->w[q] * set->x[q * dim + i] * set->normal[q * dim + i];
+      for (long v = 0; v < set->nvertices; v++) { /* the whole set's vertex of the same key: the same place */
+        long lo = 0, hi = ws->nvertices;
+        while (hi - lo > 1) {
+          const long mid = (lo + hi) / 2;
+          if (ws->vertex_key[mid] <= set->vertex_key[v]) lo = mid;
+          else hi = mid;
+        }
+        assert_true(ws->vertex_key[lo] == set->vertex_key[v]);
+        assert_memory_equal(ws->vertex_x + lo * dim, set->vertex_x + v * dim, sizeof(double) * (size_t)dim);
+      }
+    }
+    mica_discretization_destroy(&d);
+    mica_mesh_destroy(&part);
+  }
+  assert_int_equal(nquad, whole->nquad);
+  assert_int_equal(ncells, whole->ncells);
+  assert_rel(volume, whole->volume, 1e-13, "the parts' volume");
+  assert_rel(flux, dim * whole->volume, 1e-13, "Σ w x·n over the parts' sets");
+  for (int s = 0; s < whole->nsets; s++) {
+    assert_int_equal(npoints[s], whole->sets[s].n);
+    assert_rel(measure[s], set_measure(&whole->sets[s]), 1e-13, whole->sets[s].name);
+  }
+  mica_mesh_destroy(&mesh);
+  mica_discretization_destroy(&whole);
+}
+
+static void test_mesh_parts(void **state) {
+  (void)state;
+  check_parts("input/meshes/plate_hole.msh", 0.0, 5.0);
+  check_parts("input/meshes/cube.msh", 0.0, 1.0);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_plate_hole_mesh), cmocka_unit_test(test_cube_mesh),
@@ -658,6 +737,7 @@ int main(void) {
       cmocka_unit_test(test_binary_errors),   cmocka_unit_test(test_geo_refused),
       cmocka_unit_test(test_geo_words_allowed), cmocka_unit_test(test_geo_errors),
       cmocka_unit_test(test_damaged_files),   cmocka_unit_test(test_entity_order),
+      cmocka_unit_test(test_mesh_parts),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
