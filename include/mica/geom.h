@@ -207,6 +207,11 @@ int mica_discretization_create_block(const MicaShapeSpec *shape, const MicaLayou
 /* The grids' sizes alone: particles and cells per axis (1 beyond the dimension), Gauss points per cell. */
 int mica_discretization_grid(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                              long particles[3], long ncells[3], long *points_per_cell);
+/* An irregular layout's particles, the whole body's as mica_discretization_create lays them out (x[n·dim]), and each
+ * one's nearest point of the regular grid of the same counts (grid_index[n], axis 0 fastest), whose spacing it
+ * takes: what parallel.data = "distributed" splits by those grid points' blocks. */
+int mica_layout_irregular(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, long *n, double **x,
+                          long **grid_index);
 /* Nodal integration: builds a nodal cell around every particle, the dual cells of the particles' logical
  * grid (corners at the averages of the 2^dim surrounding particles in parameter space, so boundary particles
  * get half and quarter cells; mapped by the shape's X, so curved boundaries are followed; split where the map

@@ -197,9 +197,9 @@ typedef struct MicaDistribution {
   MicaMesh *cells_mesh;   /* a Gmsh mesh (own_mesh.c): the part of it this rank owns (its elements), else NULL */
 } MicaDistribution;
 
-/* Collective. parallel.data = "distributed": the particle and cell index grids of a built-in shape's regular,
- * graded or jittered layout split into one block per rank, P factored along the axes to keep the blocks'
- * interfaces small (as PETSc's DMDA does: no partitioner); this rank builds its particles, its cells' volume and
+/* Collective. parallel.data = "distributed": the particle and cell index grids of a built-in shape's layout split into one block per rank, P factored along the axes to keep the blocks'
+ * interfaces small (as PETSc's DMDA does: no partitioner; an irregular layout: each particle in the block of its
+ * nearest grid point, the layout drawn whole on every rank); this rank builds its particles, its cells' volume and
  * boundary points, and its ghosts from the supports of those points (a box of the grid around its block, with
  * its own MLS search), and the MLS approximation of its particles (mls_opt) with the whole layout's radii. */
 /* What a rank's points are, beyond its cells' Gauss points. */

@@ -197,10 +197,10 @@ static int read_axisymmetric(const MicaDeck *deck, RunProblem *rp) {
  * line: run_parallel_owned_check, on the whole discretization built as usual): each rank builds its own block
  * once the run is distributed (run_parallel_distribute), so here only the boundary sets' names, for the checks of
  * the conditions, and the grids' sizes (a Gmsh mesh: read, and kept for the distribution to cut). */
-static int names_only(const MicaDeck *deck, const MicaLayoutSpec *layout, int fe, int *yes) {
+static int names_only(const MicaDeck *deck, int fe, int *yes) {
   const char *data;
   *yes = 0;
-  if (!mica_parallel_active() || fe || layout->kind == MICA_LAYOUT_IRREGULAR) return MICA_SUCCESS;
+  if (!mica_parallel_active() || fe) return MICA_SUCCESS;
   MICA_CALL(mica_deck_string(deck, "parallel.data", &data));
   *yes = !strcmp(data, "distributed");
   return MICA_SUCCESS;
@@ -227,8 +227,10 @@ static int build_names_only(const MicaShapeSpec *shape, const MicaLayoutSpec *la
                             RunProblem *rp) {
   if (shape->kind == MICA_SHAPE_GMSH) return mesh_names_only(shape, cells, rp);
   MicaGridBlock block;
+  MicaLayoutSpec grid = *layout; /* an irregular layout: the sets of the regular one of the same counts */
+  if (grid.kind == MICA_LAYOUT_IRREGULAR) grid.kind = MICA_LAYOUT_REGULAR;
   memset(&block, 0, sizeof block);
-  return mica_discretization_create_block(shape, layout, cells, &block, &rp->disc);
+  return mica_discretization_create_block(shape, &grid, cells, &block, &rp->disc);
 }
 
 /* Discretization (revolved for an axisymmetric section) and MLS approximation. */
@@ -245,7 +247,7 @@ int run_build_geometry(const MicaDeck *deck, RunProblem *rp) {
   if (fe) MICA_CALL(run_check_fe_deck(deck, &shape, &layout, &cells, &fe_order));
   double start = mica_wtime();
   int only_names;
-  MICA_CALL(names_only(deck, &layout, fe, &only_names));
+  MICA_CALL(names_only(deck, fe, &only_names));
   if (only_names) {
     MICA_CALL(build_names_only(&shape, &layout, &cells, rp));
     MICA_CALL(run_read_integration(deck, &shape, &layout, &cells, 0, rp));

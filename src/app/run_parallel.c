@@ -25,21 +25,15 @@ int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp) {
     return refuse_owned(deck, "solver.linear", "set solver.linear = \"petsc\" or \"auto\" (the distributed matrix)");
   /* FE first: its discretization (the elements') has no particle grid either */
   if (rp->fe) return refuse_owned(deck, "problem.method", "use problem.method = \"efg\"");
+  /* a Gmsh mesh and the irregular layout: Gauss points in the elements or cells only (no nodal cells off a grid) */
   const char *shape;
+  unsigned flags;
   MICA_CALL(mica_deck_string(deck, "geometry.shape", &shape));
-  if (!strcmp(shape, "gmsh")) {
-    unsigned flags;
-    MICA_CALL(run_integration_flags(deck, &flags));
-    if (flags & RUN_INTEGRATION_NODAL)
-      return refuse_owned(deck, "quadrature.mode", "a Gmsh mesh is distributed with Gauss points in its elements: "
-                          "use quadrature.mode = \"gauss\"");
-    return MICA_SUCCESS;
-  }
-  if (rp->disc->grid_points_per_cell <= 0) {
-    MICA_CALL(mica_deck_string(deck, "particles.layout", &layout));
-    return refuse_owned(deck, strcmp(layout, "irregular") ? "geometry.shape" : "particles.layout",
-                        "use a Gmsh mesh or a built-in shape with a regular, graded or jittered layout");
-  }
+  MICA_CALL(mica_deck_string(deck, "particles.layout", &layout));
+  MICA_CALL(run_integration_flags(deck, &flags));
+  if ((!strcmp(shape, "gmsh") || !strcmp(layout, "irregular")) && (flags & RUN_INTEGRATION_NODAL))
+    return refuse_owned(deck, "quadrature.mode", "a Gmsh mesh or an irregular layout is distributed with Gauss "
+                        "points in its elements or cells: use quadrature.mode = \"gauss\"");
   return MICA_SUCCESS;
 }
 

@@ -256,3 +256,21 @@ void mica_discretization_set_names(const MicaDiscretization *disc, char *buf, in
     used += n;
   }
 }
+
+int mica_layout_irregular(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, long *n, double **x,
+                          long **grid_index) {
+  GeomMap map;
+  GeomAxes axes = {0};
+  *n = 0, *x = NULL, *grid_index = NULL;
+  MICA_CHECK(shape->kind != MICA_SHAPE_GMSH && layout->kind == MICA_LAYOUT_IRREGULAR, MICA_ERR_ARGUMENT,
+             "mica_layout_irregular: a built-in shape with an irregular layout");
+  MICA_CALL(geom_map_init(shape, &map));
+  int ierr = geom_axes_create(layout, map.dim, &axes);
+  if (!ierr) ierr = layout_mapped(&map, layout, &axes, n, x, grid_index);
+  geom_axes_destroy(&axes);
+  if (ierr) {
+    MICA_FREE(*x);
+    MICA_FREE(*grid_index);
+  }
+  return ierr;
+}

@@ -9,7 +9,10 @@
  * approximation of that box; the supports of its points in it are its particles; the box grows until they lie
  * MARGIN layers inside it, so that their local spacings and radii are those of the whole layout. With nodal
  * quadrature (MicaOwnedSpec) the points are the nodal cells of the rank's particles instead of its cells' Gauss
- * points, which the error norms keep. Nothing of the whole layout's size is allocated on any rank. */
+ * points, which the error norms keep. Nothing of the whole layout's size is allocated on any rank, but for the
+ * irregular layout, whose sequential Poisson-disk draw every rank makes whole (Irregular): its particles belong to the
+ * blocks of their nearest grid points, and the rank keeps those whose grid points lie in its box. A Gmsh mesh has no
+ * index grid: own_mesh.c. */
 #include <math.h>
 #include <mpi.h>
 #include <stdlib.h>
@@ -172,11 +175,34 @@ typedef struct {
   MicaDiscretization *disc;
   MlsApprox *mls;
   OwnedZone zone;
+  /* an irregular layout (Irregular): the source's particles are the whole layout's whose nearest grid point lies in
+   * the box, in the layout's order — their numbers there and their grid points (NULL: the box's grid particles) */
+  long *whole, *grid_of;
+  long grid_n[3]; /* the particle grid's size */
 } Source;
+
+/* An irregular layout (parallel.data = "distributed"): its Poisson-disk draw is sequential over the whole body, so
+ * every rank draws all its particles (mica_layout_irregular) and keeps those it needs; a particle belongs to the
+ * block of its nearest grid point, whose spacing it takes (as serially), and is numbered in the layout's order
+ * within its owner. NULL in Source's and build_owned's place for the grid layouts. */
+typedef struct {
+  long n;
+  double *x;      /* [n·dim] */
+  long *grid;     /* [n] the nearest grid point */
+  int *owner;     /* [n] */
+  long *position; /* [n] the particle's position among its owner's */
+} Irregular;
+
+static void irregular_free(Irregular *irr) {
+  free(irr->x), free(irr->grid), free(irr->owner), free(irr->position);
+  memset(irr, 0, sizeof *irr);
+}
 
 static void source_free(Source *src) {
   mls_destroy(&src->mls);
   mica_discretization_destroy(&src->disc);
+  free(src->whole), free(src->grid_of);
+  src->whole = src->grid_of = NULL;
 }
 
 static long source_index(const Source *src, const long idx[3]) {
@@ -184,6 +210,10 @@ static long source_index(const Source *src, const long idx[3]) {
 }
 
 static void source_grid(const Source *src, long k, long idx[3]) {
+  if (src->grid_of) {
+    grid_index(src->grid_of[k], src->grid_n, idx);
+    return;
+  }
   const long w0 = src->hi[0] - src->lo[0], w1 = src->hi[1] - src->lo[1];
   idx[0] = src->lo[0] + k % w0, k /= w0;
   idx[1] = src->lo[1] + k % w1, idx[2] = src->lo[2] + k / w1;
@@ -231,9 +261,50 @@ static void owned_zone(Source *src, const long plo[3], const long phi[3]) {
 
 /* The rank's source with `layers` layers of particles around its particle block and the particles of its cells
  * (cell c of m along an axis lies between particle lines about c (n − 1)/m and (c + 1)(n − 1)/m). */
+/* The irregular layout's source: the box's cells and regular grid points (a regular layout's block: the spacing
+ * points), and the layout's particles whose nearest grid point is in the box, each sized on that point's spacing. */
+static int source_build_irregular(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                                  const MicaCellSpec *cells, const MlsOptions *mls_opt, const MicaGridBlock *block,
+                                  const Irregular *irr, const long plo[3], const long phi[3], Source *src) {
+  MicaLayoutSpec grid = *layout;
+  grid.kind = MICA_LAYOUT_REGULAR;
+  MICA_CALL(mica_discretization_create_block(shape, &grid, cells, block, &src->disc));
+  MicaDiscretization *d = src->disc;
+  const int dim = d->dim;
+  long count = 0, *spacing_index = NULL;
+  for (long i = 0; i < irr->n; i++) {
+    long idx[3];
+    grid_index(irr->grid[i], src->grid_n, idx);
+    count += in_box(idx, src->lo, src->hi);
+  }
+  d->x_grid = d->x, d->ngrid = d->nparticles; /* the box's grid points, in box order */
+  d->x = NULL;
+  MICA_CALL(MICA_MALLOC(d->x, count * dim + 1));
+  MICA_CALL(MICA_MALLOC(src->whole, count + 1));
+  MICA_CALL(MICA_MALLOC(src->grid_of, count + 1));
+  MICA_CALL(MICA_MALLOC(spacing_index, count + 1));
+  d->nparticles = 0;
+  for (long i = 0; i < irr->n; i++) {
+    long idx[3];
+    grid_index(irr->grid[i], src->grid_n, idx);
+    if (!in_box(idx, src->lo, src->hi)) continue;
+    const long k = d->nparticles++;
+    memcpy(d->x + k * dim, irr->x + i * dim, sizeof(double) * (size_t)dim);
+    src->whole[k] = i, src->grid_of[k] = irr->grid[i];
+    spacing_index[k] = source_index(src, idx);
+  }
+  owned_zone(src, plo, phi);
+  MlsOptions opt = *mls_opt;
+  opt.spacing_points = d->x_grid, opt.spacing_count = d->ngrid, opt.spacing_index = spacing_index;
+  const int ierr = mls_create(dim, d->nparticles, d->x, &opt, &src->mls);
+  free(spacing_index);
+  return ierr;
+}
+
 static int source_build(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                         const MlsOptions *mls_opt, const long n[3], const long m[3], const long plo[3],
-                        const long phi[3], const long clo[3], const long chi[3], long layers, int mesh, Source *src) {
+                        const long phi[3], const long clo[3], const long chi[3], long layers, int mesh,
+                        const Irregular *irr, Source *src) {
   MicaGridBlock block;
   memset(&block, 0, sizeof block);
   block.mesh = mesh;
@@ -245,6 +316,8 @@ static int source_build(const MicaShapeSpec *shape, const MicaLayoutSpec *layout
     block.cell_lo[d] = block.boundary_lo[d] = clo[d];
     block.cell_hi[d] = block.boundary_hi[d] = chi[d];
   }
+  memcpy(src->grid_n, n, sizeof src->grid_n);
+  if (irr) return source_build_irregular(shape, layout, cells, mls_opt, &block, irr, plo, phi, src);
   MICA_CALL(mica_discretization_create_block(shape, layout, cells, &block, &src->disc));
   owned_zone(src, plo, phi);
   MlsOptions opt = *mls_opt;
@@ -254,20 +327,45 @@ static int source_build(const MicaShapeSpec *shape, const MicaLayoutSpec *layout
 
 /* The rank's own particles (needed first: add_supports skips the points they alone support), and the supports
  * of their positions (the outputs evaluate the fields there). */
+/* The source's particles in the owned block, in the numbering's order (the block's grid order; an irregular layout's
+ * order): *owned[*nowned] (room for `extra` more). */
+static int owned_in_source(const Source *src, const long plo[3], const long phi[3], long extra, long **owned,
+                           long *nowned) {
+  *nowned = 0;
+  if (src->grid_of) {
+    for (long k = 0; k < src->disc->nparticles; k++) {
+      long idx[3];
+      source_grid(src, k, idx);
+      *nowned += in_box(idx, plo, phi);
+    }
+    MICA_CALL(MICA_MALLOC(*owned, *nowned + extra + 1));
+    for (long k = 0, m = 0; k < src->disc->nparticles; k++) {
+      long idx[3];
+      source_grid(src, k, idx);
+      if (in_box(idx, plo, phi)) (*owned)[m++] = k;
+    }
+    return MICA_SUCCESS;
+  }
+  *nowned = box_size(plo, phi);
+  MICA_CALL(MICA_MALLOC(*owned, *nowned + extra + 1));
+  long k = 0;
+  for (long i2 = plo[2]; i2 < phi[2]; i2++)
+    for (long i1 = plo[1]; i1 < phi[1]; i1++)
+      for (long i0 = plo[0]; i0 < phi[0]; i0++) {
+        const long idx[3] = {i0, i1, i2};
+        (*owned)[k++] = source_index(src, idx);
+      }
+  return MICA_SUCCESS;
+}
+
 static int add_owned_supports(const Source *src, const long plo[3], const long phi[3], long **needed, long *nneeded) {
   const int dim = src->disc->dim;
-  const long nowned = box_size(plo, phi);
   double *x = NULL;
-  long *owned = NULL, k = 0;
-  MICA_CALL(MICA_MALLOC(x, nowned * dim + 1));
-  int ierr = MICA_MALLOC(owned, nowned + *nneeded + 1);
-  for (long i2 = plo[2]; i2 < phi[2] && !ierr; i2++)
-    for (long i1 = plo[1]; i1 < phi[1]; i1++)
-      for (long i0 = plo[0]; i0 < phi[0]; i0++, k++) {
-        const long idx[3] = {i0, i1, i2};
-        owned[k] = source_index(src, idx);
-        memcpy(x + k * dim, src->disc->x + owned[k] * dim, sizeof(double) * (size_t)dim);
-      }
+  long *owned = NULL, nowned = 0;
+  MICA_CALL(owned_in_source(src, plo, phi, *nneeded, &owned, &nowned));
+  int ierr = MICA_MALLOC(x, nowned * dim + 1);
+  for (long k = 0; !ierr && k < nowned; k++)
+    memcpy(x + k * dim, src->disc->x + owned[k] * dim, sizeof(double) * (size_t)dim);
   if (!ierr) {
     if (*nneeded) memcpy(owned + nowned, *needed, sizeof(long) * (size_t)*nneeded); /* in any order */
     free(*needed);
@@ -285,6 +383,9 @@ int mica_owned_cell_points(const MicaShapeSpec *shape, const MicaLayoutSpec *lay
   MicaCellSpec c = *cells;
   c.order = order;
   if (dist->cells_mesh) return mica_discretization_create_mesh(dist->cells_mesh, &c, 0, disc); /* own_mesh.c */
+  MicaLayoutSpec grid = *layout; /* an irregular layout's cells: the regular layout's */
+  if (grid.kind == MICA_LAYOUT_IRREGULAR) grid.kind = MICA_LAYOUT_REGULAR;
+  layout = &grid;
   memset(&block, 0, sizeof block);
   memcpy(block.cell_lo, dist->cell_lo, sizeof block.cell_lo);
   memcpy(block.cell_hi, dist->cell_hi, sizeof block.cell_hi);
@@ -340,12 +441,13 @@ static int add_nodal_supports(const Source *src, const MicaDiscretization *nodal
 static int source_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                          const MlsOptions *mls_opt, const long n[3], const long m[3], const long plo[3],
                          const long phi[3], const MicaDistribution *dist, const MicaOwnedSpec *spec,
-                         const MicaDiscretization *nodal, Source *src, long **needed, long *nneeded) {
+                         const MicaDiscretization *nodal, const Irregular *irr, Source *src, long **needed,
+                         long *nneeded) {
   const long *clo = dist->cell_lo, *chi = dist->cell_hi;
   const double reach = (mls_opt->dilation > 0 ? mls_opt->dilation : 1.0) * (spec->wider_support > 1 ? spec->wider_support : 1);
   long layers = (long)ceil(reach) + source_margin(mls_opt);
   for (;;) {
-    MICA_CALL(source_build(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, layers, spec->mesh, src));
+    MICA_CALL(source_build(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, layers, spec->mesh, irr, src));
     const MicaDiscretization *d = src->disc;
     *nneeded = 0;
     MICA_CALL(add_owned_supports(src, plo, phi, needed, nneeded)); /* first: the zone's points are theirs */
@@ -362,33 +464,26 @@ static int source_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layou
   }
 }
 
-/* The local particles: the owned block (grid order), then the ghosts (ascending grid index); their owners and
- * contiguous numbers. The volume and boundary points are the source's (its cells are the rank's). */
+/* The local particles: the owned block (grid order; an irregular layout's: its order), then the ghosts (ascending
+ * source index); their owners and contiguous numbers. The volume and boundary points are the source's (its cells
+ * are the rank's). */
 static int local_particles(const Source *src, MicaDistribution *dist, const long n[3], const long *needed,
-                           long nneeded, const long *offsets, long **srcmap) {
+                           long nneeded, const long *offsets, const Irregular *irr, long **srcmap) {
   const MicaDiscretization *sd = src->disc;
   const int dim = sd->dim, rank = mica_parallel_rank();
-  long lo[3], hi[3];
+  long lo[3], hi[3], *map = NULL, nowned = 0;
   block_box(rank, dist->procs, n, lo, hi);
-  dist->nowned = box_size(lo, hi);
   long nghost = 0;
   for (long k = 0; k < nneeded; k++) {
     long idx[3];
     source_grid(src, needed[k], idx);
     nghost += !in_box(idx, lo, hi);
   }
-  dist->nghost = nghost;
-  const long nlocal = dist->nowned + nghost;
-  long *map = NULL;
-  MICA_CALL(MICA_MALLOC(map, nlocal + 1));
+  MICA_CALL(owned_in_source(src, lo, hi, nghost, &map, &nowned));
   *srcmap = map;
-  long m = 0;
-  for (long i2 = lo[2]; i2 < hi[2]; i2++)
-    for (long i1 = lo[1]; i1 < hi[1]; i1++)
-      for (long i0 = lo[0]; i0 < hi[0]; i0++) {
-        const long idx[3] = {i0, i1, i2};
-        map[m++] = source_index(src, idx);
-      }
+  dist->nowned = nowned, dist->nghost = nghost;
+  const long nlocal = dist->nowned + nghost;
+  long m = nowned;
   for (long k = 0; k < nneeded; k++) {
     long idx[3];
     source_grid(src, needed[k], idx);
@@ -405,7 +500,12 @@ static int local_particles(const Source *src, MicaDistribution *dist, const long
     long idx[3];
     source_grid(src, map[i], idx);
     memcpy(d->x + i * dim, sd->x + map[i] * dim, sizeof(double) * (size_t)dim);
-    dist->global_node[i] = global_number(idx[0] + n[0] * (idx[1] + n[1] * idx[2]), n, dist->procs, offsets, &p->part[i]);
+    if (irr) {
+      const long w = src->whole[map[i]];
+      p->part[i] = irr->owner[w], dist->global_node[i] = offsets[irr->owner[w]] + irr->position[w];
+    } else {
+      dist->global_node[i] = global_number(idx[0] + n[0] * (idx[1] + n[1] * idx[2]), n, dist->procs, offsets, &p->part[i]);
+    }
   }
   return MICA_SUCCESS;
 }
@@ -801,15 +901,44 @@ static int owned_nodal(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
   return spec->centroids ? mica_discretization_nodal_centroids(*nodal) : MICA_SUCCESS;
 }
 
+/* The whole irregular layout, each particle's owner (the block of its nearest grid point) and position among the
+ * owner's; the blocks' counts into p->part_size. */
+static int irregular_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const long n[3],
+                           const int procs[3], MicaPartition *p, Irregular *irr) {
+  MICA_CALL(mica_layout_irregular(shape, layout, &irr->n, &irr->x, &irr->grid));
+  MICA_CALL(MICA_MALLOC(irr->owner, irr->n + 1));
+  MICA_CALL(MICA_MALLOC(irr->position, irr->n + 1));
+  for (long i = 0; i < irr->n; i++) {
+    long idx[3];
+    int b[3];
+    grid_index(irr->grid[i], n, idx);
+    for (int d = 0; d < 3; d++) b[d] = block_of(idx[d], n[d], procs[d]);
+    irr->owner[i] = b[0] + procs[0] * (b[1] + procs[1] * b[2]);
+    irr->position[i] = p->part_size[irr->owner[i]]++;
+  }
+  for (int r = 0; r < p->nparts; r++)
+    MICA_CHECK(p->part_size[r] > 0, MICA_ERR_INPUT, "parallel.data = \"distributed\": rank %d's block holds none of "
+               "the irregular layout's %ld particles; use fewer ranks", r, irr->n);
+  return MICA_SUCCESS;
+}
+
 static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                        const MlsOptions *mls_opt, const MicaOwnedSpec *spec, MicaDistribution *dist) {
   const int P = mica_parallel_size(), rank = mica_parallel_rank();
   long n[3], m[3], per_cell, plo[3], phi[3], *offsets = NULL, *needed = NULL, nneeded = 0;
   long *map = NULL;
   Source src;
+  Irregular irr;
   MicaDiscretization *nodal = NULL;
   memset(&src, 0, sizeof src);
+  memset(&irr, 0, sizeof irr);
   int ierr = MICA_SUCCESS;
+  /* an irregular layout: its particles drawn whole, its grid (and cells) the regular layout's of the same counts */
+  const MicaLayoutSpec *irregular = layout->kind == MICA_LAYOUT_IRREGULAR ? layout : NULL;
+  MicaLayoutSpec grid = *layout;
+  grid.kind = irregular ? MICA_LAYOUT_REGULAR : layout->kind;
+  layout = &grid;
+  MICA_CHECK(!irregular || !spec->nodal, MICA_ERR_ARGUMENT, "build_owned: no nodal cells off a grid");
   MICA_CALL(mica_discretization_grid(shape, layout, cells, n, m, &per_cell));
   MICA_CALL(mica_block_split(P, shape->dim, m, dist->procs));
   for (int d = 0; d < shape->dim; d++)
@@ -821,9 +950,10 @@ static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
   p->nparts = P;
   MICA_CALL(MICA_CALLOC(p->part_size, P + 1));
   MICA_CALL(MICA_CALLOC(offsets, P + 1));
+  if (irregular) MICA_CALL_CLEANUP(irregular_create(shape, irregular, n, dist->procs, p, &irr));
   for (int r = 0; r < P; r++) {
     block_box(r, dist->procs, n, plo, phi);
-    p->part_size[r] = box_size(plo, phi);
+    if (!irregular) p->part_size[r] = box_size(plo, phi);
     offsets[r + 1] = offsets[r] + p->part_size[r];
   }
   for (int r = 0; r < P; r++)
@@ -832,11 +962,13 @@ static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
   block_box(rank, dist->procs, n, plo, phi);
   block_box(rank, dist->procs, m, dist->cell_lo, dist->cell_hi);
   ierr = owned_nodal(shape, layout, cells, spec, plo, phi, &nodal);
-  if (!ierr) ierr = source_create(shape, layout, cells, mls_opt, n, m, plo, phi, dist, spec, nodal, &src, &needed, &nneeded);
+  if (!ierr)
+    ierr = source_create(shape, layout, cells, mls_opt, n, m, plo, phi, dist, spec, nodal, irregular ? &irr : NULL,
+                         &src, &needed, &nneeded);
   if (!ierr) ierr = MICA_CALLOC(dist->local, 1);
   if (!ierr && nodal) take_nodal_points(&src, nodal, dist->local);
   else if (!ierr) take_points(&src, dist->local);
-  if (!ierr) ierr = local_particles(&src, dist, n, needed, nneeded, offsets, &map);
+  if (!ierr) ierr = local_particles(&src, dist, n, needed, nneeded, offsets, irregular ? &irr : NULL, &map);
   if (!ierr && spec->revolve) ierr = mica_discretization_revolve(dist->local);
   if (!ierr) ierr = parallel_local_mls(src.mls, mls_opt, map, dist);
   /* every rank reaches the plan's collectives, or none */
@@ -844,6 +976,7 @@ static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
   MICA_CALL_CLEANUP(parallel_ghost_plan(dist, offsets));
 cleanup:
   source_free(&src);
+  irregular_free(&irr);
   mica_discretization_destroy(&nodal);
   free(offsets), free(needed), free(map);
   return ierr;

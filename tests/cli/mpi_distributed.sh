@@ -31,7 +31,10 @@
 #     multipliers at P = 2, 3; the cube of cube.geo (meshed on every rank) at P = 2-4 with MUMPS and 2, 4 with GAMG
 #     (1e-7), error norms on quadrature.error_order's points; the ranks' counts sum to the serial ones, each rank
 #     holds fewer than 0.6 of the particles at P = 4;
-#   - what the distributed mode does not cover yet is refused: exit 2, the deck line named.
+#   - the irregular layout (drawn whole on every rank, each particle owned by the block of its nearest grid point):
+#     Cook at P = 1-4, the 3-D cube (error norms) and the plate with a hole at P = 2, 4, with VCI, within 1e-10;
+#   - what the distributed mode does not cover yet is refused: exit 2, the deck line named (the nodal modes on a
+#     Gmsh mesh or an irregular layout).
 # `timeout` only keeps a hang from blocking the suite: no check depends on time.
 source "$(dirname "$0")/common.bash"
 work="$(cd "$(dirname "$OUT_DIR")" 2>/dev/null && pwd)/$(basename "$OUT_DIR")/mpi_distributed"
@@ -176,6 +179,15 @@ check_vci vci_cube "2 4" tests/decks/parallel/cube.cfg --set "particles.count=[6
   --set particles.layout=\"jittered\" --set particles.seed=3
 check_layout graded tests/decks/parallel/cube.cfg --set "particles.count=[7,6,6]" --set quadrature.order=3 \
   --set particles.layout=\"graded\" --set "particles.grading=[4.0]" --set mls.spacing=\"far\"
+# the irregular layout (VCI on): every rank draws the whole Poisson-disk layout, keeps the particles whose nearest grid
+# point lies in its block or within its source box, sized on those grid points as serially — Cook (with its output
+# mesh) at P = 1-4, the 3-D cube with the error norms' own points and the plate with a hole (a curved map) at P = 2, 4
+check_vci irregular "1 2 3 4" tests/decks/parallel/cook.cfg --set "particles.count=[9,9]" --set solver.steps=2 \
+  --set particles.layout=\"irregular\" --set particles.seed=5 --set output.mesh=true
+check_vci irregular_cube "2 4" tests/decks/parallel/cube.cfg --set "particles.count=[7,6,6]" --set quadrature.order=3 \
+  --set particles.layout=\"irregular\" --set particles.seed=3 --set quadrature.error_order=3
+check_vci irregular_hole "2 4" input/plate_hole.cfg --set particles.layout=\"irregular\" --set particles.seed=2 \
+  --set "particles.count=[17,11]" --set 'output.probes=()'
 
 # ---- probes: evaluated by the lowest rank holding the point's whole support, broadcast ----------------------------
 # probe_same SERIAL OTHER KEY...: each probe of OTHER's summary within 1e-10 (relative) of SERIAL's
@@ -477,7 +489,8 @@ refuse() { # refuse NAME PATTERN LINES...: exit 2 at -np 2 naming the deck's las
 pd='parallel = { data = "distributed"; };'
 refuse umfpack 'solver.linear is not available with parallel.data = "distributed"' "$pd" \
   'solver = { linear = "umfpack"; steps = 1; };'
-refuse irregular 'particles.layout is not available' "$pd" 'particles = { count = [9, 9]; layout = "irregular"; };'
+refuse irregular_nsni 'quadrature.mode is not available' "$pd" 'particles = { count = [9, 9]; layout = "irregular"; };' \
+  'quadrature = { mode = "nsni"; };'
 # a Gmsh mesh takes Gauss points in its elements: nodal quadrature refused, naming quadrature.mode
 gmsh_nodal="$work/gmsh_nodal.cfg"
 { grep -v '^quadrature' input/plate_hole_gmsh.cfg | sed "s|\"meshes/plate_hole.msh\"|\"$PWD/input/meshes/plate_hole.msh\"|"
