@@ -969,11 +969,7 @@ static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
   if (!ierr && nodal) take_nodal_points(&src, nodal, dist->local);
   else if (!ierr) take_points(&src, dist->local);
   if (!ierr) ierr = local_particles(&src, dist, n, needed, nneeded, offsets, irregular ? &irr : NULL, &map);
-  if (!ierr && spec->revolve) ierr = mica_discretization_revolve(dist->local);
-  if (!ierr) ierr = parallel_local_mls(src.mls, mls_opt, map, dist);
-  /* every rank reaches the plan's collectives, or none */
-  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
-  MICA_CALL_CLEANUP(parallel_ghost_plan(dist, offsets));
+  ierr = parallel_owned_complete(ierr, src.mls, mls_opt, map, offsets, spec->revolve, dist);
 cleanup:
   source_free(&src);
   irregular_free(&irr);
@@ -982,31 +978,42 @@ cleanup:
   return ierr;
 }
 
+typedef struct {
+  const MicaShapeSpec *shape;
+  const MicaLayoutSpec *layout;
+  const MicaCellSpec *cells;
+  const MlsOptions *mls_opt;
+  const MicaOwnedSpec *spec;
+} GridBuild;
+
+static int build_grid(void *ctx, MicaDistribution *dist) {
+  const GridBuild *b = ctx;
+  return build_owned(b->shape, b->layout, b->cells, b->mls_opt, b->spec, dist);
+}
+
 int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
                                    const MicaCellSpec *cells, const MlsOptions *mls_opt, const MicaOwnedSpec *spec,
                                    MicaDistribution **out) {
-  *out = NULL;
-  const double start = mica_wtime();
-  MicaDistribution *dist = NULL;
-  int ierr = MICA_CALLOC(dist, 1);
-  if (!ierr) {
-    dist->owned = 1;
-    dist->error_order = spec->error_order;
-    ierr = build_owned(shape, layout, cells, mls_opt, spec, dist);
-    if (!ierr) dist->nsets = dist->local->nsets;
-    dist->nowned_nodes = dist->nowned; /* until extra nodes are added */
-  }
-  MICA_CALL_CLEANUP(parallel_owned_finish(ierr, dist, start));
-  *out = dist;
-  dist = NULL;
-cleanup:
-  mica_distribution_destroy(&dist);
-  return ierr;
+  GridBuild b = {shape, layout, cells, mls_opt, spec};
+  return parallel_owned_create(build_grid, &b, spec, out);
 }
 
-int parallel_owned_finish(int ierr, MicaDistribution *dist, double start) {
+int parallel_owned_complete(int ierr, const MlsApprox *source, const MlsOptions *mls_opt, const long *map,
+                            const long *offsets, int revolve, MicaDistribution *dist) {
+  if (!ierr && revolve) ierr = mica_discretization_revolve(dist->local);
+  if (!ierr) ierr = parallel_local_mls(source, mls_opt, map, dist);
+  /* every rank reaches the plan's collectives, or none */
+  MICA_CALL(mica_parallel_agree(ierr));
+  return parallel_ghost_plan(dist, offsets);
+}
+
+/* Collective, after agreeing on ierr: the body's volume, the global counts and the statistics (start: when the
+ * distribution's build began). */
+static int owned_finish(int ierr, MicaDistribution *dist, double start) {
   if (!ierr) ierr = mica_parallel_inject("build");
   MICA_CALL(mica_parallel_agree(ierr));
+  dist->nsets = dist->local->nsets;
+  dist->nowned_nodes = dist->nowned; /* until extra nodes are added */
   /* the body's volume, not the rank's part (the penalty's length scale L = volume^(1/dim) is the body's) */
   MICA_CALL(mica_parallel_sum(MICA_SUCCESS, &dist->local->volume, 1));
   dist->nparticles = dist->nglobal_nodes = mica_parallel_sum_long(dist->nowned);
@@ -1019,6 +1026,25 @@ int parallel_owned_finish(int ierr, MicaDistribution *dist, double start) {
   MPI_Allreduce(&st->owned_points, &st->min_owned_points, 1, MPI_LONG, MPI_MIN, mica_parallel_comm());
   st->time_partition = mica_wtime() - start;
   return MICA_SUCCESS;
+}
+
+int parallel_owned_create(int (*build)(void *ctx, MicaDistribution *dist), void *ctx, const MicaOwnedSpec *spec,
+                          MicaDistribution **out) {
+  *out = NULL;
+  const double start = mica_wtime();
+  MicaDistribution *dist = NULL;
+  int ierr = MICA_CALLOC(dist, 1);
+  if (!ierr) {
+    dist->owned = 1;
+    dist->error_order = spec->error_order;
+    ierr = build(ctx, dist);
+  }
+  MICA_CALL_CLEANUP(owned_finish(ierr, dist, start));
+  *out = dist;
+  dist = NULL;
+cleanup:
+  mica_distribution_destroy(&dist);
+  return ierr;
 }
 
 void parallel_owned_free(MicaDistribution *dist) {

@@ -370,12 +370,7 @@ static int build_owned_mesh(const MicaMesh *mesh, const MicaCellSpec *cells, con
   if (!ierr && spec->error_order > 0) ierr = mica_owned_cell_points(NULL, NULL, cells, dist, spec->error_order, &error);
   if (!ierr) ierr = mesh_source_create(mesh, mls_opt, &boxes, dist->local, error, owner, &src, &needed, &nneeded);
   if (!ierr) ierr = mesh_local_particles(&src, needed, nneeded, owner, position, offsets, dist, &map);
-  if (!ierr && spec->revolve) ierr = mica_discretization_revolve(dist->local);
-  if (!ierr) ierr = parallel_local_mls(src.mls, mls_opt, map, dist);
-  /* every rank reaches the plan's collectives, or none */
-  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
-  MICA_CALL_CLEANUP(parallel_ghost_plan(dist, offsets));
-cleanup:
+  ierr = parallel_owned_complete(ierr, src.mls, mls_opt, map, offsets, spec->revolve, dist);
   boxes_free(&boxes);
   mesh_source_free(&src);
   mica_discretization_destroy(&error);
@@ -383,24 +378,22 @@ cleanup:
   return ierr;
 }
 
+typedef struct {
+  const MicaMesh *mesh;
+  const MicaCellSpec *cells;
+  const MlsOptions *mls_opt;
+  const MicaOwnedSpec *spec;
+} MeshBuild;
+
+static int build_mesh(void *ctx, MicaDistribution *dist) {
+  const MeshBuild *b = ctx;
+  return build_owned_mesh(b->mesh, b->cells, b->mls_opt, b->spec, dist);
+}
+
 int mica_distribution_create_owned_mesh(const MicaMesh *mesh, const MicaCellSpec *cells, const MlsOptions *mls_opt,
                                         const MicaOwnedSpec *spec, MicaDistribution **out) {
   *out = NULL;
-  const double start = mica_wtime();
-  MicaDistribution *dist = NULL;
   MICA_CHECK(!spec->nodal, MICA_ERR_ARGUMENT, "mica_distribution_create_owned_mesh: no nodal quadrature on a mesh");
-  int ierr = MICA_CALLOC(dist, 1);
-  if (!ierr) {
-    dist->owned = 1;
-    dist->error_order = spec->error_order;
-    ierr = build_owned_mesh(mesh, cells, mls_opt, spec, dist);
-    if (!ierr) dist->nsets = dist->local->nsets;
-    dist->nowned_nodes = dist->nowned; /* until extra nodes are added */
-  }
-  MICA_CALL_CLEANUP(parallel_owned_finish(ierr, dist, start));
-  *out = dist;
-  dist = NULL;
-cleanup:
-  mica_distribution_destroy(&dist);
-  return ierr;
+  MeshBuild b = {mesh, cells, mls_opt, spec};
+  return parallel_owned_create(build_mesh, &b, spec, out);
 }

@@ -26,8 +26,13 @@ int parallel_local_mls(const MlsApprox *source, const MlsOptions *mls_opt, const
 /* The ghost particles' plan: each asked of its owner (partition->part) by its position there, global_node minus
  * offsets[owner] (offsets: the owners' first numbers). */
 int parallel_ghost_plan(MicaDistribution *dist, const long *offsets);
-/* Collective, after agreeing on ierr: the body's volume, the global counts and the statistics (start: when the
- * distribution's build began). */
-int parallel_owned_finish(int ierr, MicaDistribution *dist, double start);
+/* Collective, after agreeing on ierr (the build so far): the local discretization revolved (an axisymmetric
+ * section), its MLS approximation from `source` (parallel_local_mls), the ghost plan. */
+int parallel_owned_complete(int ierr, const MlsApprox *source, const MlsOptions *mls_opt, const long *map,
+                            const long *offsets, int revolve, MicaDistribution *dist);
+/* Collective: a distribution of owned data (spec: the error order) built by build(ctx, dist), then the body's volume,
+ * the global counts and the statistics, agreed over the ranks. */
+int parallel_owned_create(int (*build)(void *ctx, MicaDistribution *dist), void *ctx, const MicaOwnedSpec *spec,
+                          MicaDistribution **out);
 
 #endif
