@@ -269,6 +269,27 @@ typedef int (*MicaMeshKeep)(const double *centroid, void *ctx);
  * physical group (so the part's discretization names every set, with no points if it holds none of it) and the
  * whole mesh's count of uncovered boundary faces. */
 int mica_mesh_part(const MicaMesh *mesh, MicaMeshKeep keep, void *ctx, MicaMesh **part);
+/* Each particle's key: its node's position in the whole mesh (a region's particles keep the whole mesh's). */
+const long *mica_mesh_particle_keys(const MicaMesh *mesh);
+/* The mesh's uncovered boundary faces (MicaDiscretization.boundary_uncovered) whose centroids `mine` accepts: over
+ * the ranks of a split, with each face's centroid in one rank's box and its elements in that rank's region, they add
+ * up to the whole mesh's. */
+int mica_mesh_uncovered(const MicaMesh *mesh, MicaMeshKeep mine, void *ctx, long *count);
+
+/* A Gmsh mesh read in parts: a .msh file in passes through a filter, never whole; a .geo meshed whole, once. Opening
+ * reads the groups and the dimension (names: a mesh without elements, whose discretization names every set) and a
+ * sample of at most 2^18 node coordinates, the same on every rank. */
+typedef struct MicaMeshSource MicaMeshSource;
+int mica_mesh_source_open(const MicaShapeSpec *shape, MicaMeshSource **source);
+int mica_mesh_source_close(MicaMeshSource **source);
+int mica_mesh_source_dim(const MicaMeshSource *source);
+const MicaMesh *mica_mesh_source_names(const MicaMeshSource *source);
+const double *mica_mesh_source_sample(const MicaMeshSource *source, long *n);
+/* The bounding box of the mesh's nodes. */
+void mica_mesh_source_bounds(const MicaMeshSource *source, double lower[3], double upper[3]);
+/* The region [lo, hi) of the mesh: its nodes there and the elements whose nodes all lie there, with the particles
+ * among them (nodes of its volume elements) keyed as in the whole mesh. */
+int mica_mesh_source_region(const MicaMeshSource *source, const double lo[3], const double hi[3], MicaMesh **region);
 /* What mica_discretization_create builds from a Gmsh mesh, for a mesh or a part already read: particles (its
  * nodes), its elements' volume points, boundary sets (the output mesh of its elements if output_mesh). */
 int mica_discretization_create_mesh(const MicaMesh *mesh, const MicaCellSpec *cells, int output_mesh,

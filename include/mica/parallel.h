@@ -218,12 +218,13 @@ typedef struct MicaOwnedSpec {
 int mica_distribution_create_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
                                    const MicaCellSpec *cells, const MlsOptions *mls_opt, const MicaOwnedSpec *spec,
                                    MicaDistribution **dist);
-/* Collective. parallel.data = "distributed" for a Gmsh mesh read whole (mesh, freed by the caller once this returns):
- * its particles split into one box of coordinates per rank (procs[] boxes per axis: slabs, columns and blocks of
- * equal particle counts), each volume element owned by the box of its centroid and each boundary element by the
- * owner of the element it bounds; the rest as mica_distribution_create_owned (no nodal quadrature). */
-int mica_distribution_create_owned_mesh(const MicaMesh *mesh, const MicaCellSpec *cells, const MlsOptions *mls_opt,
-                                        const MicaOwnedSpec *spec, MicaDistribution **dist);
+/* Collective. parallel.data = "distributed" for a Gmsh mesh (own_mesh.c): its particles split into one box of
+ * coordinates per rank (procs[] boxes per axis: slabs, columns and blocks of about equal node counts, cut on the
+ * source's sample), each volume element owned by the box of its centroid and each boundary element by the owner of
+ * the element it bounds; each rank reads only the region of the mesh around its box; the rest as
+ * mica_distribution_create_owned (no nodal quadrature). */
+int mica_distribution_create_owned_mesh(const MicaMeshSource *mesh, const MicaCellSpec *cells,
+                                        const MlsOptions *mls_opt, const MicaOwnedSpec *spec, MicaDistribution **dist);
 /* The volume points of order `order` per direction in this rank's cells (quadrature.error_order's points: a
  * discretization without particles or boundary points). */
 int mica_owned_cell_points(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,

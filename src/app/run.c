@@ -245,7 +245,7 @@ void run_problem_free(RunProblem *rp) {
     reuse->at_mesh = rp->at_mesh, rp->at_mesh = NULL;
   mica_solid_destroy(&rp->solid);
   mica_distribution_destroy(&rp->dist);
-  mica_mesh_destroy(&rp->whole_mesh);
+  mica_mesh_source_close(&rp->mesh_source);
   free(rp->near_null);
   rp->near_null = NULL;
   mica_shape_cache_destroy(&rp->at_particles);

@@ -76,8 +76,8 @@ typedef struct RunProblem {
   MicaShapeCache *at_particles; /* shape functions at the particles, for output (built on first use) */
   MicaShapeCache *at_mesh;      /* and at the points of the output mesh (disc->mesh) */
   MicaDistribution *dist;       /* MPI: the partition and this rank's points (NULL: serial) */
-  MicaMesh *whole_mesh;         /* parallel.data = "distributed" with a Gmsh mesh: the mesh read whole, from the
-                                   geometry until the distribution takes its part (run_parallel_distribute) */
+  MicaMeshSource *mesh_source;  /* parallel.data = "distributed" with a Gmsh mesh: its reader (groups, sample),
+                                   from the geometry until the distribution has read its part (run_parallel_distribute) */
   const char *integration;      /* quadrature.mode: "gauss", "nodal" or "scni" */
   MicaShapeCache *at_gauss;     /* nodal and scni: MLS shape functions at the background Gauss points, where the
                                    error norms are measured (NULL in gauss mode: the volume cache is there);

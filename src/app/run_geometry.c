@@ -196,7 +196,7 @@ static int read_axisymmetric(const MicaDeck *deck, RunProblem *rp) {
 /* parallel.data = "distributed" under MPI, for what it covers (what it does not is refused later, with the deck
  * line: run_parallel_owned_check, on the whole discretization built as usual): each rank builds its own block
  * once the run is distributed (run_parallel_distribute), so here only the boundary sets' names, for the checks of
- * the conditions, and the grids' sizes (a Gmsh mesh: read, and kept for the distribution to cut). */
+ * the conditions, and the grids' sizes (a Gmsh mesh: its groups and a sample of its nodes, for the cuts). */
 static int names_only(const MicaDeck *deck, int fe, int *yes) {
   const char *data;
   *yes = 0;
@@ -206,19 +206,11 @@ static int names_only(const MicaDeck *deck, int fe, int *yes) {
   return MICA_SUCCESS;
 }
 
-static int keep_none(const double *centroid, void *ctx) {
-  (void)centroid, (void)ctx;
-  return 0;
-}
-
-/* A Gmsh mesh: read whole, kept for the distribution (rp->whole_mesh), and its empty part's sets (their names). */
+/* A Gmsh mesh: its reader's first pass (groups, dimension, sample), kept for the distribution (rp->mesh_source), and
+ * the sets' names. */
 static int mesh_names_only(const MicaShapeSpec *shape, const MicaCellSpec *cells, RunProblem *rp) {
-  MicaMesh *none = NULL;
-  MICA_CALL(mica_mesh_read(shape, &rp->whole_mesh));
-  MICA_CALL(mica_mesh_part(rp->whole_mesh, keep_none, NULL, &none));
-  const int ierr = mica_discretization_create_mesh(none, cells, 0, &rp->disc);
-  mica_mesh_destroy(&none);
-  return ierr;
+  MICA_CALL(mica_mesh_source_open(shape, &rp->mesh_source));
+  return mica_discretization_create_mesh(mica_mesh_source_names(rp->mesh_source), cells, 0, &rp->disc);
 }
 
 /* The empty block: the grids' sizes and the boundary sets' names, no particle, cell or point (nothing of the body's

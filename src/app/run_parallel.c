@@ -64,9 +64,9 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
         .mesh = output_mesh && output_vtu, /* output_mesh.c: enabled with the VTU files */
     };
     if (shape.kind == MICA_SHAPE_GMSH) {
-      MICA_CHECK(rp->whole_mesh, MICA_ERR_ARGUMENT, "run_parallel_distribute: the Gmsh mesh was not kept");
-      const int ierr = mica_distribution_create_owned_mesh(rp->whole_mesh, &cells, &mls_opt, &spec, &rp->dist);
-      mica_mesh_destroy(&rp->whole_mesh); /* each rank keeps its part (dist->cells_mesh) */
+      MICA_CHECK(rp->mesh_source, MICA_ERR_ARGUMENT, "run_parallel_distribute: the Gmsh mesh's reader was not kept");
+      const int ierr = mica_distribution_create_owned_mesh(rp->mesh_source, &cells, &mls_opt, &spec, &rp->dist);
+      mica_mesh_source_close(&rp->mesh_source); /* each rank keeps its part (dist->cells_mesh) */
       MICA_CALL(ierr);
     } else {
       MICA_CALL(mica_distribution_create_owned(&shape, &layout, &cells, &mls_opt, &spec, &rp->dist));

@@ -161,6 +161,18 @@ typedef struct {
                      every rank (MicaBoundarySet.vertex_key); NULL: the node's own index */
 } GmshMesh;
 
+/* What gmsh_read_filtered keeps: the nodes keep(x, ctx) accepts and the elements whose nodes it keeps all. */
+typedef struct {
+  int (*keep)(const double x[3], void *ctx);
+  void *ctx;
+  int max_dim; /* out: the largest dimension of the file's elements, kept or not */
+} GmshFilter;
+/* A .msh file read through a filter (not a .geo): the kept nodes keep their positions in $Nodes as node_key; every
+ * physical group is named (a 2.2 file: an entity for each) whether or not its elements are kept; the file is mapped,
+ * not copied. */
+int gmsh_read_filtered(const char *path, GmshFilter *filter, GmshMesh *mesh);
+/* A name ending in .geo (any case): a script the Gmsh library meshes (whole). */
+int gmsh_is_geo(const char *path);
 /* Reads a .msh file, or meshes a .geo (a name ending in .geo) with the Gmsh library: size_factor > 0
  * multiplies its Mesh.MeshSizeFactor (0: as the .geo says; must be 0 for a .msh file). */
 int gmsh_read(const char *path, double size_factor, GmshMesh *mesh);
@@ -185,6 +197,9 @@ int geom_mesh_discretize(const GmshMesh *mesh, int order, int boundary_order, Mi
 /* (uncovered != NULL) The mesh's boundary faces in no set or several, plus set elements inside
  * (disc->boundary_uncovered), and (side_of != NULL) for each element of dimension dim − 1 the volume element it is a side of (−1: none). */
 int geom_mesh_faces(const GmshMesh *mesh, int dim, long *uncovered, long *side_of);
+/* The same with the uncovered faces counted only where mine(face centroid, ctx) holds. */
+int geom_mesh_faces_where(const GmshMesh *mesh, int dim, int (*mine)(const double *, void *), void *mine_ctx,
+                          long *uncovered, long *side_of);
 /* The dimension of the mesh's volume elements (a part's: its own, even with no element). */
 int geom_mesh_dimension(const GmshMesh *mesh);
 /* MICA_ERR_INPUT unless the mesh has 2-D or 3-D elements (naming the physical-group pitfall). */

@@ -9,6 +9,7 @@
  * LINE being the line of the offending value (or the last line when the file ends early).
  */
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -16,6 +17,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "gmsh_reader.h"
 
@@ -376,22 +380,47 @@ static int read_entities(GmshReader *rd, GmshMesh *mesh) {
   return MICA_SUCCESS;
 }
 
-int gmsh_nodes_alloc(GmshMesh *mesh, GmshRawTags *raw, long n) {
-  MICA_FREE(mesh->x);
-  MICA_FREE(raw->tag);
-  MICA_FREE(raw->line);
-  MICA_CALL(MICA_MALLOC(mesh->x, n * 3));
-  MICA_CALL(MICA_MALLOC(raw->tag, n));
-  return MICA_MALLOC(raw->line, n);
+/* Grows the node arrays to `need` slots. */
+static int reserve_nodes(const GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw, long need) {
+  if (need <= raw->node_capacity) return MICA_SUCCESS;
+  const long capacity = rd->filter ? 2 * raw->node_capacity + 1024 : need;
+  MICA_CALL(MICA_REALLOC(mesh->x, capacity * 3));
+  MICA_CALL(MICA_REALLOC(raw->tag, capacity));
+  MICA_CALL(MICA_REALLOC(raw->line, capacity));
+  if (rd->filter) MICA_CALL(MICA_REALLOC(mesh->node_key, capacity));
+  raw->node_capacity = capacity;
+  return MICA_SUCCESS;
 }
 
+int gmsh_nodes_alloc(const GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw, long n) {
+  MICA_FREE(mesh->x);
+  MICA_FREE(mesh->node_key);
+  MICA_FREE(raw->tag);
+  MICA_FREE(raw->line);
+  mesh->nnodes = 0, raw->node_capacity = 0;
+  return reserve_nodes(rd, mesh, raw, rd->filter ? 1 : n);
+}
+
+int gmsh_node_add(const GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw, long tag, long line, const double x[3],
+                  long key) {
+  if (rd->filter && !rd->filter->keep(x, rd->filter->ctx)) return MICA_SUCCESS;
+  MICA_CALL(reserve_nodes(rd, mesh, raw, mesh->nnodes + 1));
+  const long i = mesh->nnodes++;
+  raw->tag[i] = tag, raw->line[i] = line;
+  memcpy(mesh->x + i * 3, x, sizeof(double) * 3);
+  if (rd->filter) mesh->node_key[i] = key;
+  return MICA_SUCCESS;
+}
+
+/* A block's node tags come before its coordinates: a second cursor reads each tag again beside its node's
+ * coordinates, so that a filter keeps a node's tag without holding the block's. */
 static int read_nodes(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw) {
   long nblocks, nnodes, min_tag, max_tag, count = 0;
   MICA_CALL(gmsh_read_count(rd, "numEntityBlocks", &nblocks));
   MICA_CALL(gmsh_read_count(rd, "numNodes", &nnodes));
   MICA_CALL(gmsh_read_long(rd, "minNodeTag", &min_tag));
   MICA_CALL(gmsh_read_long(rd, "maxNodeTag", &max_tag));
-  MICA_CALL(gmsh_nodes_alloc(mesh, raw, nnodes));
+  MICA_CALL(gmsh_nodes_alloc(rd, mesh, raw, nnodes));
   for (long b = 0; b < nblocks; b++) {
     int edim, etag, parametric;
     long n;
@@ -401,27 +430,74 @@ static int read_nodes(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw) {
     MICA_CALL(gmsh_read_count(rd, "numNodesInBlock", &n));
     if (count + n > nnodes)
       return gmsh_fail(rd, rd->token_line, "the node blocks hold more nodes than the header's %ld", nnodes);
+    GmshReader tags = *rd; /* at the block's first tag */
     for (long i = 0; i < n; i++) {
       long tag;
       MICA_CALL(gmsh_read_long(rd, "a node tag", &tag));
       if (tag < min_tag || tag > max_tag || tag < 1)
         return gmsh_fail(rd, rd->token_line, "node tag %ld is out of range [%ld, %ld] given in the $Nodes header",
                          tag, min_tag < 1 ? 1 : min_tag, max_tag);
-      raw->tag[count + i] = tag;
-      raw->line[count + i] = rd->token_line;
     }
     const int extra = parametric ? (edim < 0 ? 0 : edim > 3 ? 3 : edim) : 0;
     for (long i = 0; i < n; i++) {
-      double *x = &mesh->x[(count + i) * 3], u;
+      double x[3], u;
+      long tag;
       for (int d = 0; d < 3; d++) MICA_CALL(gmsh_read_double(rd, "a node coordinate", &x[d]));
       for (int d = 0; d < extra; d++) MICA_CALL(gmsh_read_double(rd, "a parametric coordinate", &u));
+      MICA_CALL(gmsh_read_long(&tags, "a node tag", &tag));
+      MICA_CALL(gmsh_node_add(rd, mesh, raw, tag, tags.token_line, x, count + i));
     }
     count += n;
   }
   if (count != nnodes)
     return gmsh_fail(rd, rd->token_line, "the node blocks hold %ld nodes, the header says %ld", count, nnodes);
-  mesh->nnodes = nnodes;
   return MICA_SUCCESS;
+}
+
+/* ---- elements ---- */
+
+int gmsh_elements_alloc(const GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw, long n) {
+  raw->elements_capacity = 0, raw->elements_read = 0;
+  mesh->nelements = 0;
+  MICA_CALL(MICA_CALLOC(mesh->node_start, 1));
+  if (rd->filter) return MICA_SUCCESS; /* grown as elements are kept */
+  MICA_CALL(MICA_MALLOC(mesh->type, n + 1));
+  MICA_CALL(MICA_MALLOC(mesh->entity_dim, n + 1));
+  MICA_CALL(MICA_MALLOC(mesh->entity_tag, n + 1));
+  MICA_CALL(MICA_MALLOC(mesh->tag, n + 1));
+  MICA_CALL(MICA_MALLOC(mesh->line, n + 1));
+  MICA_CALL(MICA_REALLOC(mesh->node_start, n + 1));
+  MICA_CALL(MICA_MALLOC(raw->elem_phys, n + 1));
+  raw->elements_capacity = n;
+  return MICA_SUCCESS;
+}
+
+int gmsh_element_reserve(GmshMesh *mesh, GmshRawTags *raw) {
+  if (mesh->nelements < raw->elements_capacity) return MICA_SUCCESS;
+  const long capacity = 2 * raw->elements_capacity + 1024;
+  MICA_CALL(MICA_REALLOC(mesh->type, capacity));
+  MICA_CALL(MICA_REALLOC(mesh->entity_dim, capacity));
+  MICA_CALL(MICA_REALLOC(mesh->entity_tag, capacity));
+  MICA_CALL(MICA_REALLOC(mesh->tag, capacity));
+  MICA_CALL(MICA_REALLOC(mesh->line, capacity));
+  MICA_CALL(MICA_REALLOC(mesh->node_start, capacity + 1));
+  MICA_CALL(MICA_REALLOC(raw->elem_phys, capacity));
+  raw->elements_capacity = capacity;
+  return MICA_SUCCESS;
+}
+
+static int compare_long_value(const void *a, const void *b) {
+  const long x = *(const long *)a, y = *(const long *)b;
+  return (x > y) - (x < y);
+}
+
+int gmsh_element_kept(GmshReader *rd, GmshRawTags *raw, int type, const long *tags, int k) {
+  raw->elements_read++;
+  if (!rd->filter) return 1;
+  if (gmsh_element_dim(type) > rd->filter->max_dim) rd->filter->max_dim = gmsh_element_dim(type);
+  for (int j = 0; j < k; j++)
+    if (!bsearch(&tags[j], raw->kept_tags, (size_t)raw->nkept_tags, sizeof(long), compare_long_value)) return 0;
+  return 1;
 }
 
 static int read_element_block(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw, long capacity) {
@@ -434,18 +510,21 @@ static int read_element_block(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw, 
   MICA_CALL(gmsh_read_count(rd, "numElementsInBlock", &n));
   const int k = gmsh_element_nodes(type);
   if (k == 0) return gmsh_fail_type(rd, type_line, type);
-  if (mesh->nelements + n > capacity)
+  if (raw->elements_read + n > capacity)
     return gmsh_fail(rd, rd->token_line, "the element blocks hold more elements than the header's %ld",
                      capacity);
   for (long i = 0; i < n; i++) {
-    const long e = mesh->nelements;
-    const long start = mesh->node_start[e];
-    MICA_CALL(gmsh_read_long(rd, "an element tag", &mesh->tag[e]));
-    mesh->line[e] = rd->token_line;
+    long tag, tags[GMSH_NODES_MAX];
+    MICA_CALL(gmsh_read_long(rd, "an element tag", &tag));
+    const long line = rd->token_line;
+    for (int j = 0; j < k; j++) MICA_CALL(gmsh_read_long(rd, "an element's node tag", &tags[j]));
+    if (!gmsh_element_kept(rd, raw, type, tags, k)) continue;
+    MICA_CALL(gmsh_element_reserve(mesh, raw));
+    const long e = mesh->nelements, start = mesh->node_start[e];
+    mesh->tag[e] = tag, mesh->line[e] = line;
     mesh->type[e] = type, mesh->entity_dim[e] = edim, mesh->entity_tag[e] = etag;
     MICA_CALL(gmsh_reserve_element_nodes(raw, start + k));
-    for (int j = 0; j < k; j++)
-      MICA_CALL(gmsh_read_long(rd, "an element's node tag", &raw->elem_tag[start + j]));
+    memcpy(&raw->elem_tag[start], tags, sizeof(long) * (size_t)k);
     mesh->node_start[e + 1] = start + k;
     mesh->nelements++;
   }
@@ -458,16 +537,11 @@ static int read_elements(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw) {
   MICA_CALL(gmsh_read_count(rd, "numElements", &nelem));
   MICA_CALL(gmsh_read_long(rd, "minElementTag", &min_tag));
   MICA_CALL(gmsh_read_long(rd, "maxElementTag", &max_tag));
-  MICA_CALL(MICA_MALLOC(mesh->type, nelem));
-  MICA_CALL(MICA_MALLOC(mesh->entity_dim, nelem));
-  MICA_CALL(MICA_MALLOC(mesh->entity_tag, nelem));
-  MICA_CALL(MICA_MALLOC(mesh->tag, nelem));
-  MICA_CALL(MICA_MALLOC(mesh->line, nelem));
-  MICA_CALL(MICA_CALLOC(mesh->node_start, nelem + 1));
+  MICA_CALL(gmsh_elements_alloc(rd, mesh, raw, nelem));
   for (long b = 0; b < nblocks; b++) MICA_CALL(read_element_block(rd, mesh, raw, nelem));
-  if (mesh->nelements != nelem)
+  if (raw->elements_read != nelem)
     return gmsh_fail(rd, rd->token_line, "the element blocks hold %ld elements, the header says %ld",
-                     mesh->nelements, nelem);
+                     raw->elements_read, nelem);
   return MICA_SUCCESS;
 }
 
@@ -573,6 +647,19 @@ static int begin_data(GmshReader *rd, const Format *fmt) {
   return MICA_SUCCESS;
 }
 
+/* A filter: the kept nodes' tags, sorted, before the elements are read (each checked against them as it is read). */
+static int kept_tags(const GmshReader *rd, const GmshMesh *mesh, GmshRawTags *raw, int have) {
+  if (!(have & HAVE_NODES))
+    return gmsh_fail(rd, rd->token_line, "$Elements before $Nodes: a distributed run reads the nodes first; "
+                     "write the mesh with Gmsh (which puts $Nodes first)");
+  MICA_FREE(raw->kept_tags);
+  MICA_CALL(MICA_MALLOC(raw->kept_tags, mesh->nnodes + 1));
+  memcpy(raw->kept_tags, raw->tag, sizeof(long) * (size_t)mesh->nnodes);
+  qsort(raw->kept_tags, (size_t)mesh->nnodes, sizeof(long), compare_long_value);
+  raw->nkept_tags = mesh->nnodes;
+  return MICA_SUCCESS;
+}
+
 static int read_data_section(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw, const Format *fmt, int *have) {
   const char *name = rd->section;
   if (strcmp(name, "Entities") == 0) {
@@ -585,6 +672,7 @@ static int read_data_section(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw, c
     *have |= HAVE_NODES;
   } else {
     if (*have & HAVE_ELEMENTS) return gmsh_fail(rd, rd->token_line, "a second $Elements section");
+    if (rd->filter) MICA_CALL(kept_tags(rd, mesh, raw, *have));
     MICA_CALL(begin_data(rd, fmt));
     MICA_CALL(fmt->v22 ? gmsh_v22_elements(rd, mesh, raw) : read_elements(rd, mesh, raw));
     *have |= HAVE_ELEMENTS;
@@ -639,7 +727,7 @@ static int read_all(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw) {
   for (int i = fmt.v22 ? 1 : 0; i < 3; i++)
     if (!(have & required[i].bit))
       return gmsh_fail(rd, rd->token_line, "the file ends without a %s section (truncated?)", required[i].name);
-  if (fmt.v22) MICA_CALL(gmsh_v22_entities(mesh, raw));
+  if (fmt.v22) MICA_CALL(gmsh_v22_entities(mesh, raw, rd->filter != NULL));
   return gmsh_resolve_nodes(rd, mesh, raw);
 }
 
@@ -668,30 +756,83 @@ static int index_entities(GmshMesh *mesh) {
   return MICA_SUCCESS;
 }
 
-int gmsh_read(const char *path, double size_factor, GmshMesh *mesh) {
+/* The file mapped read-only (not copied: the ranks of a distributed run share its pages); an empty file maps to an
+ * empty buffer. */
+static int map_file(const char *path, const char **buf, size_t *len) {
+  const int fd = open(path, O_RDONLY);
+  MICA_CHECK(fd >= 0, MICA_ERR_INPUT, "%s: cannot open the mesh file: %s", path, strerror(errno));
+  struct stat st;
+  int ierr = MICA_SUCCESS;
+  *buf = "", *len = 0;
+  if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_INPUT, "%s: not a regular file", path);
+  } else if (st.st_size > 0) {
+    void *p = mmap(NULL, (size_t)st.st_size, PROT_READ, MAP_PRIVATE, fd, 0);
+    if (p == MAP_FAILED)
+      ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_IO, "%s: cannot map the mesh file: %s", path,
+                            strerror(errno));
+    else
+      *buf = p, *len = (size_t)st.st_size;
+  }
+  close(fd);
+  return ierr;
+}
+
+static void unmap_file(const char *buf, size_t len) {
+  if (len > 0) munmap((void *)(uintptr_t)buf, len);
+}
+
+static void raw_free(GmshRawTags *raw) {
+  MICA_FREE(raw->tag);
+  MICA_FREE(raw->line);
+  MICA_FREE(raw->elem_tag);
+  MICA_FREE(raw->elem_phys);
+  MICA_FREE(raw->kept_tags);
+  MICA_FREE(raw->groups);
+}
+
+/* A .msh file through the filter (NULL: all of it). */
+static int read_msh(const char *path, GmshFilter *filter, GmshMesh *mesh) {
   int ierr = MICA_SUCCESS;
   GmshRawTags raw = {0};
-  GmshReader rd = {.path = path, .line = 1, .token_line = 1};
+  GmshReader rd = {.path = path, .line = 1, .token_line = 1, .filter = filter};
+  MICA_CALL(map_file(path, &rd.buf, &rd.len));
+  MICA_CALL_CLEANUP(read_all(&rd, mesh, &raw));
+  MICA_CALL_CLEANUP(index_entities(mesh));
+cleanup:
+  unmap_file(rd.buf, rd.len);
+  raw_free(&raw);
+  return ierr;
+}
+
+int gmsh_read(const char *path, double size_factor, GmshMesh *mesh) {
+  int ierr = MICA_SUCCESS;
   memset(mesh, 0, sizeof *mesh);
   snprintf(mesh->path, sizeof mesh->path, "%s", path);
   if (is_geo(path)) {
     MICA_CALL_CLEANUP(gmsh_geo_mesh(path, size_factor, mesh));
+    MICA_CALL_CLEANUP(index_entities(mesh));
   } else {
     MICA_CHECK(size_factor == 0, MICA_ERR_INPUT,
                "%s: a mesh size factor applies to a .geo that mica meshes, not to a mesh file", path);
-    MICA_CALL(gmsh_load_file(path, "mesh file", &rd.buf, &rd.len));
-    MICA_CALL_CLEANUP(read_all(&rd, mesh, &raw));
+    MICA_CALL_CLEANUP(read_msh(path, NULL, mesh));
   }
-  MICA_CALL_CLEANUP(index_entities(mesh));
 cleanup:
-  MICA_FREE(rd.buf);
-  MICA_FREE(raw.tag);
-  MICA_FREE(raw.line);
-  MICA_FREE(raw.elem_tag);
-  MICA_FREE(raw.elem_phys);
   if (ierr) gmsh_free(mesh);
   return ierr;
 }
+
+int gmsh_read_filtered(const char *path, GmshFilter *filter, GmshMesh *mesh) {
+  memset(mesh, 0, sizeof *mesh);
+  snprintf(mesh->path, sizeof mesh->path, "%s", path);
+  MICA_CHECK(!is_geo(path), MICA_ERR_ARGUMENT, "gmsh_read_filtered: %s is a .geo, not a mesh file", path);
+  filter->max_dim = 0;
+  const int ierr = read_msh(path, filter, mesh);
+  if (ierr) gmsh_free(mesh);
+  return ierr;
+}
+
+int gmsh_is_geo(const char *path) { return is_geo(path); }
 
 void gmsh_free(GmshMesh *mesh) {
   MICA_FREE(mesh->x);

@@ -8,24 +8,32 @@
 
 #include "geom_private.h"
 
-enum { GMSH_TOKEN_MAX = 256 };
+enum { GMSH_TOKEN_MAX = 256, GMSH_NODES_MAX = 8 /* nodes of the largest element type read */ };
 
 typedef struct {
   const char *path;
-  char *buf;
+  const char *buf;
   size_t len, pos;
   long line;       /* line of the current position */
   long token_line; /* line where the last value started */
   const char *section;
   int binary;      /* the current section's numbers are binary (4.1 binary files: $Entities, $Nodes, $Elements) */
+  GmshFilter *filter; /* gmsh_read_filtered: the nodes kept, and the elements whose nodes all are (NULL: all) */
 } GmshReader;
 
 /* Node tags as read, and the line of each, resolved to indices at the end (gmsh_resolve_nodes). */
 typedef struct {
   long *tag, *line;
+  long node_capacity; /* slots of tag, line, mesh->x (and mesh->node_key with a filter) */
   long *elem_tag; /* element node tags before resolution */
   long elem_capacity;
   int *elem_phys; /* MSH 2.2: each element's physical tag (0: none) */
+  long elements_capacity; /* slots of the mesh's per-element arrays (and elem_phys) */
+  long elements_read;     /* elements read from the $Elements section, kept or not */
+  long *kept_tags;        /* a filter: the kept nodes' tags, sorted, once $Elements begins */
+  long nkept_tags;
+  int *groups;            /* a filter on a 2.2 file: the (dimension, physical tag) pairs of every element read */
+  long ngroups, groups_capacity;
 } GmshRawTags;
 
 /* ---- errors: MICA_ERR_INPUT "file:LINE: detail" ---- */
@@ -45,16 +53,27 @@ int gmsh_read_int(GmshReader *rd, const char *what, int *v);    /* binary: an in
 int gmsh_read_double(GmshReader *rd, const char *what, double *v);
 /* Grows raw->elem_tag to hold `need` node tags. */
 int gmsh_reserve_element_nodes(GmshRawTags *raw, long need);
-/* The node arrays for n nodes (coordinates, tags and their lines), replacing any earlier ones: a file may list
- * its $Nodes section more than once. */
-int gmsh_nodes_alloc(GmshMesh *mesh, GmshRawTags *raw, long n);
+/* The node arrays for n nodes (coordinates, tags and their lines; with a filter, grown as nodes are kept), replacing
+ * any earlier ones: a file may list its $Nodes section more than once. */
+int gmsh_nodes_alloc(const GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw, long n);
+/* Node `key` (its position in $Nodes) with its tag, line and coordinates, appended unless the filter drops it. */
+int gmsh_node_add(const GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw, long tag, long line, const double x[3],
+                  long key);
+/* The per-element arrays for n elements (with a filter: grown as elements are kept). */
+int gmsh_elements_alloc(const GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw, long n);
+/* Room for one more element. */
+int gmsh_element_reserve(GmshMesh *mesh, GmshRawTags *raw);
+/* Whether an element of `type` with node tags tags[k] is kept (a filter keeps it if it keeps all its nodes); counts
+ * it and its dimension (filter->max_dim). */
+int gmsh_element_kept(GmshReader *rd, GmshRawTags *raw, int type, const long *tags, int k);
 
 /* ---- MSH 2.2 ASCII (gmsh_v22.c) ---- */
 int gmsh_v22_nodes(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw);
 int gmsh_v22_elements(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw);
 /* After the file: merges the copies of an element listed once per physical group, and gives each element
- * the entity of its set of physical groups, so that mesh.c sees what a 4.1 file's $Entities would say. */
-int gmsh_v22_entities(GmshMesh *mesh, GmshRawTags *raw);
+ * the entity of its set of physical groups, so that mesh.c sees what a 4.1 file's $Entities would say. With a
+ * filter, every group of the file gets an entity, so that a part names every set as the whole mesh does. */
+int gmsh_v22_entities(GmshMesh *mesh, GmshRawTags *raw, int filtered);
 
 /* ---- shared by every source ---- */
 /* Allocates entity tables for count[d] entities of each dimension (replacing any earlier ones). */

@@ -10,29 +10,42 @@
 
 #include "gmsh_reader.h"
 
-enum { NODES_MAX = 8 };
 
 int gmsh_v22_nodes(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw) {
   long n;
   MICA_CALL(gmsh_read_count(rd, "the number of nodes", &n));
-  MICA_CALL(gmsh_nodes_alloc(mesh, raw, n));
+  MICA_CALL(gmsh_nodes_alloc(rd, mesh, raw, n));
   for (long i = 0; i < n; i++) {
-    MICA_CALL(gmsh_read_long(rd, "a node tag", &raw->tag[i]));
-    if (raw->tag[i] < 1) return gmsh_fail(rd, rd->token_line, "node tag %ld must be positive", raw->tag[i]);
-    raw->line[i] = rd->token_line;
-    for (int d = 0; d < 3; d++) MICA_CALL(gmsh_read_double(rd, "a node coordinate", &mesh->x[i * 3 + d]));
+    long tag;
+    double x[3];
+    MICA_CALL(gmsh_read_long(rd, "a node tag", &tag));
+    if (tag < 1) return gmsh_fail(rd, rd->token_line, "node tag %ld must be positive", tag);
+    const long line = rd->token_line;
+    for (int d = 0; d < 3; d++) MICA_CALL(gmsh_read_double(rd, "a node coordinate", &x[d]));
+    MICA_CALL(gmsh_node_add(rd, mesh, raw, tag, line, x, i));
   }
-  mesh->nnodes = n;
+  return MICA_SUCCESS;
+}
+
+/* A filter: the (dimension, physical tag) pairs of every element read, kept or not (gmsh_v22_entities names them). */
+static int note_group(GmshRawTags *raw, int dim, int phys) {
+  for (long g = 0; g < raw->ngroups; g++)
+    if (raw->groups[2 * g] == dim && raw->groups[2 * g + 1] == phys) return MICA_SUCCESS;
+  if (raw->ngroups == raw->groups_capacity) {
+    raw->groups_capacity = 2 * raw->groups_capacity + 8;
+    MICA_CALL(MICA_REALLOC(raw->groups, 2 * raw->groups_capacity));
+  }
+  raw->groups[2 * raw->ngroups] = dim, raw->groups[2 * raw->ngroups + 1] = phys;
+  raw->ngroups++;
   return MICA_SUCCESS;
 }
 
 /* One element line; its elementary tag goes to entity_tag until gmsh_v22_entities replaces it. */
 static int read_element(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw) {
-  const long e = mesh->nelements, start = mesh->node_start[e];
   int type, tags[2] = {0, 0};
-  long ntags;
-  MICA_CALL(gmsh_read_long(rd, "an element tag", &mesh->tag[e]));
-  mesh->line[e] = rd->token_line;
+  long ntags, tag, nodes[GMSH_NODES_MAX];
+  MICA_CALL(gmsh_read_long(rd, "an element tag", &tag));
+  const long line = rd->token_line;
   MICA_CALL(gmsh_read_int(rd, "an element type", &type));
   const int k = gmsh_element_nodes(type);
   if (k == 0) return gmsh_fail_type(rd, rd->token_line, type);
@@ -42,8 +55,14 @@ static int read_element(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw) {
     MICA_CALL(gmsh_read_int(rd, "an element tag (physical, elementary, partitions)", &v));
     if (t < 2) tags[t] = v;
   }
+  for (int j = 0; j < k; j++) MICA_CALL(gmsh_read_long(rd, "an element's node tag", &nodes[j]));
+  if (rd->filter && tags[0] != 0) MICA_CALL(note_group(raw, gmsh_element_dim(type), tags[0]));
+  if (!gmsh_element_kept(rd, raw, type, nodes, k)) return MICA_SUCCESS;
+  MICA_CALL(gmsh_element_reserve(mesh, raw));
+  const long e = mesh->nelements, start = mesh->node_start[e];
+  mesh->tag[e] = tag, mesh->line[e] = line;
   MICA_CALL(gmsh_reserve_element_nodes(raw, start + k));
-  for (int j = 0; j < k; j++) MICA_CALL(gmsh_read_long(rd, "an element's node tag", &raw->elem_tag[start + j]));
+  memcpy(&raw->elem_tag[start], nodes, sizeof(long) * (size_t)k);
   mesh->type[e] = type, mesh->entity_dim[e] = gmsh_element_dim(type), mesh->entity_tag[e] = tags[1];
   raw->elem_phys[e] = tags[0];
   mesh->node_start[e + 1] = start + k;
@@ -54,13 +73,7 @@ static int read_element(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw) {
 int gmsh_v22_elements(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw) {
   long n;
   MICA_CALL(gmsh_read_count(rd, "the number of elements", &n));
-  MICA_CALL(MICA_MALLOC(mesh->type, n));
-  MICA_CALL(MICA_MALLOC(mesh->entity_dim, n));
-  MICA_CALL(MICA_MALLOC(mesh->entity_tag, n));
-  MICA_CALL(MICA_MALLOC(mesh->tag, n));
-  MICA_CALL(MICA_MALLOC(mesh->line, n));
-  MICA_CALL(MICA_CALLOC(mesh->node_start, n + 1));
-  MICA_CALL(MICA_MALLOC(raw->elem_phys, n));
+  MICA_CALL(gmsh_elements_alloc(rd, mesh, raw, n));
   for (long i = 0; i < n; i++) MICA_CALL(read_element(rd, mesh, raw));
   return MICA_SUCCESS;
 }
@@ -69,7 +82,7 @@ int gmsh_v22_elements(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw) {
 
 typedef struct {
   int type, n;
-  long nodes[NODES_MAX];
+  long nodes[GMSH_NODES_MAX];
   long index;
 } ElementKey;
 
@@ -189,15 +202,37 @@ static void compact(GmshMesh *mesh, GmshRawTags *raw, const long *keeper) {
   mesh->nelements = kept;
 }
 
-int gmsh_v22_entities(GmshMesh *mesh, GmshRawTags *raw) {
+/* An entity holding physical group `phys` alone, of no element, appended in dimension d. */
+static int add_group_entity(GmshMesh *mesh, int d, int phys) {
+  const long n = mesh->nentities[d], nphys = mesh->entity_phys_start[d][n];
+  long capacity = nphys; /* entity_phys[d] holds exactly nphys: grown by gmsh_entity_push */
+  MICA_CALL(MICA_REALLOC(mesh->entity_tags[d], n + 1));
+  MICA_CALL(MICA_REALLOC(mesh->entity_phys_start[d], n + 2));
+  gmsh_entity_begin(mesh, d, (int)n + 1);
+  return gmsh_entity_push(mesh, d, &capacity, phys);
+}
+
+/* Every group of the file that no kept element holds gets an entity of its own. */
+static int name_all_groups(GmshMesh *mesh, const GmshRawTags *raw) {
+  for (long g = 0; g < raw->ngroups; g++) {
+    const int d = raw->groups[2 * g] < 0 || raw->groups[2 * g] > 3 ? 0 : raw->groups[2 * g], phys = raw->groups[2 * g + 1];
+    int held = 0;
+    for (long k = 0; k < mesh->entity_phys_start[d][mesh->nentities[d]] && !held; k++) held = mesh->entity_phys[d][k] == phys;
+    if (!held) MICA_CALL(add_group_entity(mesh, d, phys));
+  }
+  return MICA_SUCCESS;
+}
+
+int gmsh_v22_entities(GmshMesh *mesh, GmshRawTags *raw, int filtered) {
   int ierr = MICA_SUCCESS;
   long *keeper = NULL, nm = 0;
   Membership *m = NULL;
-  MICA_CALL_CLEANUP(MICA_MALLOC(keeper, mesh->nelements));
+  MICA_CALL_CLEANUP(MICA_MALLOC(keeper, mesh->nelements + 1));
   MICA_CALL_CLEANUP(find_copies(mesh, raw, keeper));
   MICA_CALL_CLEANUP(memberships(mesh, raw, keeper, &m, &nm));
   MICA_CALL_CLEANUP(make_entities(mesh, keeper, m, nm));
   compact(mesh, raw, keeper);
+  if (filtered) MICA_CALL_CLEANUP(name_all_groups(mesh, raw));
 cleanup:
   MICA_FREE(keeper);
   MICA_FREE(m);

@@ -319,7 +319,18 @@ typedef struct {
   const Rule *rules;
   const FaceKey *faces;
   long nfaces;
+  int (*mine)(const double *centroid, void *ctx); /* count_uncovered: the faces whose centroids it accepts (NULL: all) */
+  void *mine_ctx;
 } MeshContext;
+
+/* The centroid of a face (its key's nodes). */
+static void face_centroid(const GmshMesh *mesh, const FaceKey *f, double c[3]) {
+  int n = 0;
+  c[0] = c[1] = c[2] = 0;
+  for (int a = 0; a < 4 && f->key[a] >= 0; a++, n++)
+    for (int i = 0; i < 3; i++) c[i] += mesh->x[f->key[a] * 3 + i];
+  for (int i = 0; i < 3; i++) c[i] /= n ? n : 1;
+}
 
 static int has_physical(const GmshMesh *mesh, long e, int phys) {
   const int *tags;
@@ -528,7 +539,9 @@ static int count_uncovered(const MeshContext *ctx, long *uncovered) {
     while (h < nheld && compare_face(&held[h], &ctx->faces[i]) < 0) h++;
     long times = 0;
     for (; h < nheld && compare_face(&held[h], &ctx->faces[i]) == 0; h++) times++;
-    *uncovered += j - i == 1 ? times != 1 : times;
+    double c[3];
+    if (ctx->mine) face_centroid(ctx->mesh, &ctx->faces[i], c);
+    if (!ctx->mine || ctx->mine(c, ctx->mine_ctx)) *uncovered += j - i == 1 ? times != 1 : times;
   }
   MICA_FREE(held);
   return MICA_SUCCESS;
@@ -573,7 +586,7 @@ int geom_mesh_discretize(const GmshMesh *mesh, int order, int boundary_order, Mi
   MICA_CALL_CLEANUP(mesh_particles(mesh, dim, disc));
   MICA_CALL_CLEANUP(mesh_volume(mesh, dim, rules, disc));
   MICA_CALL_CLEANUP(face_table(mesh, dim, &faces, &nfaces));
-  const MeshContext ctx = {mesh, dim, rules, faces, nfaces};
+  const MeshContext ctx = {mesh, dim, rules, faces, nfaces, NULL, NULL};
   MICA_CALL_CLEANUP(mesh_boundary(&ctx, disc));
   if (mesh->part_dim) disc->boundary_uncovered = mesh->part_uncovered; /* its cut faces are not the body's */
   else MICA_CALL_CLEANUP(count_uncovered(&ctx, &disc->boundary_uncovered));
@@ -584,11 +597,16 @@ cleanup:
 }
 
 int geom_mesh_faces(const GmshMesh *mesh, int dim, long *uncovered, long *side_of) {
+  return geom_mesh_faces_where(mesh, dim, NULL, NULL, uncovered, side_of);
+}
+
+int geom_mesh_faces_where(const GmshMesh *mesh, int dim, int (*mine)(const double *, void *), void *mine_ctx,
+                          long *uncovered, long *side_of) {
   int ierr = MICA_SUCCESS;
   FaceKey *faces = NULL;
   long nfaces = 0;
   MICA_CALL_CLEANUP(face_table(mesh, dim, &faces, &nfaces));
-  const MeshContext ctx = {mesh, dim, NULL, faces, nfaces};
+  const MeshContext ctx = {mesh, dim, NULL, faces, nfaces, mine, mine_ctx};
   if (uncovered) MICA_CALL_CLEANUP(count_uncovered(&ctx, uncovered));
   for (long e = 0; side_of && e < mesh->nelements; e++) {
     side_of[e] = -1;

@@ -1,8 +1,13 @@
-/* A Gmsh mesh and its parts, for parallel.data = "distributed" (mica/geom.h, MicaMesh): the whole mesh as read,
- * its particles (the nodes of its volume elements, in the order a serial run numbers them), and a part of it —
- * the volume elements a rank owns (by their centroids), the boundary elements on their sides, and their nodes —
- * whose discretization is that rank's volume and boundary points. A part keeps the whole mesh's physical groups, so
- * every rank knows every boundary set's name, and the whole mesh's count of uncovered boundary faces. */
+/* A Gmsh mesh and its parts, for parallel.data = "distributed" (mica/geom.h, MicaMesh, MicaMeshSource): a mesh as
+ * read — whole, or a region of it — with its particles (the nodes of its volume elements, in the order a serial run
+ * numbers them, each keyed by its node's position in the whole mesh), and a part of one — the volume elements a rank
+ * owns (by their centroids), the boundary elements on their sides, and their nodes — whose discretization is that
+ * rank's volume and boundary points. A part keeps every physical group, so every rank knows every boundary set.
+ *
+ * A source reads a .msh file in passes, through gmsh_read_filtered, never whole: the first pass keeps no node but
+ * the groups, the dimension and a sample of the nodes' coordinates (every k-th, k doubling as the sample fills: the
+ * same on every rank), later passes the nodes within a box and the elements whose nodes all lie in it. A .geo is
+ * meshed whole by the Gmsh library (once) and its regions are cut from it in memory, with the same results. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,18 +18,22 @@
 struct MicaMesh {
   GmshMesh gmsh;
   long nparticles;
-  double *x; /* [nparticles·dim]: the particles (a part: none) */
+  double *x;           /* [nparticles·dim]: the particles (a part: none) */
+  long *key;           /* [nparticles]: each one's node's position in the whole mesh */
   double element_size; /* the largest distance between two nodes of a volume element */
-  long uncovered;      /* the whole mesh's uncovered boundary faces (geom_mesh_faces) */
+  long uncovered;      /* the whole mesh's uncovered boundary faces (geom_mesh_faces; a region: 0) */
 };
 
 int mica_mesh_destroy(MicaMesh **mesh) {
   if (!mesh || !*mesh) return MICA_SUCCESS;
   gmsh_free(&(*mesh)->gmsh);
   MICA_FREE((*mesh)->x);
+  MICA_FREE((*mesh)->key);
   MICA_FREE(*mesh);
   return MICA_SUCCESS;
 }
+
+const long *mica_mesh_particle_keys(const MicaMesh *mesh) { return mesh->key; }
 
 int mica_mesh_dim(const MicaMesh *mesh) { return geom_mesh_dimension(&mesh->gmsh); }
 long mica_mesh_num_particles(const MicaMesh *mesh) { return mesh->nparticles; }
@@ -34,7 +43,7 @@ double mica_mesh_element_size(const MicaMesh *mesh) { return mesh->element_size;
 static int is_volume(const GmshMesh *g, long e, int dim) { return gmsh_element_dim(g->type[e]) == dim; }
 
 /* The particles: the nodes of the volume elements in node order, as geom_mesh_discretize numbers them. */
-static int whole_particles(MicaMesh *mesh, int dim) {
+static int mesh_particles(MicaMesh *mesh, int dim) {
   const GmshMesh *g = &mesh->gmsh;
   char *used = NULL;
   MICA_CALL(MICA_CALLOC(used, g->nnodes + 1));
@@ -44,8 +53,12 @@ static int whole_particles(MicaMesh *mesh, int dim) {
   long n = 0;
   for (long i = 0; i < g->nnodes; i++) n += used[i];
   int ierr = MICA_MALLOC(mesh->x, n * dim + 1);
+  if (!ierr) ierr = MICA_MALLOC(mesh->key, n + 1);
   for (long i = 0, k = 0; !ierr && i < g->nnodes; i++)
-    if (used[i]) memcpy(mesh->x + k++ * dim, g->x + i * 3, sizeof(double) * (size_t)dim);
+    if (used[i]) {
+      memcpy(mesh->x + k * dim, g->x + i * 3, sizeof(double) * (size_t)dim);
+      mesh->key[k++] = g->node_key ? g->node_key[i] : i;
+    }
   mesh->nparticles = ierr ? 0 : n;
   MICA_FREE(used);
   return ierr;
@@ -77,7 +90,7 @@ int mica_mesh_read(const MicaShapeSpec *shape, MicaMesh **out) {
   }
   const int dim = geom_mesh_dimension(&mesh->gmsh);
   MICA_CALL_CLEANUP(geom_mesh_check_dimension(&mesh->gmsh));
-  MICA_CALL_CLEANUP(whole_particles(mesh, dim));
+  MICA_CALL_CLEANUP(mesh_particles(mesh, dim));
   MICA_CALL_CLEANUP(geom_mesh_faces(&mesh->gmsh, dim, &mesh->uncovered, NULL));
   measure_elements(mesh, dim);
   *out = mesh;
@@ -136,7 +149,7 @@ static int copy_elements(const GmshMesh *g, const char *keep, GmshMesh *p) {
   for (long i = 0; !ierr && i < g->nnodes; i++)
     if (node_map[i] >= 0) {
       memcpy(p->x + node_map[i] * 3, g->x + i * 3, sizeof(double) * 3);
-      p->node_key[node_map[i]] = i;
+      p->node_key[node_map[i]] = g->node_key ? g->node_key[i] : i;
     }
   for (long e = 0; !ierr && e < g->nelements; e++) {
     if (!keep[e]) continue;
@@ -188,6 +201,7 @@ int mica_mesh_part(const MicaMesh *whole, MicaMeshKeep keep, void *ctx, MicaMesh
   part->gmsh.part_uncovered = part->uncovered = whole->uncovered;
   part->element_size = whole->element_size;
   if (!ierr) ierr = MICA_MALLOC(part->x, 1);
+  if (!ierr) ierr = MICA_MALLOC(part->key, 1);
   if (ierr) mica_mesh_destroy(&part);
   *out = part;
   return ierr;
@@ -204,4 +218,199 @@ int mica_discretization_create_mesh(const MicaMesh *mesh, const MicaCellSpec *ce
   if (ierr) mica_discretization_destroy(&d);
   *disc = d;
   return ierr;
+}
+
+/* ---- regions and the source ------------------------------------------------------------------------------ */
+
+int mica_mesh_uncovered(const MicaMesh *mesh, MicaMeshKeep mine, void *ctx, long *count) {
+  return geom_mesh_faces_where(&mesh->gmsh, geom_mesh_dimension(&mesh->gmsh), mine, ctx, count, NULL);
+}
+
+typedef struct {
+  double lo[3], hi[3];
+} Box;
+
+static int in_box(const double x[3], void *ctx) {
+  const Box *b = ctx;
+  for (int d = 0; d < 3; d++)
+    if (!(x[d] >= b->lo[d] && x[d] < b->hi[d])) return 0;
+  return 1;
+}
+
+/* A region's MicaMesh from its GmshMesh (taken): its particles, keys and element size; dim: the whole mesh's. */
+static int region_finish(GmshMesh *g, int dim, MicaMesh **out) {
+  MicaMesh *mesh = NULL;
+  *out = NULL;
+  int ierr = MICA_CALLOC(mesh, 1);
+  if (ierr) {
+    gmsh_free(g);
+    return ierr;
+  }
+  mesh->gmsh = *g;
+  memset(g, 0, sizeof *g);
+  mesh->gmsh.part_dim = dim, mesh->gmsh.part_uncovered = 0;
+  ierr = mesh_particles(mesh, dim);
+  measure_elements(mesh, dim);
+  if (ierr) mica_mesh_destroy(&mesh);
+  *out = mesh;
+  return ierr;
+}
+
+/* The nodes of `whole` in the box and the elements whose nodes all are, as gmsh_read_filtered reads them from a
+ * file (a .geo meshed whole). */
+static int cut_region(const GmshMesh *whole, const Box *box, GmshMesh *g) {
+  char *keep = NULL, *node_in = NULL;
+  MICA_CALL(MICA_CALLOC(keep, whole->nelements + 1));
+  int ierr = MICA_CALLOC(node_in, whole->nnodes + 1);
+  for (long i = 0; !ierr && i < whole->nnodes; i++) node_in[i] = (char)in_box(whole->x + i * 3, (void *)box);
+  for (long e = 0; !ierr && e < whole->nelements; e++) {
+    keep[e] = 1;
+    for (long j = whole->node_start[e]; j < whole->node_start[e + 1]; j++) keep[e] &= node_in[whole->node[j]];
+  }
+  if (!ierr) ierr = copy_groups(whole, g);
+  if (!ierr) ierr = copy_elements(whole, keep, g); /* the nodes of the kept elements (others are no particles) */
+  MICA_FREE(keep);
+  MICA_FREE(node_in);
+  return ierr;
+}
+
+struct MicaMeshSource {
+  char path[512];
+  int dim;
+  MicaMesh *whole; /* a .geo: meshed once; NULL for a .msh file, read in passes */
+  MicaMesh *names; /* no elements: the groups (every set's name) */
+  long nsample;
+  double *sample;  /* [nsample·dim] node coordinates, the same on every rank */
+  double lower[3], upper[3]; /* the nodes' bounding box */
+};
+
+enum { SAMPLE_MAX = 1 << 18 }; /* about 1 % of a box's count at 256 ranks of 10^7 nodes each */
+
+typedef struct {
+  double *x; /* [2 SAMPLE_MAX · 3] */
+  long n, seen, stride;
+  double lower[3], upper[3];
+} Sampler;
+
+static int sample_node(const double x[3], void *ctx) {
+  Sampler *s = ctx;
+  for (int d = 0; d < 3; d++) s->lower[d] = fmin(s->lower[d], x[d]), s->upper[d] = fmax(s->upper[d], x[d]);
+  if (s->seen++ % s->stride) return 0;
+  memcpy(s->x + s->n++ * 3, x, sizeof(double) * 3);
+  if (s->n == 2 * SAMPLE_MAX) { /* full: keep every other one, take every 2k-th from now on */
+    for (long i = 0; i < SAMPLE_MAX; i++) memcpy(s->x + i * 3, s->x + 2 * i * 3, sizeof(double) * 3);
+    s->n = SAMPLE_MAX, s->stride *= 2;
+  }
+  return 0;
+}
+
+static int keep_nothing(const double *x, void *ctx) {
+  (void)x, (void)ctx;
+  return 0;
+}
+
+/* The first pass over a .msh file: its groups and dimension, and the sample. */
+static int first_pass(MicaMeshSource *src) {
+  Sampler sampler = {.stride = 1, .lower = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, .upper = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
+  GmshFilter filter = {.keep = sample_node, .ctx = &sampler};
+  GmshMesh g;
+  MICA_CALL(MICA_MALLOC(sampler.x, 2L * SAMPLE_MAX * 3));
+  int ierr = gmsh_read_filtered(src->path, &filter, &g);
+  if (!ierr) {
+    g.part_dim = filter.max_dim; /* the dimension of the file's elements, none of which is kept */
+    ierr = geom_mesh_check_dimension(&g);
+    if (ierr) gmsh_free(&g);
+    else ierr = region_finish(&g, filter.max_dim, &src->names);
+  }
+  src->dim = filter.max_dim, src->nsample = sampler.n;
+  memcpy(src->lower, sampler.lower, sizeof src->lower);
+  memcpy(src->upper, sampler.upper, sizeof src->upper);
+  if (!ierr) ierr = MICA_MALLOC(src->sample, sampler.n * src->dim + 1);
+  for (long i = 0; !ierr && i < sampler.n; i++)
+    memcpy(src->sample + i * src->dim, sampler.x + i * 3, sizeof(double) * (size_t)src->dim);
+  MICA_FREE(sampler.x);
+  return ierr;
+}
+
+/* A .geo's: the whole mesh's groups and every k-th particle. */
+static int whole_sample(MicaMeshSource *src) {
+  const MicaMesh *w = src->whole;
+  const long stride = w->nparticles / SAMPLE_MAX + 1;
+  src->dim = mica_mesh_dim(w);
+  src->nsample = (w->nparticles + stride - 1) / stride;
+  MICA_CALL(MICA_MALLOC(src->sample, src->nsample * src->dim + 1));
+  for (long i = 0; i < src->nsample; i++)
+    memcpy(src->sample + i * src->dim, w->x + i * stride * src->dim, sizeof(double) * (size_t)src->dim);
+  for (int d = 0; d < 3; d++) src->lower[d] = HUGE_VAL, src->upper[d] = -HUGE_VAL;
+  for (long i = 0; i < w->gmsh.nnodes; i++)
+    for (int d = 0; d < 3; d++)
+      src->lower[d] = fmin(src->lower[d], w->gmsh.x[i * 3 + d]), src->upper[d] = fmax(src->upper[d], w->gmsh.x[i * 3 + d]);
+  return mica_mesh_part(w, keep_nothing, NULL, &src->names);
+}
+
+int mica_mesh_source_open(const MicaShapeSpec *shape, MicaMeshSource **out) {
+  MicaMeshSource *src = NULL;
+  *out = NULL;
+  MICA_CHECK(shape->kind == MICA_SHAPE_GMSH && shape->mesh_path && shape->mesh_path[0], MICA_ERR_INPUT,
+             "gmsh: no mesh file given");
+  MICA_CALL(MICA_CALLOC(src, 1));
+  snprintf(src->path, sizeof src->path, "%s", shape->mesh_path);
+  int ierr = MICA_SUCCESS;
+  if (gmsh_is_geo(shape->mesh_path)) {
+    ierr = mica_mesh_read(shape, &src->whole);
+    if (!ierr) ierr = whole_sample(src);
+  } else {
+    if (shape->mesh_size_factor != 0)
+      ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_INPUT, "%s: a mesh size factor applies to a .geo "
+                            "that mica meshes, not to a mesh file", shape->mesh_path);
+    else ierr = first_pass(src);
+  }
+  if (ierr) mica_mesh_source_close(&src);
+  *out = src;
+  return ierr;
+}
+
+int mica_mesh_source_close(MicaMeshSource **src) {
+  if (!src || !*src) return MICA_SUCCESS;
+  mica_mesh_destroy(&(*src)->whole);
+  mica_mesh_destroy(&(*src)->names);
+  MICA_FREE((*src)->sample);
+  MICA_FREE(*src);
+  return MICA_SUCCESS;
+}
+
+int mica_mesh_source_dim(const MicaMeshSource *src) { return src->dim; }
+const MicaMesh *mica_mesh_source_names(const MicaMeshSource *src) { return src->names; }
+
+void mica_mesh_source_bounds(const MicaMeshSource *src, double lower[3], double upper[3]) {
+  memcpy(lower, src->lower, sizeof src->lower);
+  memcpy(upper, src->upper, sizeof src->upper);
+}
+
+const double *mica_mesh_source_sample(const MicaMeshSource *src, long *n) {
+  *n = src->nsample;
+  return src->sample;
+}
+
+int mica_mesh_source_region(const MicaMeshSource *src, const double lo[3], const double hi[3], MicaMesh **region) {
+  Box box;
+  GmshMesh g;
+  memset(&g, 0, sizeof g);
+  for (int d = 0; d < 3; d++) {
+    box.lo[d] = d < src->dim ? lo[d] : -HUGE_VAL;
+    box.hi[d] = d < src->dim ? hi[d] : HUGE_VAL;
+  }
+  *region = NULL;
+  if (src->whole) {
+    snprintf(g.path, sizeof g.path, "%s", src->path);
+    const int ierr = cut_region(&src->whole->gmsh, &box, &g);
+    if (ierr) {
+      gmsh_free(&g);
+      return ierr;
+    }
+  } else {
+    GmshFilter filter = {.keep = in_box, .ctx = &box};
+    MICA_CALL(gmsh_read_filtered(src->path, &filter, &g));
+  }
+  return region_finish(&g, src->dim, region);
 }

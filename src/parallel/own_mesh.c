@@ -7,15 +7,15 @@
  * along x, columns of equal counts along y within each slab, blocks along z within each column. A cut lies halfway
  * between two distinct coordinates, so a particle's block follows from its coordinates and the O(P) cuts alone.
  *
- * Each rank keeps the particles within a reach R of its box (its source), sizes their supports there (their local
- * spacings and radii are those of the whole mesh when they lie deep enough inside the source, as own.c's grid boxes
- * do with layers), searches the supports of its points and keeps the owned particles and the ghosts they reach. R
- * doubles until the needed particles lie `margin` spacings inside every face of the source that cuts the mesh, and
- * no particle beyond it can reach the rank's points.
- *
- * What is whole here: every rank reads the whole mesh (the .msh file, or the .geo meshed by the Gmsh library) and
- * computes the cuts from all its particles, then keeps its part and frees the rest before anything else is built
- * (docs/architecture.md §Parallel runs says what a streamed read would change). */
+ * The cuts come from a sample of the nodes (MicaMeshSource: at most 2^18, the same on every rank), so the boxes hold
+ * about equal shares. Each rank reads the region of the mesh within a reach R of its box (the nodes there and the
+ * elements whose nodes all lie there: a .msh file is read through a filter, never whole), sizes the supports of the
+ * region's particles there (their local spacings and radii are those of the whole mesh when they lie deep enough
+ * inside it, as own.c's grid boxes do with layers), searches the supports of its points and keeps the owned
+ * particles and the ghosts they reach. R doubles until the needed particles lie `margin` spacings inside every face
+ * of the region that cuts the mesh, and no particle beyond it can reach the rank's points. A particle is numbered
+ * within its owner in the order of the mesh's nodes (the serial order); a ghost's number comes from its owner, asked
+ * by the particle's key (its node's position in the whole mesh). */
 #include <math.h>
 #include <mpi.h>
 #include <stdlib.h>
@@ -74,6 +74,11 @@ typedef struct {
   double key;
   long index;
 } Keyed;
+
+static int compare_key(const void *a, const void *b) {
+  const long x = *(const long *)a, y = *(const long *)b;
+  return (x > y) - (x < y);
+}
 
 static int compare_keyed(const void *a, const void *b) {
   const Keyed *x = a, *y = b;
@@ -162,7 +167,7 @@ static int boxes_create(int P, int dim, long n, const double *x, MeshBoxes *b) {
   return ierr;
 }
 
-/* ---- the rank's particles ------------------------------------------------------------------------------- */
+/* ---- the rank's region ----------------------------------------------------------------------------------- */
 
 typedef struct {
   const MeshBoxes *boxes;
@@ -174,59 +179,64 @@ static int keep_rank(const double *centroid, void *ctx) {
   return box_of(k->boxes, centroid) == k->rank;
 }
 
-/* The rank's source: the whole mesh's particles within [lo − R, hi + R) on every axis (whole[], ascending), their MLS
- * approximation, and the zone of the owned box. */
+/* The rank's source: the region within `reach` of its box, the MLS approximation of the region's particles, the zone
+ * of owned-only supports (the box itself), its part of the region and the part's points. */
 typedef struct {
-  long n, *whole;
-  double lo[3], hi[3]; /* the source's box */
+  double lo[3], hi[3]; /* the region's box */
+  MicaMesh *region, *part;
   MlsApprox *mls;
   OwnedZone zone;
+  MicaDiscretization *disc, *error; /* the part's points, and the error norms' own (NULL: none) */
 } MeshSource;
 
 static void mesh_source_free(MeshSource *s) {
-  free(s->whole);
   mls_destroy(&s->mls);
+  mica_mesh_destroy(&s->region);
+  mica_mesh_destroy(&s->part);
+  mica_discretization_destroy(&s->disc);
+  mica_discretization_destroy(&s->error);
   memset(s, 0, sizeof *s);
 }
 
-static int mesh_source_build(const MicaMesh *mesh, const MlsOptions *mls_opt, const double blo[3],
-                             const double bhi[3], double reach, MeshSource *s) {
-  const int dim = mica_mesh_dim(mesh);
-  const long n = mica_mesh_num_particles(mesh);
-  const double *x = mica_mesh_particles(mesh);
-  double *sx = NULL;
+static int mesh_source_build(const MicaMeshSource *mesh, const MicaCellSpec *cells, const MlsOptions *mls_opt,
+                             const MicaOwnedSpec *spec, const KeepRank *keep, double reach, MeshSource *s) {
+  const int dim = mica_mesh_source_dim(mesh);
+  double blo[3], bhi[3];
+  box_bounds(keep->boxes, keep->rank, blo, bhi);
   for (int d = 0; d < 3; d++) {
     s->lo[d] = blo[d] - reach, s->hi[d] = bhi[d] + reach;
     s->zone.low[d] = blo[d], s->zone.high[d] = bhi[d]; /* a point `reach` inside the box sees owned particles only */
   }
-  MICA_CALL(MICA_MALLOC(s->whole, n + 1));
-  for (long i = 0; i < n; i++) {
-    int inside = 1;
-    for (int d = 0; d < dim; d++) inside &= x[i * dim + d] >= s->lo[d] && x[i * dim + d] < s->hi[d];
-    if (inside) s->whole[s->n++] = i;
+  MICA_CALL(mica_mesh_source_region(mesh, s->lo, s->hi, &s->region));
+  const long n = mica_mesh_num_particles(s->region);
+  MICA_CHECK(n >= 2, MICA_ERR_INPUT, "parallel.data = \"distributed\": a rank's region holds %ld of the mesh's "
+             "particles; use fewer ranks", n);
+  MICA_CALL(mica_mesh_part(s->region, keep_rank, (void *)keep, &s->part));
+  MICA_CALL(mica_discretization_create_mesh(s->part, cells, spec->mesh, &s->disc));
+  if (spec->error_order > 0) {
+    MicaCellSpec e = *cells;
+    e.order = spec->error_order;
+    MICA_CALL(mica_discretization_create_mesh(s->part, &e, 0, &s->error));
   }
-  MICA_CHECK(s->n >= 2, MICA_ERR_INPUT, "parallel.data = \"distributed\": a rank's box holds %ld of the mesh's "
-             "particles; use fewer ranks", s->n);
-  MICA_CALL(MICA_MALLOC(sx, s->n * dim + 1));
-  for (long k = 0; k < s->n; k++) memcpy(sx + k * dim, x + s->whole[k] * dim, sizeof(double) * (size_t)dim);
   MlsOptions opt = *mls_opt;
   opt.spacing_points = NULL, opt.spacing_index = NULL; /* a mesh's supports are sized on its nodes */
-  const int ierr = mls_create(dim, s->n, sx, &opt, &s->mls);
-  free(sx);
-  return ierr;
+  return mls_create(dim, n, mica_mesh_particles(s->region), &opt, &s->mls);
 }
 
-/* Whether the source is wide enough: every needed particle `margin` of its spacings inside each face of the source
- * that cuts the mesh (within its bounding box), and the reach beyond the largest radius in the source plus the
- * element size (the rank's points lie within an element of its box). */
+/* Whether the region is wide enough: every needed particle `margin` of its spacings inside each face of the region
+ * that cuts the mesh, and the reach beyond the largest radius in the region plus the element size (the rank's points
+ * lie within an element of its box). */
 static int mesh_source_enough(const MeshSource *s, int dim, const double wlo[3], const double whi[3],
-                              const long *needed, long nneeded, double margin, double reach, double element) {
+                              const long *needed, long nneeded, double margin, double reach) {
   const double *x = mls_particles(s->mls), *h = mls_spacing(s->mls), *rho = mls_radii(s->mls);
   double hmax = 0, rmax = 0;
-  for (long k = 0; k < s->n * dim; k++) rmax = fmax(rmax, rho[k]);
+  int cut = 0;
+  for (int d = 0; d < dim; d++) cut |= s->lo[d] > wlo[d] || s->hi[d] <= whi[d];
+  if (!cut) return 1; /* the region is the whole mesh */
+  for (long k = 0; k < mls_num_particles(s->mls) * dim; k++) rmax = fmax(rmax, rho[k]);
   for (long k = 0; k < nneeded; k++)
     for (int d = 0; d < dim; d++) hmax = fmax(hmax, h[needed[k] * dim + d]);
-  if (!(reach > rmax + element)) return 0;
+  if (!(reach > rmax + mica_mesh_element_size(s->region))) return 0;
   for (long k = 0; k < nneeded; k++)
     for (int d = 0; d < dim; d++) {
       const double xd = x[needed[k] * dim + d];
@@ -236,18 +246,21 @@ static int mesh_source_enough(const MeshSource *s, int dim, const double wlo[3],
   return 1;
 }
 
-/* The needed particles (source indices): the owned ones first, then the supports of the rank's points. */
-static int mesh_needed(const MeshSource *s, const MicaDiscretization *d, const MicaDiscretization *error,
-                       const int *owner, int rank, long **needed, long *nneeded) {
+/* The needed particles (region indices): the owned ones first, then the supports of the rank's points. */
+static int mesh_needed(const MeshSource *s, const MeshBoxes *boxes, int rank, long **needed, long *nneeded) {
+  const MicaDiscretization *d = s->disc;
   const int dim = d->dim;
+  const long n = mica_mesh_num_particles(s->region);
+  const double *px = mica_mesh_particles(s->region);
   double *x = NULL;
   long nowned = 0;
-  for (long k = 0; k < s->n; k++) nowned += owner[s->whole[k]] == rank;
+  *nneeded = 0;
+  for (long k = 0; k < n; k++) nowned += box_of(boxes, px + k * dim) == rank;
   MICA_CALL(MICA_MALLOC(*needed, nowned + 1));
   MICA_CALL(MICA_MALLOC(x, nowned * dim + 1));
-  for (long k = 0; k < s->n; k++)
-    if (owner[s->whole[k]] == rank) {
-      memcpy(x + *nneeded * dim, mls_particles(s->mls) + k * dim, sizeof(double) * (size_t)dim);
+  for (long k = 0; k < n; k++)
+    if (box_of(boxes, px + k * dim) == rank) {
+      memcpy(x + *nneeded * dim, px + k * dim, sizeof(double) * (size_t)dim);
       (*needed)[(*nneeded)++] = k;
     }
   int ierr = parallel_add_supports(s->mls, &s->zone, nowned, x, needed, nneeded); /* the outputs at the particles */
@@ -256,34 +269,32 @@ static int mesh_needed(const MeshSource *s, const MicaDiscretization *d, const M
   if (d->mesh) MICA_CALL(parallel_add_supports(s->mls, &s->zone, d->mesh->npoints, d->mesh->x, needed, nneeded));
   MICA_CALL(parallel_add_supports(s->mls, &s->zone, d->nquad, d->qx, needed, nneeded));
   MICA_CALL(parallel_add_set_supports(s->mls, &s->zone, d, needed, nneeded));
-  if (error) MICA_CALL(parallel_add_supports(s->mls, &s->zone, error->nquad, error->qx, needed, nneeded));
+  if (s->error) MICA_CALL(parallel_add_supports(s->mls, &s->zone, s->error->nquad, s->error->qx, needed, nneeded));
   return MICA_SUCCESS;
 }
 
 /* The source grown (R doubled) until it is wide enough; its needed particles. */
-static int mesh_source_create(const MicaMesh *mesh, const MlsOptions *mls_opt, const MeshBoxes *boxes,
-                              const MicaDiscretization *d, const MicaDiscretization *error, const int *owner,
-                              MeshSource *s, long **needed, long *nneeded) {
-  const int dim = mica_mesh_dim(mesh), rank = mica_parallel_rank();
-  const long n = mica_mesh_num_particles(mesh);
-  const double *x = mica_mesh_particles(mesh), element = mica_mesh_element_size(mesh);
-  double blo[3], bhi[3], wlo[3] = {0, 0, 0}, whi[3] = {0, 0, 0};
-  box_bounds(boxes, rank, blo, bhi);
-  for (int d2 = 0; d2 < dim; d2++) wlo[d2] = HUGE_VAL, whi[d2] = -HUGE_VAL;
-  for (long i = 0; i < n; i++)
-    for (int d2 = 0; d2 < dim; d2++) wlo[d2] = fmin(wlo[d2], x[i * dim + d2]), whi[d2] = fmax(whi[d2], x[i * dim + d2]);
-  /* layers kept beyond the needed particles, as own.c's grid boxes (an adaptive weight: as many as a support spans) */
+static int mesh_source_create(const MicaMeshSource *mesh, const MicaCellSpec *cells, const MlsOptions *mls_opt,
+                              const MicaOwnedSpec *spec, const KeepRank *keep, MeshSource *s, long **needed,
+                              long *nneeded) {
+  const int dim = mica_mesh_source_dim(mesh);
+  double wlo[3], whi[3], blo[3], bhi[3], h = HUGE_VAL;
+  mica_mesh_source_bounds(mesh, wlo, whi);
+  box_bounds(keep->boxes, keep->rank, blo, bhi);
+  /* the first reach: a few mean spacings of the sample (the region's elements tell the truth afterwards) */
+  long nsample;
+  (void)mica_mesh_source_sample(mesh, &nsample);
+  double volume = 1;
+  for (int d = 0; d < dim; d++) volume *= fmax(whi[d] - wlo[d], 1e-300);
+  h = pow(volume / (double)(nsample > 1 ? nsample : 1), 1.0 / dim);
   const double dilation = mls_opt->dilation > 0 ? mls_opt->dilation : 1.0;
   double margin = 3;
   if (mls_opt->weight && mica_type_has(&mls_opt->weight->type, MLS_WEIGHT_ADAPTIVE)) margin = fmax(margin, ceil(dilation) + 1);
-  double reach = element * (dilation + margin + 2);
+  double reach = h * (dilation + margin + 2);
   for (;;) {
-    MICA_CALL(mesh_source_build(mesh, mls_opt, blo, bhi, reach, s));
-    *nneeded = 0;
-    MICA_CALL(mesh_needed(s, d, error, owner, rank, needed, nneeded));
-    int whole = 1; /* the source holds the whole mesh: nothing is cut */
-    for (int d2 = 0; d2 < dim; d2++) whole &= s->lo[d2] <= wlo[d2] && s->hi[d2] > whi[d2];
-    if (whole || mesh_source_enough(s, dim, wlo, whi, *needed, *nneeded, margin, reach, element)) return MICA_SUCCESS;
+    MICA_CALL(mesh_source_build(mesh, cells, mls_opt, spec, keep, reach, s));
+    MICA_CALL(mesh_needed(s, keep->boxes, keep->rank, needed, nneeded));
+    if (mesh_source_enough(s, dim, wlo, whi, *needed, *nneeded, margin, reach)) return MICA_SUCCESS;
     mesh_source_free(s);
     free(*needed);
     *needed = NULL;
@@ -291,95 +302,145 @@ static int mesh_source_create(const MicaMesh *mesh, const MlsOptions *mls_opt, c
   }
 }
 
-/* Local particles: the owned ones (the serial order), then the ghosts (ascending); their owners and numbers. */
-static int mesh_local_particles(const MeshSource *s, const long *needed, long nneeded, const int *owner,
-                                const long *position, const long *offsets, MicaDistribution *dist, long **map) {
-  const int rank = mica_parallel_rank(), dim = dist->local->dim;
-  long m = 0;
+/* ---- numbers -------------------------------------------------------------------------------------------- */
+
+/* Each ghost's position among its owner's particles: its key sent to the owner, found among the owner's keys
+ * (ascending), sent back. Collective. */
+static int ghost_positions(long n, const int *owner, const long *key, long nowned, const long *owned_key,
+                           long *position) {
+  const int P = mica_parallel_size();
+  int *sc = NULL, *sd = NULL, *rc = NULL, *rd = NULL;
+  long *send = NULL, *recv = NULL, *slot = NULL;
+  int ierr = MICA_CALLOC(sc, P + 1);
+  if (!ierr) ierr = MICA_CALLOC(sd, P + 1);
+  if (!ierr) ierr = MICA_CALLOC(rc, P + 1);
+  if (!ierr) ierr = MICA_CALLOC(rd, P + 1);
+  if (!ierr) ierr = MICA_MALLOC(send, n + 1);
+  if (!ierr) ierr = MICA_MALLOC(slot, n + 1);
+  for (long i = 0; !ierr && i < n; i++) sc[owner[i]]++;
+  for (int r = 0; !ierr && r < P; r++) sd[r + 1] = sd[r] + sc[r];
+  for (long i = 0; !ierr && i < n; i++) slot[i] = sd[owner[i]] + rd[owner[i]]++, send[slot[i]] = key[i]; /* rd: cursors */
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MPI_Alltoall(sc, 1, MPI_INT, rc, 1, MPI_INT, mica_parallel_comm());
+  rd[0] = 0;
+  for (int r = 0; r < P; r++) rd[r + 1] = rd[r] + rc[r];
+  ierr = MICA_MALLOC(recv, (long)rd[P] + 1);
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MPI_Alltoallv(send, sc, sd, MPI_LONG, recv, rc, rd, MPI_LONG, mica_parallel_comm());
+  for (long k = 0; k < rd[P]; k++) { /* the owner's answer: the key's position, −1 if it is not an owned particle */
+    const long *hit = bsearch(&recv[k], owned_key, (size_t)nowned, sizeof(long), compare_key);
+    recv[k] = hit ? hit - owned_key : -1;
+  }
+  MPI_Alltoallv(recv, rc, rd, MPI_LONG, send, sc, sd, MPI_LONG, mica_parallel_comm());
+  for (long i = 0; i < n; i++) {
+    position[i] = send[slot[i]];
+    if (position[i] < 0 && !ierr)
+      ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_ARGUMENT, "ghost with key %ld: rank %d owns no "
+                            "such particle", key[i], owner[i]);
+  }
+cleanup:
+  free(sc), free(sd), free(rc), free(rd), free(send), free(recv), free(slot);
+  return ierr;
+}
+
+/* Local particles: the owned ones (ascending keys: the serial order), then the ghosts (ascending); their owners
+ * and numbers. Collective (the offsets, the ghosts' positions). */
+static int mesh_local_particles(const MeshSource *s, const MeshBoxes *boxes, const long *needed, long nneeded,
+                                MicaDistribution *dist, long **map, long **offsets) {
+  const int rank = mica_parallel_rank(), P = mica_parallel_size(), dim = dist->local->dim;
+  const double *px = mica_mesh_particles(s->region);
+  const long *keys = mica_mesh_particle_keys(s->region);
+  long *ghost_key = NULL, *position = NULL, *owned_key = NULL, m = 0;
+  int *ghost_owner = NULL;
   dist->nowned = dist->nghost = 0;
   for (long k = 0; k < nneeded; k++) {
-    if (owner[s->whole[needed[k]]] == rank) dist->nowned++;
+    if (box_of(boxes, px + needed[k] * dim) == rank) dist->nowned++;
     else dist->nghost++;
   }
   const long nlocal = dist->nowned + dist->nghost;
   int ierr = MICA_MALLOC(*map, nlocal + 1);
-  for (long k = 0; !ierr && k < nneeded; k++) /* needed is ascending (parallel_add_supports): the owned first */
-    if (owner[s->whole[needed[k]]] == rank) (*map)[m++] = needed[k];
-  for (long k = 0; !ierr && k < nneeded; k++)
-    if (owner[s->whole[needed[k]]] != rank) (*map)[m++] = needed[k];
-  MICA_CALL(ierr);
-  MicaDiscretization *d = dist->local;
+  if (!ierr) ierr = MICA_MALLOC(owned_key, dist->nowned + 1);
+  if (!ierr) ierr = MICA_MALLOC(ghost_key, dist->nghost + 1);
+  if (!ierr) ierr = MICA_MALLOC(ghost_owner, dist->nghost + 1);
+  if (!ierr) ierr = MICA_MALLOC(position, dist->nghost + 1);
+  if (!ierr) ierr = MICA_CALLOC(*offsets, P + 1);
+  for (long k = 0; !ierr && k < nneeded; k++) /* needed is ascending (parallel_add_supports), keys too */
+    if (box_of(boxes, px + needed[k] * dim) == rank) owned_key[m] = keys[needed[k]], (*map)[m++] = needed[k];
+  for (long k = 0, g = 0; !ierr && k < nneeded; k++) {
+    const int r = box_of(boxes, px + needed[k] * dim);
+    if (r != rank) ghost_key[g] = keys[needed[k]], ghost_owner[g++] = r, (*map)[m++] = needed[k];
+  }
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
   MicaPartition *p = dist->partition;
+  MPI_Allgather(&dist->nowned, 1, MPI_LONG, p->part_size, 1, MPI_LONG, mica_parallel_comm());
+  for (int r = 0; r < P; r++) (*offsets)[r + 1] = (*offsets)[r] + p->part_size[r];
+  for (int r = 0; r < P && !ierr; r++) {
+    if (p->part_size[r] == 0)
+      ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_INPUT, "parallel.data = \"distributed\": rank %d's "
+                            "box holds none of the mesh's %ld particles; use fewer ranks", r, (*offsets)[P]);
+    if ((double)p->part_size[r] * P / (double)(*offsets)[P] > p->imbalance)
+      p->imbalance = (double)p->part_size[r] * P / (double)(*offsets)[P];
+  }
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MICA_CALL_CLEANUP(ghost_positions(dist->nghost, ghost_owner, ghost_key, dist->nowned, owned_key, position));
+  MicaDiscretization *d = dist->local;
   free(d->x);
   d->x = NULL;
-  d->nparticles = nlocal;
-  p->n = nlocal;
-  MICA_CALL(MICA_MALLOC(d->x, nlocal * dim + 1));
-  MICA_CALL(MICA_MALLOC(dist->global_node, nlocal + 1));
-  MICA_CALL(MICA_MALLOC(p->part, nlocal + 1));
-  for (long i = 0; i < nlocal; i++) {
-    const long w = s->whole[(*map)[i]];
-    memcpy(d->x + i * dim, mls_particles(s->mls) + (*map)[i] * dim, sizeof(double) * (size_t)dim);
-    p->part[i] = owner[w];
-    dist->global_node[i] = offsets[owner[w]] + position[w];
+  d->nparticles = p->n = nlocal;
+  ierr = MICA_MALLOC(d->x, nlocal * dim + 1);
+  if (!ierr) ierr = MICA_MALLOC(dist->global_node, nlocal + 1);
+  if (!ierr) ierr = MICA_MALLOC(p->part, nlocal + 1);
+  for (long i = 0; !ierr && i < nlocal; i++) {
+    memcpy(d->x + i * dim, px + (*map)[i] * dim, sizeof(double) * (size_t)dim);
+    const int owned = i < dist->nowned;
+    p->part[i] = owned ? rank : ghost_owner[i - dist->nowned];
+    dist->global_node[i] = (*offsets)[p->part[i]] + (owned ? i : position[i - dist->nowned]);
   }
+cleanup:
+  free(ghost_key), free(position), free(owned_key), free(ghost_owner);
+  return ierr;
+}
+
+/* The faces' count of MicaDiscretization.boundary_uncovered over the ranks (each counts those centred in its box). */
+static int uncovered_faces(const MeshSource *s, const KeepRank *keep, MicaDistribution *dist) {
+  long mine = 0;
+  const int ierr = mica_mesh_uncovered(s->region, keep_rank, (void *)keep, &mine);
+  MICA_CALL(mica_parallel_agree(ierr));
+  dist->local->boundary_uncovered = mica_parallel_sum_long(mine);
   return MICA_SUCCESS;
 }
 
 /* ---- the distribution ----------------------------------------------------------------------------------- */
 
-/* Each particle's owner and its position among the owner's (the serial order); the blocks' sizes and offsets. */
-static int number_particles(const MeshBoxes *boxes, int dim, long n, const double *x, MicaPartition *p, int **owner,
-                            long **position, long **offsets) {
-  const int P = p->nparts;
-  MICA_CALL(MICA_MALLOC(*owner, n + 1));
-  MICA_CALL(MICA_MALLOC(*position, n + 1));
-  MICA_CALL(MICA_CALLOC(*offsets, P + 1));
-  for (long i = 0; i < n; i++) {
-    (*owner)[i] = box_of(boxes, x + i * dim);
-    (*position)[i] = p->part_size[(*owner)[i]]++;
-  }
-  for (int r = 0; r < P; r++) {
-    (*offsets)[r + 1] = (*offsets)[r] + p->part_size[r];
-    MICA_CHECK(p->part_size[r] > 0, MICA_ERR_INPUT, "parallel.data = \"distributed\": rank %d's box holds none "
-               "of the mesh's %ld particles; use fewer ranks", r, n);
-    if ((double)p->part_size[r] * P / (double)n > p->imbalance) p->imbalance = (double)p->part_size[r] * P / (double)n;
-  }
-  return MICA_SUCCESS;
-}
-
-static int build_owned_mesh(const MicaMesh *mesh, const MicaCellSpec *cells, const MlsOptions *mls_opt,
+static int build_owned_mesh(const MicaMeshSource *mesh, const MicaCellSpec *cells, const MlsOptions *mls_opt,
                             const MicaOwnedSpec *spec, MicaDistribution *dist) {
-  const int P = mica_parallel_size(), dim = mica_mesh_dim(mesh);
-  const long n = mica_mesh_num_particles(mesh);
-  const double *x = mica_mesh_particles(mesh);
+  const int P = mica_parallel_size(), dim = mica_mesh_source_dim(mesh);
+  long nsample, *needed = NULL, nneeded = 0, *map = NULL, *offsets = NULL;
+  const double *sample = mica_mesh_source_sample(mesh, &nsample);
   MeshBoxes boxes;
   MeshSource src;
-  int *owner = NULL;
-  long *position = NULL, *offsets = NULL, *needed = NULL, nneeded = 0, *map = NULL;
-  MicaDiscretization *error = NULL;
   memset(&src, 0, sizeof src);
-  MICA_CALL(boxes_create(P, dim, n, x, &boxes));
+  MICA_CALL(boxes_create(P, dim, nsample, sample, &boxes));
   memcpy(dist->procs, boxes.procs, sizeof dist->procs);
+  KeepRank keep = {&boxes, mica_parallel_rank()};
   int ierr = MICA_CALLOC(dist->partition, 1);
   if (!ierr) dist->partition->nparts = P, ierr = MICA_CALLOC(dist->partition->part_size, P + 1);
-  if (!ierr) ierr = number_particles(&boxes, dim, n, x, dist->partition, &owner, &position, &offsets);
-  KeepRank keep = {&boxes, mica_parallel_rank()};
-  if (!ierr) ierr = mica_mesh_part(mesh, keep_rank, &keep, &dist->cells_mesh);
-  if (!ierr) ierr = mica_discretization_create_mesh(dist->cells_mesh, cells, spec->mesh, &dist->local);
-  if (!ierr && spec->error_order > 0) ierr = mica_owned_cell_points(NULL, NULL, cells, dist, spec->error_order, &error);
-  if (!ierr) ierr = mesh_source_create(mesh, mls_opt, &boxes, dist->local, error, owner, &src, &needed, &nneeded);
-  if (!ierr) ierr = mesh_local_particles(&src, needed, nneeded, owner, position, offsets, dist, &map);
+  if (!ierr) ierr = mesh_source_create(mesh, cells, mls_opt, spec, &keep, &src, &needed, &nneeded);
+  if (!ierr) dist->local = src.disc, src.disc = NULL;
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
+  MICA_CALL_CLEANUP(mesh_local_particles(&src, &boxes, needed, nneeded, dist, &map, &offsets));
+  MICA_CALL_CLEANUP(uncovered_faces(&src, &keep, dist));
+  dist->cells_mesh = src.part, src.part = NULL; /* the rank's elements: the error norms' points */
   ierr = parallel_owned_complete(ierr, src.mls, mls_opt, map, offsets, spec->revolve, dist);
+cleanup:
   boxes_free(&boxes);
   mesh_source_free(&src);
-  mica_discretization_destroy(&error);
-  free(owner), free(position), free(offsets), free(needed), free(map);
+  free(needed), free(map), free(offsets);
   return ierr;
 }
 
 typedef struct {
-  const MicaMesh *mesh;
+  const MicaMeshSource *mesh;
   const MicaCellSpec *cells;
   const MlsOptions *mls_opt;
   const MicaOwnedSpec *spec;
@@ -390,8 +451,9 @@ static int build_mesh(void *ctx, MicaDistribution *dist) {
   return build_owned_mesh(b->mesh, b->cells, b->mls_opt, b->spec, dist);
 }
 
-int mica_distribution_create_owned_mesh(const MicaMesh *mesh, const MicaCellSpec *cells, const MlsOptions *mls_opt,
-                                        const MicaOwnedSpec *spec, MicaDistribution **out) {
+int mica_distribution_create_owned_mesh(const MicaMeshSource *mesh, const MicaCellSpec *cells,
+                                        const MlsOptions *mls_opt, const MicaOwnedSpec *spec,
+                                        MicaDistribution **out) {
   *out = NULL;
   MICA_CHECK(!spec->nodal, MICA_ERR_ARGUMENT, "mica_distribution_create_owned_mesh: no nodal quadrature on a mesh");
   MeshBuild b = {mesh, cells, mls_opt, spec};

@@ -35,6 +35,12 @@
  *     uncovered-face counts add up to the whole mesh's (1e-13); every part names every set; a part's boundary
  *     vertex keeps its node's index in the whole mesh (the whole set's vertex with that key sits at the same
  *     coordinates); the whole mesh's particles are the discretization's, in its order.
+ *   - a source (mesh_part.c, read in passes through a filter): its first pass names every set of the whole mesh
+ *     (also of a 2.2 file, whose groups live on its elements) in the same order, gives the dimension, the nodes'
+ *     bounding box and a sample of node coordinates; a region covering the body has the whole mesh's particles
+ *     (coordinates and keys) and discretization (volume, sets' measures); a region of a box holds only particles
+ *     in it, each with its key's whole particle's coordinates, and the particles of the two halves of a cut (with a
+ *     margin) cover the whole mesh's — for 4.1 ASCII and binary, 2.2, hexahedra and the .geo (cut in memory).
  *   - 3000 random byte changes of a binary, a 2.2 and a 4.1 ASCII file each either load or fail with
  *     MICA_ERR_INPUT (under `make test SAN=1`: without an out-of-bounds access or a leak).
  */
@@ -728,6 +734,104 @@ static void test_mesh_parts(void **state) {
   check_parts("input/meshes/cube.msh", 0.0, 1.0);
 }
 
+/* ---- a source read in passes (mesh_part.c) ---- */
+
+/* The whole particle of key `key` (whole keys are node positions, ascending), or −1. */
+static long whole_particle(const MicaMesh *whole, long key) {
+  const long *keys = mica_mesh_particle_keys(whole);
+  long lo = 0, hi = mica_mesh_num_particles(whole);
+  while (lo < hi) {
+    const long mid = (lo + hi) / 2;
+    if (keys[mid] < key) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo < mica_mesh_num_particles(whole) && keys[lo] == key ? lo : -1;
+}
+
+/* Every particle of the region lies in [lo, hi) at its key's whole particle; marks them in seen[]. */
+static void check_region(const MicaMesh *whole, const MicaMesh *region, const double lo[3], const double hi[3],
+                         char *seen) {
+  const int dim = mica_mesh_dim(whole);
+  const double *x = mica_mesh_particles(region), *wx = mica_mesh_particles(whole);
+  for (long i = 0; i < mica_mesh_num_particles(region); i++) {
+    const long w = whole_particle(whole, mica_mesh_particle_keys(region)[i]);
+    assert_true(w >= 0);
+    assert_memory_equal(x + i * dim, wx + w * dim, sizeof(double) * (size_t)dim);
+    for (int d = 0; d < dim; d++) assert_true(x[i * dim + d] >= lo[d] && x[i * dim + d] < hi[d]);
+    seen[w] = 1;
+  }
+}
+
+static void check_source(const char *path) {
+  const MicaShapeSpec shape = {.kind = MICA_SHAPE_GMSH, .mesh_path = path};
+  const MicaCellSpec cells = {.order = 2};
+  MicaMesh *whole = NULL, *region = NULL;
+  MicaMeshSource *src = NULL;
+  MicaDiscretization *wd = load(path, 2, 0), *names = NULL, *rd = NULL;
+  check_ok(mica_mesh_read(&shape, &whole));
+  check_ok(mica_mesh_source_open(&shape, &src));
+  const int dim = mica_mesh_dim(whole);
+  assert_int_equal(mica_mesh_source_dim(src), dim);
+  check_ok(mica_discretization_create_mesh(mica_mesh_source_names(src), &cells, 0, &names));
+  assert_int_equal(names->nsets, wd->nsets);
+  for (int k = 0; k < wd->nsets; k++) assert_string_equal(names->sets[k].name, wd->sets[k].name);
+  double lo[3], hi[3], big_lo[3] = {-1e300, -1e300, -1e300}, big_hi[3] = {1e300, 1e300, 1e300};
+  long nsample;
+  const double *sample = mica_mesh_source_sample(src, &nsample);
+  mica_mesh_source_bounds(src, lo, hi);
+  assert_true(nsample > 0);
+  for (long i = 0; i < nsample; i++)
+    for (int d = 0; d < dim; d++) assert_true(sample[i * dim + d] >= lo[d] && sample[i * dim + d] <= hi[d]);
+  for (int d = 0; d < dim; d++) { /* the whole mesh's particles lie in the bounds, and reach them */
+    double a = HUGE_VAL, b = -HUGE_VAL;
+    for (long i = 0; i < mica_mesh_num_particles(whole); i++)
+      a = fmin(a, mica_mesh_particles(whole)[i * dim + d]), b = fmax(b, mica_mesh_particles(whole)[i * dim + d]);
+    assert_true(a >= lo[d] && b <= hi[d]);
+  }
+  /* the region of everything: the whole mesh */
+  check_ok(mica_mesh_source_region(src, big_lo, big_hi, &region));
+  assert_int_equal(mica_mesh_num_particles(region), mica_mesh_num_particles(whole));
+  assert_memory_equal(mica_mesh_particle_keys(region), mica_mesh_particle_keys(whole),
+                      sizeof(long) * (size_t)mica_mesh_num_particles(whole));
+  check_ok(mica_discretization_create_mesh(region, &cells, 0, &rd));
+  assert_int_equal(rd->nquad, wd->nquad);
+  assert_rel(rd->volume, wd->volume, 1e-14, "the region's volume");
+  for (int k = 0; k < wd->nsets; k++) assert_rel(set_measure(&rd->sets[k]), set_measure(&wd->sets[k]), 1e-14, "a set");
+  mica_discretization_destroy(&rd);
+  mica_mesh_destroy(&region);
+  /* two halves along x, each widened by a quarter of the extent: they hold every particle between them */
+  char *seen = NULL;
+  assert_int_equal(MICA_CALLOC(seen, mica_mesh_num_particles(whole) + 1), MICA_SUCCESS);
+  const double mid = 0.5 * (lo[0] + hi[0]), q = 0.25 * (hi[0] - lo[0]);
+  for (int half = 0; half < 2; half++) {
+    double a[3], b[3];
+    memcpy(a, big_lo, sizeof a), memcpy(b, big_hi, sizeof b);
+    if (half == 0) b[0] = mid + q;
+    else a[0] = mid - q;
+    check_ok(mica_mesh_source_region(src, a, b, &region));
+    assert_true(mica_mesh_num_particles(region) < mica_mesh_num_particles(whole));
+    check_region(whole, region, a, b, seen);
+    mica_mesh_destroy(&region);
+  }
+  for (long i = 0; i < mica_mesh_num_particles(whole); i++) assert_true(seen[i]);
+  MICA_FREE(seen);
+  mica_discretization_destroy(&names);
+  mica_discretization_destroy(&wd);
+  mica_mesh_source_close(&src);
+  mica_mesh_destroy(&whole);
+}
+
+static void test_mesh_source(void **state) {
+  (void)state;
+  check_source("input/meshes/plate_hole.msh");
+  check_source("tests/meshes/plate_hole_binary.msh");
+  check_source("tests/meshes/plate_hole_v22.msh");
+  check_source("tests/meshes/square_groups_v22.msh");
+  check_source("tests/meshes/box_hex.msh");
+  check_source("input/meshes/cube.msh");
+  check_source("input/meshes/plate_hole.geo");
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_plate_hole_mesh), cmocka_unit_test(test_cube_mesh),
@@ -737,7 +841,7 @@ int main(void) {
       cmocka_unit_test(test_binary_errors),   cmocka_unit_test(test_geo_refused),
       cmocka_unit_test(test_geo_words_allowed), cmocka_unit_test(test_geo_errors),
       cmocka_unit_test(test_damaged_files),   cmocka_unit_test(test_entity_order),
-      cmocka_unit_test(test_mesh_parts),
+      cmocka_unit_test(test_mesh_parts),      cmocka_unit_test(test_mesh_source),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
