@@ -30,7 +30,7 @@
 #     plate_hole.msh (VCI on) at P = 1-4 within 1e-10 with MUMPS, its mesh pieces and SCF probe, with Lagrange
 #     multipliers at P = 2, 3; the cube of cube.geo (meshed on every rank) at P = 2-4 with MUMPS and 2, 4 with GAMG
 #     (1e-7), error norms on quadrature.error_order's points; the ranks' counts sum to the serial ones, each rank
-#     holds fewer than 0.6 of the particles at P = 4;
+#     holds fewer than 0.6 of the particles at P = 4; the region reads of cube.msh and of a 2.2 file at P = 2-4;
 #   - the irregular layout (drawn whole on every rank, each particle owned by the block of its nearest grid point):
 #     Cook at P = 1-4, the 3-D cube (error norms) and the plate with a hole at P = 2, 4, with VCI, within 1e-10;
 #   - what the distributed mode does not cover yet is refused: exit 2, the deck line named (the nodal modes on a
@@ -454,6 +454,20 @@ for np in 2 4; do
   same "$work/cube_gmsh" "$work/cube_gmsh-$np-gamg" "$np" 1e-7
 done
 rank_counts "$work/cube_gmsh" "$work/cube_gmsh-4-gamg"
+# the region reads of a 3-D .msh file (cube.msh) and of a 2.2 file (plate_hole_v22.msh, whose groups live on its
+# elements): MUMPS at P = 2-4
+sed "s|\"../../../input/meshes/cube.geo\"; mesh_size_factor = 0.5;|\"$PWD/input/meshes/cube.msh\";|" \
+  tests/decks/parallel/cube_gmsh.cfg > "$work/cube_msh.cfg"
+sed "s|\"meshes/plate_hole.msh\"|\"$PWD/tests/meshes/plate_hole_v22.msh\"|" input/plate_hole_gmsh.cfg > "$work/kirsch_v22.cfg"
+grep -q 'cube.msh' "$work/cube_msh.cfg" && grep -q 'plate_hole_v22.msh' "$work/kirsch_v22.cfg" \
+  || fail "cube_msh.cfg, kirsch_v22.cfg: the mesh paths were not rewritten"
+for deck in cube_msh kirsch_v22; do
+  REFERENCE=cholmod-sym serial "$work/$deck" "$work/$deck.cfg"
+  for np in 2 3 4; do
+    distributed "$np" "$work/$deck-$np" "$work/$deck.cfg" --set solver.petsc=\"mumps\"
+    same "$work/$deck" "$work/$deck-$np" "$np" 1e-10
+  done
+done
 ok "Gmsh meshes on distributed data: Kirsch (2-D, VCI, Lagrange) and the cube of cube.geo as serially"
 
 # ---- refusals ------------------------------------------------------------------------------------------------
