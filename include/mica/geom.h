@@ -266,15 +266,13 @@ double mica_mesh_element_size(const MicaMesh *mesh);
 /* Accepts a volume element by its centroid (the mean of its nodes; 3 coordinates). */
 typedef int (*MicaMeshKeep)(const double *centroid, void *ctx);
 /* A part: the volume elements `keep` accepts, the boundary elements that are sides of them, their nodes; every
- * physical group (so the part's discretization names every set, with no points if it holds none of it) and the
- * whole mesh's count of uncovered boundary faces. */
+ * physical group (so the part's discretization names every set, with no points if it holds none of it), and as
+ * its discretization's boundary_uncovered its share of the uncovered boundary faces, those whose centroids `keep`
+ * accepts: over the parts of a split, with each face's elements in the mesh split, the shares add up to the whole
+ * mesh's count. */
 int mica_mesh_part(const MicaMesh *mesh, MicaMeshKeep keep, void *ctx, MicaMesh **part);
 /* Each particle's key: its node's position in the whole mesh (a region's particles keep the whole mesh's). */
 const long *mica_mesh_particle_keys(const MicaMesh *mesh);
-/* The mesh's uncovered boundary faces (MicaDiscretization.boundary_uncovered) whose centroids `mine` accepts: over
- * the ranks of a split, with each face's centroid in one rank's box and its elements in that rank's region, they add
- * up to the whole mesh's. */
-int mica_mesh_uncovered(const MicaMesh *mesh, MicaMeshKeep mine, void *ctx, long *count);
 
 /* A Gmsh mesh read in parts: a .msh file in passes through a filter, never whole; a .geo meshed whole, once. Opening
  * reads the groups and the dimension (names: a mesh without elements, whose discretization names every set) and a

@@ -15,6 +15,7 @@ static int run_check(const MicaDeck *deck, const char *outdir, MicaJson *summary
   const double nnz = (double)totals.nnz;
   const char *size_class = nnz < 1e6 ? "small (seconds)" : nnz < 3e7 ? "medium (minutes)" : "large (hours, or use MPI)";
   MICA_CALL_CLEANUP(mica_json_string(summary, "cost_class", size_class));
+  MICA_CALL_CLEANUP(run_build_memory(&rp, summary));
   printf("deck is valid; cost class: %s\n", size_class);
 cleanup:
   run_output_free(&out);

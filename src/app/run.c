@@ -116,6 +116,7 @@ static int build_solid(const MicaDeck *deck, RunProblem *rp, const MicaSolid *do
     disc = rp->dist->local;
     if (rp->owned_data) MICA_CALL_CLEANUP(take_local_geometry(rp));
   }
+  rp->peak_build = mica_parallel_peak_memory();
   const double start = mica_wtime(), cpu = mica_cputime();
   ierr = mica_study_mls_input(mica_solid_create_sharing(disc, &rp->approx, &opt, ndirichlet, dirichlet, ntraction,
                                                         traction, donor, &rp->solid));

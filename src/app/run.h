@@ -87,6 +87,8 @@ typedef struct RunProblem {
   double time_discretize, time_mls, time_cache_pattern; /* time_mls: the MLS or finite-element setup */
   double cpu_cache_pattern;     /* thread CPU time of the cache and pattern (mica_cputime) */
   RunReuse *reuse;              /* NULL: a single run */
+  long peak_build;              /* peak resident memory once the discretization, MLS and distribution are built, before
+                                   the solid's caches (getrusage: this rank's) */
   int owns_geometry;            /* 1: disc and mls are this run's to free (else reuse keeps them) */
   int reused_geometry;          /* 1: disc and mls came from the previous run */
   RunEstimate estimate;         /* the cost guard's estimate (estimate.c), made before the discretization */
@@ -197,6 +199,9 @@ int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp);
 
 int run_parallel_totals(const RunProblem *rp, RunTotals *totals);
 int run_parallel_counts(const RunProblem *rp, MicaJson *summary);
+/* summary.json: peak_memory_build (this rank's peak once the geometry was built) and under MPI its largest over the
+ * ranks, peak_memory_build_max (collective). */
+int run_build_memory(const RunProblem *rp, MicaJson *summary);
 int run_parallel_memory(const RunProblem *rp, MicaJson *summary);
 /* Collective: each rank's points, matrix entries and the wall and CPU time of its distributed work (cache and
  * pattern, assemblies, and the assemblies' wait for the residual sum), printed per rank and in the summary

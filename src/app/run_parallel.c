@@ -133,8 +133,15 @@ int run_parallel_counts(const RunProblem *rp, MicaJson *summary) {
   return MICA_SUCCESS;
 }
 
-/* Peak memory of the ranks (collective), at the end of a run. */
+int run_build_memory(const RunProblem *rp, MicaJson *summary) {
+  MICA_CALL(mica_json_int(summary, "peak_memory_build", rp->peak_build));
+  if (rp->dist) MICA_CALL(mica_json_int(summary, "peak_memory_build_max", mica_parallel_max_long(rp->peak_build)));
+  return MICA_SUCCESS;
+}
+
+/* Peak memory of the ranks (collective), at the end of a run; and once the geometry was built (run_build_memory). */
 int run_parallel_memory(const RunProblem *rp, MicaJson *summary) {
+  MICA_CALL(run_build_memory(rp, summary));
   if (!rp->dist) return MICA_SUCCESS;
   const long peak = mica_parallel_peak_memory(), largest = mica_parallel_max_long(peak);
   MICA_CALL(mica_json_int(summary, "peak_memory_rank0", peak));

@@ -165,11 +165,12 @@ static int copy_elements(const GmshMesh *g, const char *keep, GmshMesh *p) {
 }
 
 /* keep[e]: a volume element whose centroid `keep` accepts; a boundary element if it is a side of one (one that is
- * a side of none goes by its own centroid, so that one rank reports it as serially). */
-static int choose_elements(const GmshMesh *g, int dim, MicaMeshKeep keep, void *ctx, char *chosen) {
+ * a side of none goes by its own centroid, so that one rank reports it as serially). *uncovered: the uncovered
+ * boundary faces whose centroids `keep` accepts (one face table for both). */
+static int choose_elements(const GmshMesh *g, int dim, MicaMeshKeep keep, void *ctx, char *chosen, long *uncovered) {
   long *side_of = NULL;
   MICA_CALL(MICA_MALLOC(side_of, g->nelements + 1));
-  int ierr = geom_mesh_faces(g, dim, NULL, side_of);
+  int ierr = geom_mesh_faces_where(g, dim, keep, ctx, uncovered, side_of);
   for (long e = 0; !ierr && e < g->nelements; e++) {
     double c[3];
     geom_mesh_centroid(g, e, c);
@@ -193,12 +194,12 @@ int mica_mesh_part(const MicaMesh *whole, MicaMeshKeep keep, void *ctx, MicaMesh
   *out = NULL;
   MICA_CALL(MICA_CALLOC(part, 1));
   int ierr = MICA_CALLOC(chosen, g->nelements + 1);
-  if (!ierr) ierr = choose_elements(g, dim, keep, ctx, chosen);
+  if (!ierr) ierr = choose_elements(g, dim, keep, ctx, chosen, &part->uncovered);
   if (!ierr) ierr = copy_groups(g, &part->gmsh);
   if (!ierr) ierr = copy_elements(g, chosen, &part->gmsh);
   MICA_FREE(chosen);
   part->gmsh.part_dim = dim;
-  part->gmsh.part_uncovered = part->uncovered = whole->uncovered;
+  part->gmsh.part_uncovered = part->uncovered; /* its share: over a split, the shares add up to the whole's */
   part->element_size = whole->element_size;
   if (!ierr) ierr = MICA_MALLOC(part->x, 1);
   if (!ierr) ierr = MICA_MALLOC(part->key, 1);
@@ -221,10 +222,6 @@ int mica_discretization_create_mesh(const MicaMesh *mesh, const MicaCellSpec *ce
 }
 
 /* ---- regions and the source ------------------------------------------------------------------------------ */
-
-int mica_mesh_uncovered(const MicaMesh *mesh, MicaMeshKeep mine, void *ctx, long *count) {
-  return geom_mesh_faces_where(&mesh->gmsh, geom_mesh_dimension(&mesh->gmsh), mine, ctx, count, NULL);
-}
 
 typedef struct {
   double lo[3], hi[3];

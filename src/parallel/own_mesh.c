@@ -401,14 +401,6 @@ cleanup:
   return ierr;
 }
 
-/* The faces' count of MicaDiscretization.boundary_uncovered over the ranks (each counts those centred in its box). */
-static int uncovered_faces(const MeshSource *s, const KeepRank *keep, MicaDistribution *dist) {
-  long mine = 0;
-  const int ierr = mica_mesh_uncovered(s->region, keep_rank, (void *)keep, &mine);
-  MICA_CALL(mica_parallel_agree(ierr));
-  dist->local->boundary_uncovered = mica_parallel_sum_long(mine);
-  return MICA_SUCCESS;
-}
 
 /* ---- the distribution ----------------------------------------------------------------------------------- */
 
@@ -429,7 +421,8 @@ static int build_owned_mesh(const MicaMeshSource *mesh, const MicaCellSpec *cell
   if (!ierr) dist->local = src.disc, src.disc = NULL;
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
   MICA_CALL_CLEANUP(mesh_local_particles(&src, &boxes, needed, nneeded, dist, &map, &offsets));
-  MICA_CALL_CLEANUP(uncovered_faces(&src, &keep, dist));
+  /* the uncovered boundary faces: each rank's part counted those centred in its box */
+  dist->local->boundary_uncovered = mica_parallel_sum_long(dist->local->boundary_uncovered);
   dist->cells_mesh = src.part, src.part = NULL; /* the rank's elements: the error norms' points */
   ierr = parallel_owned_complete(ierr, src.mls, mls_opt, map, offsets, spec->revolve, dist);
 cleanup:
