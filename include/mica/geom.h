@@ -301,6 +301,11 @@ int mica_discretization_create_mesh(const MicaMesh *mesh, const MicaCellSpec *ce
 #define MICA_BODY_TOLERANCE 1e-8
 typedef struct MicaBody MicaBody;
 int mica_body_create(const MicaShapeSpec *shape, MicaBody **body);
+/* The body of a Gmsh shape's part (parallel.data = "distributed": a rank's elements; the part is not copied and must
+ * outlive the body): a point lies in the whole body if it lies in some rank's part. Its bounds are the part's until
+ * mica_body_set_bounds gives the whole body's (the tolerance follows them). */
+int mica_body_create_part(const MicaShapeSpec *shape, const MicaMesh *part, MicaBody **body);
+void mica_body_set_bounds(MicaBody *body, const double lower[3], const double upper[3]);
 int mica_body_destroy(MicaBody **body);
 int mica_body_dim(const MicaBody *body);
 /* 1 if x (dim coordinates) lies in the body or within the tolerance of it, else 0. */

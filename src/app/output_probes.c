@@ -2,6 +2,7 @@
  * or the strain energy of the whole body. Checked before the solve (the point in the body, or extrapolate =
  * true). Every rank computes them (the energy sums over the ranks' points); with parallel.data = "distributed" a
  * point probe is evaluated by the lowest rank holding its whole support (mica_owned_point_rank) and broadcast. */
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -200,7 +201,10 @@ static int check_probe_point(const RunProblem *rp, MicaBody *body, int i) {
              "\"fe\") have no values outside their elements", where, name);
   double point[3];
   MICA_CALL(probe_point(rp, i, name, point, where, sizeof where));
-  if (extrapolate || mica_body_contains(body, point)) return MICA_SUCCESS;
+  if (extrapolate) return MICA_SUCCESS;
+  double inside = mica_body_contains(body, point);
+  if (rp->owned_data && rp->dist->cells_mesh) MICA_CALL(mica_parallel_max(MICA_SUCCESS, &inside, 1)); /* any rank's part */
+  if (inside > 0) return MICA_SUCCESS;
   char at[96], shape[600], bounds[256];
   if (rp->disc->dim == 3)
     snprintf(at, sizeof at, "(%g, %g, %g)", point[0], point[1], point[2]);
@@ -214,6 +218,27 @@ static int check_probe_point(const RunProblem *rp, MicaBody *body, int i) {
              where, name, at, shape, bounds);
 }
 
+/* The body the probes' points must lie in: with distributed data on a Gmsh mesh the rank's part, whose bounds become
+ * the whole body's (collective), so that no rank reads the whole mesh; else the deck's shape's. */
+static int probe_body(const RunProblem *rp, MicaBody **body) {
+  if (!(rp->owned_data && rp->dist->cells_mesh)) return run_body_create(rp->deck, body);
+  MicaShapeSpec shape;
+  char mesh[PATH_MAX];
+  MICA_CALL(run_read_shape(rp->deck, &shape, mesh, sizeof mesh));
+  int ierr = mica_body_create_part(&shape, rp->dist->cells_mesh, body);
+  double bounds[6] = {0, 0, 0, 0, 0, 0}; /* −lower, upper */
+  if (!ierr) mica_body_bounds(*body, bounds, bounds + 3);
+  for (int d = 0; d < 3; d++) bounds[d] = -bounds[d];
+  ierr = mica_parallel_max(ierr, bounds, 6);
+  if (ierr) {
+    mica_body_destroy(body);
+    return ierr;
+  }
+  for (int d = 0; d < 3; d++) bounds[d] = -bounds[d];
+  mica_body_set_bounds(*body, bounds, bounds + 3);
+  return MICA_SUCCESS;
+}
+
 static int probes_check(MicaOutputRun *run, void *ctx) {
   (void)ctx;
   const RunProblem *rp = run->rp;
@@ -221,7 +246,7 @@ static int probes_check(MicaOutputRun *run, void *ctx) {
   if (count == 0) return MICA_SUCCESS;
   MicaBody *body = NULL;
   int ierr = MICA_SUCCESS;
-  MICA_CALL(run_body_create(rp->deck, &body));
+  MICA_CALL(probe_body(rp, &body));
   for (int i = 0; i < count && !ierr; i++) ierr = check_probe_point(rp, body, i);
   mica_body_destroy(&body);
   return ierr;

@@ -206,6 +206,8 @@ int geom_mesh_dimension(const GmshMesh *mesh);
 int geom_mesh_check_dimension(const GmshMesh *mesh);
 /* Centroid of element e (the mean of its nodes). */
 void geom_mesh_centroid(const GmshMesh *mesh, long e, double c[3]);
+/* A MicaMesh's elements (mesh_part.c). */
+const GmshMesh *geom_mesh_of(const MicaMesh *mesh);
 /* The mesh's elements of dimension dim as an output mesh on the particles (cell_mesh.c). */
 int geom_mesh_cells(const GmshMesh *mesh, int dim, MicaCellMesh **cells);
 

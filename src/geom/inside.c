@@ -17,6 +17,7 @@ struct MicaBody {
   double lower[3], upper[3]; /* the bounding box */
   double tol;               /* MICA_BODY_TOLERANCE × the box's diagonal */
   GmshMesh mesh;            /* a Gmsh mesh as read (zeroed for built-in shapes) */
+  const GmshMesh *elements; /* the mesh whose elements make the body: &mesh, or a rank's part (not owned) */
   int mesh_dim;             /* the dimension of its volume elements */
 };
 
@@ -144,7 +145,7 @@ static int in_element(const GmshMesh *m, long e, const double *x, double tol) {
 }
 
 static int in_mesh(const MicaBody *b, const double *x) {
-  const GmshMesh *m = &b->mesh;
+  const GmshMesh *m = b->elements;
   double x3[3] = {x[0], x[1], b->dim == 3 ? x[2] : 0.0};
   for (long e = 0; e < m->nelements; e++)
     if (gmsh_element_dim(m->type[e]) == b->mesh_dim && near_element(m, e, b->dim, x3, b->tol) &&
@@ -176,7 +177,7 @@ static void annulus_bounds(MicaBody *b) {
 }
 
 static void mesh_bounds(MicaBody *b) {
-  const GmshMesh *m = &b->mesh;
+  const GmshMesh *m = b->elements;
   for (long e = 0; e < m->nelements; e++)
     if (gmsh_element_dim(m->type[e]) == b->mesh_dim)
       for (int k = 0; k < (int)(m->node_start[e + 1] - m->node_start[e]); k++) widen(b, node_x(m, e, k));
@@ -211,6 +212,7 @@ static int read_mesh(MicaBody *b) {
   snprintf(b->path, sizeof b->path, "%s", b->shape.mesh_path);
   b->shape.mesh_path = b->path;
   MICA_CALL(gmsh_read(b->path, b->shape.mesh_size_factor, &b->mesh));
+  b->elements = &b->mesh;
   for (long e = 0; e < b->mesh.nelements; e++)
     if (gmsh_element_dim(b->mesh.type[e]) > b->mesh_dim) b->mesh_dim = gmsh_element_dim(b->mesh.type[e]);
   MICA_CHECK(b->mesh_dim == 2 || b->mesh_dim == 3, MICA_ERR_INPUT, "%s: the mesh has no 2-D or 3-D elements",
@@ -219,14 +221,26 @@ static int read_mesh(MicaBody *b) {
   return MICA_SUCCESS;
 }
 
-int mica_body_create(const MicaShapeSpec *shape, MicaBody **body) {
+/* The tolerance from the bounding box. */
+static void set_tolerance(MicaBody *b) {
+  double diagonal = 0;
+  for (int d = 0; d < b->dim; d++) diagonal += (b->upper[d] - b->lower[d]) * (b->upper[d] - b->lower[d]);
+  b->tol = MICA_BODY_TOLERANCE * sqrt(diagonal);
+}
+
+static int create_body(const MicaShapeSpec *shape, const MicaMesh *part, MicaBody **body) {
   int ierr = MICA_SUCCESS;
   MICA_CHECK(shape && body, MICA_ERR_ARGUMENT, "mica_body_create: NULL argument");
   *body = NULL;
   MicaBody *b = NULL;
   MICA_CALL(MICA_CALLOC(b, 1));
   b->shape = *shape;
-  if (shape->kind == MICA_SHAPE_GMSH) {
+  if (part) {
+    snprintf(b->path, sizeof b->path, "%s", shape->mesh_path ? shape->mesh_path : "");
+    b->shape.mesh_path = b->path;
+    b->elements = geom_mesh_of(part);
+    b->dim = b->mesh_dim = mica_mesh_dim(part);
+  } else if (shape->kind == MICA_SHAPE_GMSH) {
     MICA_CALL_CLEANUP(read_mesh(b));
   } else {
     GeomMap map; /* the shape's own checks of its parameters (e.g. a convex, counterclockwise polygon) */
@@ -235,14 +249,26 @@ int mica_body_create(const MicaShapeSpec *shape, MicaBody **body) {
   }
   for (int d = 0; d < 3; d++) b->lower[d] = d < b->dim ? INFINITY : 0, b->upper[d] = d < b->dim ? -INFINITY : 0;
   shape_bounds(b);
-  double diagonal = 0;
-  for (int d = 0; d < b->dim; d++) diagonal += (b->upper[d] - b->lower[d]) * (b->upper[d] - b->lower[d]);
-  b->tol = MICA_BODY_TOLERANCE * sqrt(diagonal);
+  set_tolerance(b);
   *body = b;
   return MICA_SUCCESS;
 cleanup:
   mica_body_destroy(&b);
   return ierr;
+}
+
+int mica_body_create(const MicaShapeSpec *shape, MicaBody **body) { return create_body(shape, NULL, body); }
+
+int mica_body_create_part(const MicaShapeSpec *shape, const MicaMesh *part, MicaBody **body) {
+  MICA_CHECK(shape && shape->kind == MICA_SHAPE_GMSH && part, MICA_ERR_ARGUMENT,
+             "mica_body_create_part: a Gmsh shape and its part");
+  return create_body(shape, part, body);
+}
+
+void mica_body_set_bounds(MicaBody *body, const double lower[3], const double upper[3]) {
+  memcpy(body->lower, lower, sizeof body->lower);
+  memcpy(body->upper, upper, sizeof body->upper);
+  set_tolerance(body);
 }
 
 int mica_body_destroy(MicaBody **body) {

@@ -34,6 +34,7 @@ int mica_mesh_destroy(MicaMesh **mesh) {
 }
 
 const long *mica_mesh_particle_keys(const MicaMesh *mesh) { return mesh->key; }
+const GmshMesh *geom_mesh_of(const MicaMesh *mesh) { return &mesh->gmsh; }
 
 int mica_mesh_dim(const MicaMesh *mesh) { return geom_mesh_dimension(&mesh->gmsh); }
 long mica_mesh_num_particles(const MicaMesh *mesh) { return mesh->nparticles; }

@@ -27,7 +27,8 @@
 #     serially at P = 2, 4 (tests/cli/mesh_pieces_compare.py, quadrature_rows_compare.py);
 #   - collocation (a ghost's rows emptied, a shared vertex's row written in shares) as serially at P = 2-4;
 #   - Gmsh meshes (coordinate boxes of equal particle counts, elements by their centroids): Kirsch's plate from
-#     plate_hole.msh (VCI on) at P = 1-4 within 1e-10 with MUMPS, its mesh pieces and SCF probe, with Lagrange
+#     plate_hole.msh (VCI on) at P = 1-4 within 1e-10 with MUMPS, its mesh pieces and SCF probe (a probe outside
+#     every rank's part refused as serially), with Lagrange
 #     multipliers at P = 2, 3; the cube of cube.geo (meshed on every rank) at P = 2-4 with MUMPS and 2, 4 with GAMG
 #     (1e-7), error norms on quadrature.error_order's points; the ranks' counts sum to the serial ones, each rank
 #     holds fewer than 0.6 of the particles at P = 4; the region reads of cube.msh and of a 2.2 file at P = 2-4;
@@ -432,6 +433,12 @@ for np in 1 2 3 4; do
   same "$work/kirsch" "$work/kirsch-$np" "$np" 1e-10
   [ "$np" = 1 ] || probe_same "$work/kirsch" "$work/kirsch-$np" scf
 done
+# a probe's point is checked against the ranks' parts (no rank reads the whole mesh for it): outside all of them, the
+# serial message with the whole body's bounds, once, exit 2
+expect_failure 2 "probe 'out' at (0.5, 0.5) lies outside the body, the elements of input/meshes/plate_hole.msh (bounds x in [0, 5], y in [0, 5])" -- \
+  "${MPIRUN[@]}" -np 3 "$MICA" run input/plate_hole_gmsh.cfg -o "$work/kirsch_out" "${Q[@]}" "${D[@]}" \
+  --set 'output.probes=({ name = "out"; point = ["0.5", "0.5"]; field = "sxx"; })'
+[ ! -e "$work/kirsch_out" ] || fail "the refused probe left $work/kirsch_out"
 REFERENCE=umfpack serial "$work/kirsch_lagrange" input/plate_hole_gmsh.cfg --set bc.method=\"lagrange\"
 for np in 2 3; do
   distributed "$np" "$work/kirsch_lagrange-$np" input/plate_hole_gmsh.cfg --set bc.method=\"lagrange\" \
