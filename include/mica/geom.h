@@ -241,6 +241,20 @@ int mica_discretization_nodal_centroids(MicaDiscretization *disc);
  * central second moments are their weighted sums. The cells have no boundary points (not for SCNI); the Gauss
  * points are kept for the error norms. MICA_ERR_INPUT if a particle is the nearest to no Gauss point. */
 int mica_discretization_nodal_points(MicaDiscretization *disc);
+/* The same cells for the particles with mine[I] (NULL: all) of disc's, in particle order, from the ng Gauss points
+ * gx, gw (NULL: disc's own volume points) of a region that holds every point whose nearest particle is one of them
+ * (parallel.data = "distributed": a rank's owned particles and the Gauss points around its box); disc's own volume
+ * points become its Gauss points (the error norms'). */
+int mica_discretization_nodal_points_from(MicaDiscretization *disc, const char *mine, long ng, const double *gx,
+                                          const double *gw);
+/* The NSNI points of those cells: n of them, centroids qx, volumes qw, and the cells' central second moments. */
+typedef struct MicaNodalPoints {
+  long n;
+  double *qx, *qw;
+  MicaNodalCells *cells;
+} MicaNodalPoints;
+int mica_nodal_points_of(int dim, long np, const double *x, const char *mine, long ng, const double *gx,
+                         const double *gw, MicaNodalPoints *out);
 int mica_nodal_cells_destroy(MicaNodalCells **cells);
 /* Turns a 2-D section in the (r, z) = (x, y) half-plane into the body of revolution it sweeps about the
  * y axis: every volume and boundary weight is multiplied by 2πr, so Σ qw is the body's volume and boundary

@@ -88,59 +88,80 @@ static long nearest(const Buckets *B, const double *x, const double *q) {
   }
 }
 
-int mica_discretization_nodal_points(MicaDiscretization *disc) {
-  MICA_CHECK(disc && !disc->nodal && disc->nquad > 0, MICA_ERR_ARGUMENT,
-             "mica_discretization_nodal_points: no volume points, or nodal already");
-  const int dim = disc->dim;
-  const long np = disc->nparticles;
+int mica_nodal_points_of(int dim, long np, const double *x, const char *mine, long ng, const double *gx,
+                         const double *gw, MicaNodalPoints *out) {
   Buckets B = {0};
   MicaNodalCells *c = NULL;
   double *qx = NULL, *qw = NULL, *first = NULL;
+  long *slot = NULL, n = 0;
   int ierr = MICA_SUCCESS;
-  MICA_CALL_CLEANUP(buckets_create(dim, np, disc->x, &B));
+  memset(out, 0, sizeof *out);
+  MICA_CALL_CLEANUP(MICA_MALLOC(slot, np + 1)); /* particle I's cell, or −1 */
+  for (long I = 0; I < np; I++) slot[I] = !mine || mine[I] ? n++ : -1;
+  MICA_CALL_CLEANUP(buckets_create(dim, np, x, &B));
   MICA_CALL_CLEANUP(MICA_CALLOC(c, 1));
-  c->n = np;
-  MICA_CALL_CLEANUP(MICA_CALLOC(c->ptr, np + 1)); /* no boundary points */
-  MICA_CALL_CLEANUP(MICA_CALLOC(c->moment, np * dim * dim));
-  MICA_CALL_CLEANUP(MICA_CALLOC(qw, np));
-  MICA_CALL_CLEANUP(MICA_CALLOC(first, np * dim));
-  MICA_CALL_CLEANUP(MICA_MALLOC(qx, np * dim));
-  for (long g = 0; g < disc->nquad; g++) {
-    const double *xg = disc->qx + g * dim, w = disc->qw[g];
-    const long I = nearest(&B, disc->x, xg);
+  c->n = n;
+  MICA_CALL_CLEANUP(MICA_CALLOC(c->ptr, n + 1)); /* no boundary points */
+  MICA_CALL_CLEANUP(MICA_CALLOC(c->moment, n * dim * dim + 1));
+  MICA_CALL_CLEANUP(MICA_CALLOC(qw, n + 1));
+  MICA_CALL_CLEANUP(MICA_CALLOC(first, n * dim + 1));
+  MICA_CALL_CLEANUP(MICA_MALLOC(qx, n * dim + 1));
+  for (long g = 0; g < ng; g++) {
+    const double *xg = gx + g * dim, w = gw[g];
+    const long I = nearest(&B, x, xg), k = slot[I];
+    if (k < 0) continue;
     double y[3];
-    for (int d = 0; d < dim; d++) y[d] = xg[d] - disc->x[I * dim + d];
-    qw[I] += w;
+    for (int d = 0; d < dim; d++) y[d] = xg[d] - x[I * dim + d];
+    qw[k] += w;
     for (int d = 0; d < dim; d++) {
-      first[I * dim + d] += w * y[d];
-      for (int e = 0; e < dim; e++) c->moment[(I * dim + d) * dim + e] += w * y[d] * y[e];
+      first[k * dim + d] += w * y[d];
+      for (int e = 0; e < dim; e++) c->moment[(k * dim + d) * dim + e] += w * y[d] * y[e];
     }
   }
   for (long I = 0; I < np; I++) {
-    const double *x = disc->x + I * dim;
-    if (!(qw[I] > 0)) {
+    const long k = slot[I];
+    if (k < 0) continue;
+    const double *xi = x + I * dim;
+    if (!(qw[k] > 0)) {
       ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_INPUT,
-                            "nodal cells from the Gauss points: particle %ld at (%g, %g, %g) is the nearest to no "
+                            "nodal cells from the Gauss points: the particle at (%g, %g, %g) is the nearest to no "
                             "background Gauss point; raise quadrature.order or quadrature.cells",
-                            I + 1, x[0], x[1], dim == 3 ? x[2] : 0.0);
+                            xi[0], xi[1], dim == 3 ? xi[2] : 0.0);
       goto cleanup;
     }
-    for (int d = 0; d < dim; d++) qx[I * dim + d] = x[d] + first[I * dim + d] / qw[I];
+    for (int d = 0; d < dim; d++) qx[k * dim + d] = xi[d] + first[k * dim + d] / qw[k];
     for (int d = 0; d < dim; d++) /* about the centroid */
-      for (int e = 0; e < dim; e++) c->moment[(I * dim + d) * dim + e] -= first[I * dim + d] * first[I * dim + e] / qw[I];
+      for (int e = 0; e < dim; e++) c->moment[(k * dim + d) * dim + e] -= first[k * dim + d] * first[k * dim + e] / qw[k];
   }
-  disc->ngauss = disc->nquad;
-  disc->gauss_x = disc->qx, disc->gauss_w = disc->qw;
-  disc->qx = qx, disc->qw = qw, qx = qw = NULL;
-  MICA_FREE(disc->qcell);
-  disc->nquad = disc->ncells = np;
-  disc->nodal = c, c = NULL;
+  *out = (MicaNodalPoints){n, qx, qw, c};
+  qx = qw = NULL, c = NULL;
 cleanup:
   mica_nodal_cells_destroy(&c);
   MICA_FREE(qx);
   MICA_FREE(qw);
   MICA_FREE(first);
+  MICA_FREE(slot);
   MICA_FREE(B.start);
   MICA_FREE(B.member);
   return ierr;
+}
+
+int mica_discretization_nodal_points_from(MicaDiscretization *disc, const char *mine, long ng, const double *gx,
+                                          const double *gw) {
+  MICA_CHECK(disc && !disc->nodal && disc->nquad > 0, MICA_ERR_ARGUMENT,
+             "mica_discretization_nodal_points: no volume points, or nodal already");
+  MicaNodalPoints cells;
+  MICA_CALL(mica_nodal_points_of(disc->dim, disc->nparticles, disc->x, mine, ng, gx ? gx : disc->qx,
+                                 gw ? gw : disc->qw, &cells));
+  disc->ngauss = disc->nquad;
+  disc->gauss_x = disc->qx, disc->gauss_w = disc->qw;
+  disc->qx = cells.qx, disc->qw = cells.qw;
+  MICA_FREE(disc->qcell);
+  disc->nquad = disc->ncells = cells.n;
+  disc->nodal = cells.cells;
+  return MICA_SUCCESS;
+}
+
+int mica_discretization_nodal_points(MicaDiscretization *disc) {
+  return mica_discretization_nodal_points_from(disc, NULL, disc ? disc->nquad : 0, NULL, NULL);
 }

@@ -198,6 +198,48 @@ static void mesh_source_free(MeshSource *s) {
   memset(s, 0, sizeof *s);
 }
 
+typedef struct {
+  double lo[3], hi[3];
+} Near;
+
+static int keep_near(const double *c, void *ctx) {
+  const Near *b = ctx;
+  for (int d = 0; d < 3; d++)
+    if (!(c[d] >= b->lo[d] && c[d] < b->hi[d])) return 0;
+  return 1;
+}
+
+/* NSNI (docs/theory.md §NSNI, cells from the Gauss points): each owned particle's cell, the Gauss points whose
+ * nearest particle it is, from the elements within two element sizes of the box (every point nearer an owned
+ * particle than any other lies within one element size of the box, and the region holds its nearest particle);
+ * the part's own Gauss points stay the error norms'. */
+static int nsni_cells(MeshSource *s, const MicaCellSpec *cells, const KeepRank *keep) {
+  const int dim = s->disc->dim;
+  const long n = mica_mesh_num_particles(s->region);
+  const double *x = mica_mesh_particles(s->region), e = mica_mesh_element_size(s->region);
+  Near near;
+  MicaMesh *halo = NULL;
+  MicaDiscretization *gauss = NULL;
+  char *mine = NULL;
+  box_bounds(keep->boxes, keep->rank, near.lo, near.hi);
+  for (int d = 0; d < 3; d++) near.lo[d] -= 2 * e, near.hi[d] += 2 * e;
+  int ierr = mica_mesh_part(s->region, keep_near, &near, &halo);
+  if (!ierr) ierr = mica_discretization_create_mesh(halo, cells, 0, &gauss);
+  if (!ierr) ierr = MICA_MALLOC(mine, n + 1);
+  for (long k = 0; !ierr && k < n; k++) mine[k] = (char)(box_of(keep->boxes, x + k * dim) == keep->rank);
+  if (!ierr) { /* the cells' particles: the region's */
+    MICA_FREE(s->disc->x);
+    s->disc->nparticles = n;
+    ierr = MICA_MALLOC(s->disc->x, n * dim + 1);
+  }
+  if (!ierr) memcpy(s->disc->x, x, sizeof(double) * (size_t)(n * dim));
+  if (!ierr) ierr = mica_discretization_nodal_points_from(s->disc, mine, gauss->nquad, gauss->qx, gauss->qw);
+  MICA_FREE(mine);
+  mica_discretization_destroy(&gauss);
+  mica_mesh_destroy(&halo);
+  return ierr;
+}
+
 static int mesh_source_build(const MicaMeshSource *mesh, const MicaCellSpec *cells, const MlsOptions *mls_opt,
                              const MicaOwnedSpec *spec, const KeepRank *keep, double reach, MeshSource *s) {
   const int dim = mica_mesh_source_dim(mesh);
@@ -213,6 +255,7 @@ static int mesh_source_build(const MicaMeshSource *mesh, const MicaCellSpec *cel
              "particles; use fewer ranks", n);
   MICA_CALL(mica_mesh_part(s->region, keep_rank, (void *)keep, &s->part));
   MICA_CALL(mica_discretization_create_mesh(s->part, cells, spec->mesh, &s->disc));
+  if (spec->nodal) MICA_CALL(nsni_cells(s, cells, keep));
   if (spec->error_order > 0) {
     MicaCellSpec e = *cells;
     e.order = spec->error_order;
@@ -226,8 +269,8 @@ static int mesh_source_build(const MicaMeshSource *mesh, const MicaCellSpec *cel
 /* Whether the region is wide enough: every needed particle `margin` of its spacings inside each face of the region
  * that cuts the mesh, and the reach beyond the largest radius in the region plus the element size (the rank's points
  * lie within an element of its box). */
-static int mesh_source_enough(const MeshSource *s, int dim, const double wlo[3], const double whi[3],
-                              const long *needed, long nneeded, double margin, double reach) {
+static int mesh_source_enough(const MeshSource *s, const MicaOwnedSpec *spec, int dim, const double wlo[3],
+                              const double whi[3], const long *needed, long nneeded, double margin, double reach) {
   const double *x = mls_particles(s->mls), *h = mls_spacing(s->mls), *rho = mls_radii(s->mls);
   double hmax = 0, rmax = 0;
   int cut = 0;
@@ -236,7 +279,9 @@ static int mesh_source_enough(const MeshSource *s, int dim, const double wlo[3],
   for (long k = 0; k < mls_num_particles(s->mls) * dim; k++) rmax = fmax(rmax, rho[k]);
   for (long k = 0; k < nneeded; k++)
     for (int d = 0; d < dim; d++) hmax = fmax(hmax, h[needed[k] * dim + d]);
-  if (!(reach > rmax + mica_mesh_element_size(s->region))) return 0;
+  const double e = mica_mesh_element_size(s->region), wider = spec->wider_support > 1 ? spec->wider_support : 1;
+  if (!(reach > wider * rmax + e)) return 0;
+  if (spec->nodal && !(reach > 4 * e)) return 0; /* nsni_cells: the nearest particle of every point it samples */
   for (long k = 0; k < nneeded; k++)
     for (int d = 0; d < dim; d++) {
       const double xd = x[needed[k] * dim + d];
@@ -246,8 +291,26 @@ static int mesh_source_enough(const MeshSource *s, int dim, const double wlo[3],
   return 1;
 }
 
+/* ... and those within spec->wider_support times the supports' radii of the volume points (NSNI's Hessians of a
+ * linear basis come from a quadratic fit on wider supports). */
+static int add_wider_supports(const MeshSource *s, double wider, long **needed, long *nneeded) {
+  const int dim = mls_dim(s->mls);
+  const long n = mls_num_particles(s->mls) * dim;
+  MlsApprox *wide = NULL;
+  double *radii = NULL;
+  int ierr = mls_create(dim, mls_num_particles(s->mls), mls_particles(s->mls), mls_options(s->mls), &wide);
+  if (!ierr) ierr = MICA_MALLOC(radii, n + 1);
+  for (long i = 0; !ierr && i < n; i++) radii[i] = wider * mls_radii(s->mls)[i];
+  if (!ierr) ierr = mls_set_radii(wide, radii);
+  if (!ierr) ierr = parallel_add_supports(wide, &s->zone, s->disc->nquad, s->disc->qx, needed, nneeded);
+  free(radii);
+  mls_destroy(&wide);
+  return ierr;
+}
+
 /* The needed particles (region indices): the owned ones first, then the supports of the rank's points. */
-static int mesh_needed(const MeshSource *s, const MeshBoxes *boxes, int rank, long **needed, long *nneeded) {
+static int mesh_needed(const MeshSource *s, const MicaOwnedSpec *spec, const MeshBoxes *boxes, int rank,
+                       long **needed, long *nneeded) {
   const MicaDiscretization *d = s->disc;
   const int dim = d->dim;
   const long n = mica_mesh_num_particles(s->region);
@@ -270,6 +333,8 @@ static int mesh_needed(const MeshSource *s, const MeshBoxes *boxes, int rank, lo
   MICA_CALL(parallel_add_supports(s->mls, &s->zone, d->nquad, d->qx, needed, nneeded));
   MICA_CALL(parallel_add_set_supports(s->mls, &s->zone, d, needed, nneeded));
   if (s->error) MICA_CALL(parallel_add_supports(s->mls, &s->zone, s->error->nquad, s->error->qx, needed, nneeded));
+  if (d->gauss_x) MICA_CALL(parallel_add_supports(s->mls, &s->zone, d->ngauss, d->gauss_x, needed, nneeded));
+  if (spec->wider_support > 1) MICA_CALL(add_wider_supports(s, spec->wider_support, needed, nneeded));
   return MICA_SUCCESS;
 }
 
@@ -293,8 +358,8 @@ static int mesh_source_create(const MicaMeshSource *mesh, const MicaCellSpec *ce
   double reach = h * (dilation + margin + 2);
   for (;;) {
     MICA_CALL(mesh_source_build(mesh, cells, mls_opt, spec, keep, reach, s));
-    MICA_CALL(mesh_needed(s, keep->boxes, keep->rank, needed, nneeded));
-    if (mesh_source_enough(s, dim, wlo, whi, *needed, *nneeded, margin, reach)) return MICA_SUCCESS;
+    MICA_CALL(mesh_needed(s, spec, keep->boxes, keep->rank, needed, nneeded));
+    if (mesh_source_enough(s, spec, dim, wlo, whi, *needed, *nneeded, margin, reach)) return MICA_SUCCESS;
     mesh_source_free(s);
     free(*needed);
     *needed = NULL;
@@ -448,7 +513,8 @@ int mica_distribution_create_owned_mesh(const MicaMeshSource *mesh, const MicaCe
                                         const MlsOptions *mls_opt, const MicaOwnedSpec *spec,
                                         MicaDistribution **out) {
   *out = NULL;
-  MICA_CHECK(!spec->nodal, MICA_ERR_ARGUMENT, "mica_distribution_create_owned_mesh: no nodal quadrature on a mesh");
+  MICA_CHECK(!spec->nodal || (spec->centroids && !spec->cell_boundaries), MICA_ERR_ARGUMENT,
+             "mica_distribution_create_owned_mesh: of the nodal modes only NSNI's cells from the Gauss points");
   MeshBuild b = {mesh, cells, mls_opt, spec};
   return parallel_owned_create(build_mesh, &b, spec, out);
 }
