@@ -206,6 +206,9 @@ int geom_mesh_dimension(const GmshMesh *mesh);
 int geom_mesh_check_dimension(const GmshMesh *mesh);
 /* Centroid of element e (the mean of its nodes). */
 void geom_mesh_centroid(const GmshMesh *mesh, long e, double c[3]);
+/* The per-element arrays (type, entities, tag, line, node_start) grown to `capacity` elements (node_start[0] = 0
+ * the first time). */
+int gmsh_mesh_grow_elements(GmshMesh *mesh, long capacity);
 /* A MicaMesh's elements (mesh_part.c). */
 const GmshMesh *geom_mesh_of(const MicaMesh *mesh);
 /* The mesh's elements of dimension dim as an output mesh on the particles (cell_mesh.c). */

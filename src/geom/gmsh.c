@@ -456,34 +456,35 @@ static int read_nodes(GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw) {
 
 /* ---- elements ---- */
 
+int gmsh_mesh_grow_elements(GmshMesh *mesh, long capacity) {
+  const int first = mesh->node_start == NULL;
+  MICA_CALL(MICA_REALLOC(mesh->type, capacity + 1));
+  MICA_CALL(MICA_REALLOC(mesh->entity_dim, capacity + 1));
+  MICA_CALL(MICA_REALLOC(mesh->entity_tag, capacity + 1));
+  MICA_CALL(MICA_REALLOC(mesh->tag, capacity + 1));
+  MICA_CALL(MICA_REALLOC(mesh->line, capacity + 1));
+  MICA_CALL(MICA_REALLOC(mesh->node_start, capacity + 1));
+  if (first) mesh->node_start[0] = 0;
+  return MICA_SUCCESS;
+}
+
+/* The arrays of `capacity` elements, and 2.2's physical tags beside them. */
+static int grow_elements(GmshMesh *mesh, GmshRawTags *raw, long capacity) {
+  MICA_CALL(gmsh_mesh_grow_elements(mesh, capacity));
+  MICA_CALL(MICA_REALLOC(raw->elem_phys, capacity + 1));
+  raw->elements_capacity = capacity;
+  return MICA_SUCCESS;
+}
+
 int gmsh_elements_alloc(const GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw, long n) {
   raw->elements_capacity = 0, raw->elements_read = 0;
   mesh->nelements = 0;
-  MICA_CALL(MICA_CALLOC(mesh->node_start, 1));
-  if (rd->filter) return MICA_SUCCESS; /* grown as elements are kept */
-  MICA_CALL(MICA_MALLOC(mesh->type, n + 1));
-  MICA_CALL(MICA_MALLOC(mesh->entity_dim, n + 1));
-  MICA_CALL(MICA_MALLOC(mesh->entity_tag, n + 1));
-  MICA_CALL(MICA_MALLOC(mesh->tag, n + 1));
-  MICA_CALL(MICA_MALLOC(mesh->line, n + 1));
-  MICA_CALL(MICA_REALLOC(mesh->node_start, n + 1));
-  MICA_CALL(MICA_MALLOC(raw->elem_phys, n + 1));
-  raw->elements_capacity = n;
-  return MICA_SUCCESS;
+  return grow_elements(mesh, raw, rd->filter ? 0 : n); /* a filter: grown as elements are kept */
 }
 
 int gmsh_element_reserve(GmshMesh *mesh, GmshRawTags *raw) {
   if (mesh->nelements < raw->elements_capacity) return MICA_SUCCESS;
-  const long capacity = 2 * raw->elements_capacity + 1024;
-  MICA_CALL(MICA_REALLOC(mesh->type, capacity));
-  MICA_CALL(MICA_REALLOC(mesh->entity_dim, capacity));
-  MICA_CALL(MICA_REALLOC(mesh->entity_tag, capacity));
-  MICA_CALL(MICA_REALLOC(mesh->tag, capacity));
-  MICA_CALL(MICA_REALLOC(mesh->line, capacity));
-  MICA_CALL(MICA_REALLOC(mesh->node_start, capacity + 1));
-  MICA_CALL(MICA_REALLOC(raw->elem_phys, capacity));
-  raw->elements_capacity = capacity;
-  return MICA_SUCCESS;
+  return grow_elements(mesh, raw, 2 * raw->elements_capacity + 1024);
 }
 
 static int compare_long_value(const void *a, const void *b) {

@@ -131,12 +131,7 @@ static int copy_elements(const GmshMesh *g, const char *keep, GmshMesh *p) {
   long nelem = 0, nconn = 0, *node_map = NULL;
   for (long e = 0; e < g->nelements; e++)
     if (keep[e]) nelem++, nconn += g->node_start[e + 1] - g->node_start[e];
-  MICA_CALL(MICA_MALLOC(p->type, nelem + 1));
-  MICA_CALL(MICA_MALLOC(p->entity_dim, nelem + 1));
-  MICA_CALL(MICA_MALLOC(p->entity_tag, nelem + 1));
-  MICA_CALL(MICA_MALLOC(p->tag, nelem + 1));
-  MICA_CALL(MICA_MALLOC(p->line, nelem + 1));
-  MICA_CALL(MICA_CALLOC(p->node_start, nelem + 1));
+  MICA_CALL(gmsh_mesh_grow_elements(p, nelem));
   MICA_CALL(MICA_MALLOC(p->node, nconn + 1));
   MICA_CALL(MICA_MALLOC(node_map, g->nnodes + 1));
   for (long i = 0; i < g->nnodes; i++) node_map[i] = -1;
