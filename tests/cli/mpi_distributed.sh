@@ -32,10 +32,11 @@
 #     multipliers at P = 2, 3; the cube of cube.geo (meshed on every rank) at P = 2-4 with MUMPS and 2, 4 with GAMG
 #     (1e-7), error norms on quadrature.error_order's points; the ranks' counts sum to the serial ones, each rank
 #     holds fewer than 0.6 of the particles at P = 4; the region reads of cube.msh and of a 2.2 file at P = 2-4;
+#     NSNI (cells from the Gauss points) on Kirsch (quadratic) at P = 2-4 and on the cube (linear: symmetric VCI);
 #   - the irregular layout (drawn whole on every rank, each particle owned by the block of its nearest grid point):
 #     Cook at P = 1-4, the 3-D cube (error norms) and the plate with a hole at P = 2, 4, with VCI, within 1e-10;
-#   - what the distributed mode does not cover yet is refused: exit 2, the deck line named (the nodal modes on a
-#     Gmsh mesh or an irregular layout).
+#   - what the distributed mode does not cover yet is refused: exit 2, the deck line named (the nodal modes on an
+#     irregular layout).
 # `timeout` only keeps a hang from blocking the suite: no check depends on time.
 source "$(dirname "$0")/common.bash"
 work="$(cd "$(dirname "$OUT_DIR")" 2>/dev/null && pwd)/$(basename "$OUT_DIR")/mpi_distributed"
@@ -461,6 +462,21 @@ for np in 2 4; do
   same "$work/cube_gmsh" "$work/cube_gmsh-$np-gamg" "$np" 1e-7
 done
 rank_counts "$work/cube_gmsh" "$work/cube_gmsh-4-gamg"
+# NSNI on a Gmsh mesh (cells from the Gauss points nearest to each particle, each rank from the elements around its
+# box): Kirsch (quadratic basis, Petrov–Galerkin VCI; serial UMFPACK) at P = 2-4 and the cube of cube.geo (linear
+# basis: symmetric VCI with MUMPS over the ranks, the Hessians' wider supports; serial CHOLMOD) at P = 2, 4
+REFERENCE=umfpack serial "$work/kirsch_nsni" input/plate_hole_gmsh.cfg --set quadrature.mode=\"nsni\"
+for np in 2 3 4; do
+  distributed "$np" "$work/kirsch_nsni-$np" input/plate_hole_gmsh.cfg --set quadrature.mode=\"nsni\" --set solver.petsc=\"mumps\"
+  same "$work/kirsch_nsni" "$work/kirsch_nsni-$np" "$np" 1e-10
+done
+serial "$work/cube_gmsh_nsni" tests/decks/parallel/cube_gmsh.cfg --set quadrature.mode=\"nsni\"
+[ "$(json_value vci_symmetric "$work/cube_gmsh_nsni/summary.json")" = true ] || fail "cube_gmsh_nsni: not the symmetric VCI"
+for np in 2 4; do
+  distributed "$np" "$work/cube_gmsh_nsni-$np" tests/decks/parallel/cube_gmsh.cfg --set quadrature.mode=\"nsni\" \
+    --set solver.petsc=\"mumps\"
+  same "$work/cube_gmsh_nsni" "$work/cube_gmsh_nsni-$np" "$np" 1e-10
+done
 # the region reads of a 3-D .msh file (cube.msh) and of a 2.2 file (plate_hole_v22.msh, whose groups live on its
 # elements): MUMPS at P = 2-4
 sed "s|\"../../../input/meshes/cube.geo\"; mesh_size_factor = 0.5;|\"$PWD/input/meshes/cube.msh\";|" \
@@ -504,12 +520,6 @@ refuse umfpack 'solver.linear is not available with parallel.data = "distributed
   'solver = { linear = "umfpack"; steps = 1; };'
 refuse irregular_nsni 'quadrature.mode is not available' "$pd" 'particles = { count = [9, 9]; layout = "irregular"; };' \
   'quadrature = { mode = "nsni"; };'
-# a Gmsh mesh takes Gauss points in its elements: nodal quadrature refused, naming quadrature.mode
-gmsh_nodal="$work/gmsh_nodal.cfg"
-{ grep -v '^quadrature' input/plate_hole_gmsh.cfg | sed "s|\"meshes/plate_hole.msh\"|\"$PWD/input/meshes/plate_hole.msh\"|"
-  echo 'parallel = { data = "distributed"; };'; echo 'quadrature = { mode = "nsni"; };'; } > "$gmsh_nodal"
-expect_failure 2 "$gmsh_nodal:$(wc -l < "$gmsh_nodal"): quadrature.mode is not available with parallel.data = \"distributed\"" -- \
-  "${MPIRUN[@]}" -np 2 "$MICA" run "$gmsh_nodal" -o "$work/gmsh_nodal" --set output.monitor=false
 # ---- rigid motions: checked on the ranks' shares of the sets, the sums over all ranks --------------------------
 # Cook's membrane with ux alone on its left edge leaves the translation in y free. At P = 2, 3 some ranks hold none
 # of that edge's points and the others part of it (no rank builds a whole set); the message is the serial one,
