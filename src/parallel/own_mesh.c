@@ -3,7 +3,7 @@
  * their centroid, and the boundary elements by the owner of the volume element they bound.
  *
  * The boxes: P factored into blocks per axis (mica_block_split, on the bounding box measured in mean spacings), then
- * cut by coordinates as a recursive coordinate bisection would, but axis after axis: slabs of equal particle counts
+ * cut by coordinates as a recursive coordinate bisection would, but axis after axis: slabs of equal node counts
  * along x, columns of equal counts along y within each slab, blocks along z within each column. A cut lies halfway
  * between two distinct coordinates, so a particle's block follows from its coordinates and the O(P) cuts alone.
  *
