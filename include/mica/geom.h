@@ -297,6 +297,10 @@ int mica_mesh_source_close(MicaMeshSource **source);
 int mica_mesh_source_dim(const MicaMeshSource *source);
 const MicaMesh *mica_mesh_source_names(const MicaMeshSource *source);
 const double *mica_mesh_source_sample(const MicaMeshSource *source, long *n);
+/* The counts the first pass saw: nodes, volume elements and boundary elements (a 2.2 file: an element once per
+ * physical group it is in), for the cost estimate. */
+void mica_mesh_source_counts(const MicaMeshSource *source, long *nodes, long *volume_elements,
+                             long *boundary_elements);
 /* The bounding box of the mesh's nodes. */
 void mica_mesh_source_bounds(const MicaMeshSource *source, double lower[3], double upper[3]);
 /* The region [lo, hi) of the mesh: its nodes there and the elements whose nodes all lie there, with the particles

@@ -100,20 +100,23 @@ static int support_counts(const MicaDeck *deck, const MicaShapeSpec *shape, cons
   return MICA_SUCCESS;
 }
 
-/* Particles, volume and boundary points of a built-in shape from its counts (disc == NULL), or of a
- * discretization already built (a Gmsh mesh: the file's size is bounded by limits.mesh_mb). */
+void run_mesh_counts(const MicaDiscretization *disc, RunMeshCounts *c) {
+  *c = (RunMeshCounts){disc->dim, (double)disc->nparticles, (double)disc->ncells, (double)disc->nquad, 0};
+  for (int s = 0; s < disc->nsets; s++) c->boundary_points += (double)disc->sets[s].n;
+}
+
+/* Particles, volume and boundary points of a built-in shape from its counts (mesh == NULL), or of a Gmsh mesh's
+ * (the file's size is bounded by limits.mesh_mb). */
 static int point_counts(const MicaDeck *deck, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
-                        const MicaDiscretization *disc, int dim, double *count, RunEstimate *est) {
+                        const RunMeshCounts *mesh, int dim, double *count, RunEstimate *est) {
   long error_order;
   MICA_CALL(mica_deck_int(deck, "quadrature.error_order", &error_order));
   const int border = cells->boundary_order > 0 ? cells->boundary_order : cells->order;
-  if (disc) {
-    est->particles = (double)disc->nparticles, est->points = (double)disc->nquad;
-    est->boundary_points = 0;
-    for (int s = 0; s < disc->nsets; s++) est->boundary_points += (double)disc->sets[s].n;
+  if (mesh) {
+    est->particles = mesh->particles, est->points = mesh->points, est->boundary_points = mesh->boundary_points;
     const double side = pow(est->particles, 1.0 / dim);
     for (int d = 0; d < dim; d++) count[d] = side;
-    est->points += (double)disc->ncells * pow((double)error_order, dim);
+    est->points += mesh->cells * pow((double)error_order, dim);
     return MICA_SUCCESS;
   }
   double particles = 1, ncells = 1, faces = 0;
@@ -181,12 +184,12 @@ static void estimate_cost(int dim, int ncomp, int second, double coupled, RunEst
 }
 
 int run_estimate(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
-                 const MicaCellSpec *cells, const MicaDiscretization *disc, RunEstimate *est) {
+                 const MicaCellSpec *cells, const RunMeshCounts *mesh, RunEstimate *est) {
   memset(est, 0, sizeof *est);
-  const int dim = disc ? disc->dim : shape->dim;
+  const int dim = mesh ? mesh->dim : shape->dim;
   double count[3] = {1, 1, 1}, coupled = 0;
   int axisymmetric = 0, second = 0, ncomp = 0;
-  MICA_CALL(point_counts(deck, layout, cells, disc, dim, count, est));
+  MICA_CALL(point_counts(deck, layout, cells, mesh, dim, count, est));
   MICA_CALL(support_counts(deck, shape, count, dim, &est->support, &coupled));
   MICA_CALL(mica_deck_bool(deck, "geometry.axisymmetric", &axisymmetric));
   MICA_CALL(model_unknowns(deck, axisymmetric ? 3 : dim, &ncomp, &second));

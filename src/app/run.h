@@ -28,9 +28,16 @@ typedef struct RunEstimate {
                                   (a direct method: MUMPS's factor estimated like CHOLMOD's) or "petsc-iterative" */
   int petsc_copy;              /* solver.linear = "petsc": PETSc's copy of the matrix */
 } RunEstimate;
-/* From a built-in shape's counts (disc NULL) or a discretization's (a Gmsh mesh). */
+/* A Gmsh mesh's counts for the estimate: of its discretization once built (run_mesh_counts), or of its reader's
+ * first pass under parallel.data = "distributed" (nodes for particles, volume elements for cells). */
+typedef struct {
+  int dim;
+  double particles, cells, points, boundary_points;
+} RunMeshCounts;
+void run_mesh_counts(const MicaDiscretization *disc, RunMeshCounts *c);
+/* From a built-in shape's counts (mesh NULL) or a Gmsh mesh's. */
 int run_estimate(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
-                 const MicaCellSpec *cells, const MicaDiscretization *disc, RunEstimate *est);
+                 const MicaCellSpec *cells, const RunMeshCounts *mesh, RunEstimate *est);
 /* MICA_ERR_INPUT with the deck line of particles.count (or geometry.mesh; layout NULL), the estimate and the
  * setting to change when est->bytes exceeds limits.memory_gb (default: the physical memory). */
 int run_estimate_guard(const MicaDeck *deck, const MicaLayoutSpec *layout, int dim, const RunEstimate *est);

@@ -5,6 +5,7 @@
  * body that probes are tested against. */
 #include <libgen.h>
 #include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <strings.h>
@@ -208,16 +209,25 @@ static int names_only(const MicaDeck *deck, int fe, int *yes) {
 
 /* A Gmsh mesh: its reader's first pass (groups, dimension, sample), kept for the distribution (rp->mesh_source), and
  * the sets' names. */
-static int mesh_names_only(const MicaShapeSpec *shape, const MicaCellSpec *cells, RunProblem *rp) {
+static int mesh_names_only(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                           const MicaCellSpec *cells, RunProblem *rp) {
   MICA_CALL(mica_mesh_source_open(shape, &rp->mesh_source));
-  return mica_discretization_create_mesh(mica_mesh_source_names(rp->mesh_source), cells, 0, &rp->disc);
+  MICA_CALL(mica_discretization_create_mesh(mica_mesh_source_names(rp->mesh_source), cells, 0, &rp->disc));
+  /* the cost guard from the first pass's counts: every node a particle, order^dim points per element */
+  long nodes, volume, boundary;
+  const int dim = rp->disc->dim, border = cells->boundary_order > 0 ? cells->boundary_order : cells->order;
+  mica_mesh_source_counts(rp->mesh_source, &nodes, &volume, &boundary);
+  const RunMeshCounts counts = {dim, (double)nodes, (double)volume, (double)volume * pow(cells->order, dim),
+                                (double)boundary * pow(border, dim - 1)};
+  MICA_CALL(run_estimate(deck, shape, layout, cells, &counts, &rp->estimate));
+  return run_estimate_guard(deck, NULL, dim, &rp->estimate);
 }
 
 /* The empty block: the grids' sizes and the boundary sets' names, no particle, cell or point (nothing of the body's
  * size; the checks that need the sets' points sum the ranks' shares later: run_check_rigid). */
-static int build_names_only(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
-                            RunProblem *rp) {
-  if (shape->kind == MICA_SHAPE_GMSH) return mesh_names_only(shape, cells, rp);
+static int build_names_only(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+                            const MicaCellSpec *cells, RunProblem *rp) {
+  if (shape->kind == MICA_SHAPE_GMSH) return mesh_names_only(deck, shape, layout, cells, rp);
   MicaGridBlock block;
   MicaLayoutSpec grid = *layout; /* an irregular layout: the sets of the regular one of the same counts */
   if (grid.kind == MICA_LAYOUT_IRREGULAR) grid.kind = MICA_LAYOUT_REGULAR;
@@ -241,7 +251,7 @@ int run_build_geometry(const MicaDeck *deck, RunProblem *rp) {
   int only_names;
   MICA_CALL(names_only(deck, fe, &only_names));
   if (only_names) {
-    MICA_CALL(build_names_only(&shape, &layout, &cells, rp));
+    MICA_CALL(build_names_only(deck, &shape, &layout, &cells, rp));
     MICA_CALL(run_read_integration(deck, &shape, &layout, &cells, 0, rp));
     MICA_CALL(read_axisymmetric(deck, rp)); /* the flag (and the section's dimension); the ranks revolve their points */
     rp->time_discretize = mica_wtime() - start;
@@ -249,7 +259,9 @@ int run_build_geometry(const MicaDeck *deck, RunProblem *rp) {
   }
   MICA_CALL(mica_discretization_create(&shape, &layout, &cells, &rp->disc));
   if (shape.kind == MICA_SHAPE_GMSH) { /* the counts are the mesh's: estimated once it is read */
-    MICA_CALL(run_estimate(deck, &shape, &layout, &cells, rp->disc, &rp->estimate));
+    RunMeshCounts counts;
+    run_mesh_counts(rp->disc, &counts);
+    MICA_CALL(run_estimate(deck, &shape, &layout, &cells, &counts, &rp->estimate));
     MICA_CALL(run_estimate_guard(deck, NULL, rp->disc->dim, &rp->estimate));
   }
   if (fe) MICA_CALL(run_build_fe(&layout, &cells, fe_order, rp));

@@ -166,6 +166,7 @@ typedef struct {
   int (*keep)(const double x[3], void *ctx);
   void *ctx;
   int max_dim; /* out: the largest dimension of the file's elements, kept or not */
+  long nodes_read, elements_of_dim[4]; /* out: the file's nodes and elements (of each dimension), kept or not */
 } GmshFilter;
 /* A .msh file read through a filter (not a .geo): the kept nodes keep their positions in $Nodes as node_key; every
  * physical group is named (a 2.2 file: an entity for each) whether or not its elements are kept; the file is mapped,

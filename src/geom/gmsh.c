@@ -403,6 +403,7 @@ int gmsh_nodes_alloc(const GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw, lon
 
 int gmsh_node_add(const GmshReader *rd, GmshMesh *mesh, GmshRawTags *raw, long tag, long line, const double x[3],
                   long key) {
+  if (rd->filter) rd->filter->nodes_read++;
   if (rd->filter && !rd->filter->keep(x, rd->filter->ctx)) return MICA_SUCCESS;
   MICA_CALL(reserve_nodes(rd, mesh, raw, mesh->nnodes + 1));
   const long i = mesh->nnodes++;
@@ -496,6 +497,7 @@ int gmsh_element_kept(GmshReader *rd, GmshRawTags *raw, int type, const long *ta
   raw->elements_read++;
   if (!rd->filter) return 1;
   if (gmsh_element_dim(type) > rd->filter->max_dim) rd->filter->max_dim = gmsh_element_dim(type);
+  rd->filter->elements_of_dim[gmsh_element_dim(type) & 3]++;
   for (int j = 0; j < k; j++)
     if (!bsearch(&tags[j], raw->kept_tags, (size_t)raw->nkept_tags, sizeof(long), compare_long_value)) return 0;
   return 1;
@@ -827,7 +829,8 @@ int gmsh_read_filtered(const char *path, GmshFilter *filter, GmshMesh *mesh) {
   memset(mesh, 0, sizeof *mesh);
   snprintf(mesh->path, sizeof mesh->path, "%s", path);
   MICA_CHECK(!is_geo(path), MICA_ERR_ARGUMENT, "gmsh_read_filtered: %s is a .geo, not a mesh file", path);
-  filter->max_dim = 0;
+  filter->max_dim = 0, filter->nodes_read = 0;
+  memset(filter->elements_of_dim, 0, sizeof filter->elements_of_dim);
   const int ierr = read_msh(path, filter, mesh);
   if (ierr) gmsh_free(mesh);
   return ierr;

@@ -275,6 +275,8 @@ struct MicaMeshSource {
   long nsample;
   double *sample;  /* [nsample·dim] node coordinates, the same on every rank */
   double lower[3], upper[3]; /* the nodes' bounding box */
+  long nodes, volume_elements, boundary_elements; /* counted by the first pass (a 2.2 file: an element once per
+                                                     physical group it is in) */
 };
 
 enum { SAMPLE_MAX = 1 << 18 }; /* about 1 % of a box's count at 256 ranks of 10^7 nodes each */
@@ -316,6 +318,9 @@ static int first_pass(MicaMeshSource *src) {
     else ierr = region_finish(&g, filter.max_dim, &src->names);
   }
   src->dim = filter.max_dim, src->nsample = sampler.n;
+  src->nodes = filter.nodes_read;
+  src->volume_elements = filter.elements_of_dim[src->dim & 3];
+  src->boundary_elements = src->dim >= 1 ? filter.elements_of_dim[(src->dim - 1) & 3] : 0;
   memcpy(src->lower, sampler.lower, sizeof src->lower);
   memcpy(src->upper, sampler.upper, sizeof src->upper);
   if (!ierr) ierr = MICA_MALLOC(src->sample, sampler.n * src->dim + 1);
@@ -330,6 +335,11 @@ static int whole_sample(MicaMeshSource *src) {
   const MicaMesh *w = src->whole;
   const long stride = w->nparticles / SAMPLE_MAX + 1;
   src->dim = mica_mesh_dim(w);
+  src->nodes = w->nparticles;
+  for (long e = 0; e < w->gmsh.nelements; e++) {
+    src->volume_elements += gmsh_element_dim(w->gmsh.type[e]) == src->dim;
+    src->boundary_elements += gmsh_element_dim(w->gmsh.type[e]) == src->dim - 1;
+  }
   src->nsample = (w->nparticles + stride - 1) / stride;
   MICA_CALL(MICA_MALLOC(src->sample, src->nsample * src->dim + 1));
   for (long i = 0; i < src->nsample; i++)
@@ -374,6 +384,10 @@ int mica_mesh_source_close(MicaMeshSource **src) {
 
 int mica_mesh_source_dim(const MicaMeshSource *src) { return src->dim; }
 const MicaMesh *mica_mesh_source_names(const MicaMeshSource *src) { return src->names; }
+
+void mica_mesh_source_counts(const MicaMeshSource *src, long *nodes, long *volume_elements, long *boundary_elements) {
+  *nodes = src->nodes, *volume_elements = src->volume_elements, *boundary_elements = src->boundary_elements;
+}
 
 void mica_mesh_source_bounds(const MicaMeshSource *src, double lower[3], double upper[3]) {
   memcpy(lower, src->lower, sizeof src->lower);

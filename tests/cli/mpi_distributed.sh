@@ -28,7 +28,7 @@
 #   - collocation (a ghost's rows emptied, a shared vertex's row written in shares) as serially at P = 2-4;
 #   - Gmsh meshes (coordinate boxes of equal particle counts, elements by their centroids): Kirsch's plate from
 #     plate_hole.msh (VCI on) at P = 1-4 within 1e-10 with MUMPS, its mesh pieces and SCF probe (a probe outside
-#     every rank's part refused as serially), with Lagrange
+#     every rank's part refused as serially; the cost guard's estimate the serial one), with Lagrange
 #     multipliers at P = 2, 3; the cube of cube.geo (meshed on every rank) at P = 2-4 with MUMPS and 2, 4 with GAMG
 #     (1e-7), error norms on quadrature.error_order's points; the ranks' counts sum to the serial ones, each rank
 #     holds fewer than 0.6 of the particles at P = 4; the region reads of cube.msh and of a 2.2 file at P = 2-4;
@@ -440,6 +440,18 @@ expect_failure 2 "probe 'out' at (0.5, 0.5) lies outside the body, the elements 
   "${MPIRUN[@]}" -np 3 "$MICA" run input/plate_hole_gmsh.cfg -o "$work/kirsch_out" "${Q[@]}" "${D[@]}" \
   --set 'output.probes=({ name = "out"; point = ["0.5", "0.5"]; field = "sxx"; })'
 [ ! -e "$work/kirsch_out" ] || fail "the refused probe left $work/kirsch_out"
+# the cost guard from the reader's first pass (no rank reads the whole mesh for it): the serial estimate with the
+# same solver, and its refusal at the deck's line
+"$MICA" check input/plate_hole_gmsh.cfg -o "$work/kirsch_estimate" "${Q[@]}" --set solver.linear=\"petsc\" \
+  > "$work/kirsch_estimate.log" 2>&1 || fail "kirsch_estimate: $(tail -n 2 "$work/kirsch_estimate.log")"
+"${MPIRUN[@]}" -np 2 "$MICA" check input/plate_hole_gmsh.cfg -o "$work/kirsch_estimate-2" "${Q[@]}" "${D[@]}" \
+  > "$work/kirsch_estimate-2.log" 2>&1 || fail "kirsch_estimate-2: $(tail -n 2 "$work/kirsch_estimate-2.log")"
+a=$(json_value estimate_memory "$work/kirsch_estimate/summary.json"); b=$(json_value estimate_memory "$work/kirsch_estimate-2/summary.json")
+[ -n "$a" ] && [ "$a" = "$b" ] || fail "the distributed Gmsh estimate $b, serially $a"
+ok "the distributed Gmsh deck's estimate is the serial one ($a bytes)"
+expect_failure 2 "plate_hole_gmsh.cfg:9: geometry.mesh = \"meshes/plate_hole.msh\" needs about" -- \
+  "${MPIRUN[@]}" -np 2 "$MICA" check input/plate_hole_gmsh.cfg -o "$work/kirsch_guard" "${Q[@]}" "${D[@]}" \
+  --set limits.memory_gb=0.001
 REFERENCE=umfpack serial "$work/kirsch_lagrange" input/plate_hole_gmsh.cfg --set bc.method=\"lagrange\"
 for np in 2 3; do
   distributed "$np" "$work/kirsch_lagrange-$np" input/plate_hole_gmsh.cfg --set bc.method=\"lagrange\" \
