@@ -403,6 +403,7 @@ static int ghost_positions(long n, const int *owner, const long *key, long nowne
       ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_ARGUMENT, "ghost with key %ld: rank %d owns no "
                             "such particle", key[i], owner[i]);
   }
+  ierr = mica_parallel_agree(ierr); /* the ranks go on to collectives together, or stop together */
 cleanup:
   free(sc), free(sd), free(rc), free(rd), free(send), free(recv), free(slot);
   return ierr;
@@ -485,7 +486,8 @@ static int build_owned_mesh(const MicaMeshSource *mesh, const MicaCellSpec *cell
   if (!ierr) ierr = mesh_source_create(mesh, cells, mls_opt, spec, &keep, &src, &needed, &nneeded);
   if (!ierr) dist->local = src.disc, src.disc = NULL;
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
-  MICA_CALL_CLEANUP(mesh_local_particles(&src, &boxes, needed, nneeded, dist, &map, &offsets));
+  ierr = mesh_local_particles(&src, &boxes, needed, nneeded, dist, &map, &offsets);
+  MICA_CALL_CLEANUP(mica_parallel_agree(ierr)); /* before the sum below */
   /* the uncovered boundary faces: each rank's part counted those centred in its box */
   dist->local->boundary_uncovered = mica_parallel_sum_long(dist->local->boundary_uncovered);
   dist->cells_mesh = src.part, src.part = NULL; /* the rank's elements: the error norms' points */
