@@ -6,7 +6,8 @@
 # (cholmod, umfpack) under mpirun is a deck error with the remedy. summary.json carries the partition's edge cut and
 # imbalance; files are written once (the fields in pieces, one per rank: mpi_output.sh); a failure injected on
 # rank 1 (MICA_INJECT_FAILURE) at any phase or a deck error ends every rank with the right exit status, reported
-# once, with nothing published and no scratch directory left — with replicated and with distributed data.
+# once, with nothing published and no scratch directory left — with replicated and with distributed data (a built-in
+# shape's blocks and a Gmsh mesh's regions).
 # `timeout` only keeps a hang from blocking the suite: no check here depends on time.
 source "$(dirname "$0")/common.bash"
 work="$(cd "$(dirname "$OUT_DIR")" 2>/dev/null && pwd)/$(basename "$OUT_DIR")/mpi" # absolute: mpirun's TMPDIR
@@ -118,11 +119,17 @@ ok "-np 3: files and log lines written once"
 # data (the beam) and with distributed data (the cube: each rank its own block, its ghost exchange and PETSc's rows)
 distributed=(tests/decks/parallel/cube.cfg --set "particles.count=[6,6,6]" --set quadrature.order=3
              --set 'parallel.data="distributed"' --set output.mesh=false)
-for data in replicated distributed; do
+# and a Gmsh mesh on distributed data (each rank its region of the file, its ghosts' numbers asked of their owners)
+gmsh=(input/plate_hole_gmsh.cfg --set 'parallel.data="distributed"' --set 'solver.linear="petsc"')
+for data in replicated distributed gmsh; do
   for phase in deck build assemble solve output assemble:exit; do
     d="$work/inject_${data}_$(tr : _ <<<"$phase")"
     rm -rf "$work/tmp" && mkdir -p "$work/tmp"
-    if [ $data = replicated ]; then args=(input/timoshenko.cfg); else args=("${distributed[@]}"); fi
+    case $data in
+      replicated) args=(input/timoshenko.cfg) ;;
+      distributed) args=("${distributed[@]}") ;;
+      gmsh) args=("${gmsh[@]}") ;;
+    esac
     MICA_INJECT_FAILURE=1:$phase "${MPIRUN[@]}" -np 3 "$MICA" run "${args[@]}" -o "$d" \
       --set output.vtu=true > "$d.out" 2> "$d.err"
     rc=$?
