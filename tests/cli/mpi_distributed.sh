@@ -100,6 +100,16 @@ EOF
   ok "$(basename "$dir"): fields${a:+ and error_l2} within $tol of the serial run"
 }
 
+# equal_keys SERIAL DIR KEY...: each summary key of DIR's run equal to SERIAL's (counts: exact)
+equal_keys() {
+  local ref=$1 dir=$2; shift 2
+  for key in "$@"; do
+    local a b
+    a=$(json_value "$key" "$ref/summary.json"); b=$(json_value "$key" "$dir/summary.json")
+    [ "$a" = "$b" ] || fail "$(basename "$dir"): $key $b, serial $a"
+  done
+}
+
 # check_deck NAME TOL KTOL DECK [--set ...]: MUMPS within TOL, GAMG (|r| ≤ 1e-12 |b|) within KTOL
 check_deck() {
   local name=$1 tol=$2 ktol=$3 deck=$4; shift 4
@@ -130,10 +140,7 @@ REFERENCE=umfpack serial "$work/glide" tests/decks/parallel/glide.cfg
 for np in 1 2 3 4; do
   distributed "$np" "$work/glide-$np" tests/decks/parallel/glide.cfg --set solver.petsc=\"mumps\"
   same "$work/glide" "$work/glide-$np" "$np" 1e-10
-  for key in dofs nnz; do
-    [ "$(json_value $key "$work/glide-$np/summary.json")" = "$(json_value $key "$work/glide/summary.json")" ] \
-      || fail "glide-$np: $key $(json_value $key "$work/glide-$np/summary.json"), serial $(json_value $key "$work/glide/summary.json")"
-  done
+  equal_keys "$work/glide" "$work/glide-$np" dofs nnz
 done
 ok "glide: dofs and nnz (multiplier nodes included) as serially at P = 1-4"
 # GAMG cannot precondition the saddle point: refused (exit 2) with the remedy
@@ -234,10 +241,7 @@ for np in 2 4; do
   distributed "$np" "$work/error_order-$np" tests/decks/cosserat/nitsche.cfg --set quadrature.error_order=8 \
     --set solver.petsc=\"mumps\"
   same "$work/error_order" "$work/error_order-$np" "$np" 1e-10
-  for key in error_points multiplier_nodes; do
-    [ "$(json_value $key "$work/error_order-$np/summary.json")" = "$(json_value $key "$work/error_order/summary.json")" ] \
-      || fail "error_order-$np: $key differs from the serial run's"
-  done
+  equal_keys "$work/error_order" "$work/error_order-$np" error_points multiplier_nodes
   for key in error_h1 error_energy; do
     awk -v a="$(json_value $key "$work/error_order/summary.json")" -v b="$(json_value $key "$work/error_order-$np/summary.json")" \
       'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-10) }' || fail "error_order-$np: $key not within 1e-10"
@@ -457,10 +461,7 @@ for np in 2 3; do
   distributed "$np" "$work/kirsch_lagrange-$np" input/plate_hole_gmsh.cfg --set bc.method=\"lagrange\" \
     --set solver.petsc=\"mumps\"
   same "$work/kirsch_lagrange" "$work/kirsch_lagrange-$np" "$np" 1e-10
-  for key in dofs nnz; do
-    [ "$(json_value $key "$work/kirsch_lagrange-$np/summary.json")" = "$(json_value $key "$work/kirsch_lagrange/summary.json")" ] \
-      || fail "kirsch_lagrange-$np: $key differs from the serial run's"
-  done
+  equal_keys "$work/kirsch_lagrange" "$work/kirsch_lagrange-$np" dofs nnz
 done
 REFERENCE=cholmod-sym serial "$work/cube_gmsh" tests/decks/parallel/cube_gmsh.cfg --set quadrature.error_order=3
 for np in 2 3 4; do
