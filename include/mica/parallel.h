@@ -150,7 +150,7 @@ typedef struct MicaParallelStats {
   double time_partition;
 } MicaParallelStats;
 
-/* parallel.data = "distributed" (own.c): the plan of the ghost exchange. A rank's ghosts are owned elsewhere;
+/* parallel.data = "distributed" (own_exchange.c): the plan of the ghost exchange. A rank's ghosts are owned elsewhere;
  * per rank r, the ghosts it receives from r (recv_index: their local particle numbers, grouped by r) and the owned
  * particles it sends to r (send_index), counts and displacements in particles. */
 typedef struct MicaGhostPlan {
@@ -271,7 +271,7 @@ int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOp
  * every entry gathered to a rank by its column and counted there. */
 int mica_parallel_matrix_nnz(const MicaSparse *L, long *nnz);
 /* Collective, distributed data: nnz of the whole tangent whose contributions the ranks' K hold (local numbering),
- * counted at the rows' owners: only the ghost rows' entries travel (own.c). */
+ * counted at the rows' owners: only the ghost rows' entries travel (own_nnz.c). */
 int mica_owned_matrix_nnz(const MicaDistribution *dist, const MicaSparse *K, long *nnz);
 /* Collective: the largest value of v over the ranks (for counts: memory per rank, ...). */
 long mica_parallel_max_long(long v);

@@ -5,7 +5,7 @@
 #include "mica/geom.h"
 #include "mica/parallel.h"
 
-/* own.c: what parallel.data = "distributed" adds to a distribution (its ghost plan, numbering, local MLS). */
+/* own_exchange.c: what parallel.data = "distributed" adds to a distribution (its ghost plans, extra nodes), freed. */
 void parallel_owned_free(MicaDistribution *dist);
 
 /* Where the rank's own particles alone can support a point: no particle of another rank lies within
@@ -23,7 +23,7 @@ int parallel_add_set_supports(const MlsApprox *mls, const OwnedZone *zone, const
 /* dist->mls: the MLS approximation of dist->local's particles with the radii, spacings and weight parameters of
  * particles map[i] of `source` (the approximation they were sized in). */
 int parallel_local_mls(const MlsApprox *source, const MlsOptions *mls_opt, const long *map, MicaDistribution *dist);
-/* The ghost particles' plan: each asked of its owner (partition->part) by its position there, global_node minus
+/* own_exchange.c: the ghost particles' plan: each asked of its owner (partition->part) by its position there, global_node minus
  * offsets[owner] (offsets: the owners' first numbers). */
 int parallel_ghost_plan(MicaDistribution *dist, const long *offsets);
 /* Collective, after agreeing on ierr (the build so far): the local discretization revolved (an axisymmetric
