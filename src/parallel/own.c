@@ -404,6 +404,22 @@ static int add_error_supports(const MicaShapeSpec *shape, const MicaLayoutSpec *
   return ierr;
 }
 
+int parallel_add_wider_supports(const MlsApprox *mls, const OwnedZone *zone, double factor, long n, const double *x,
+                                long **set, long *nset) {
+  const int dim = mls_dim(mls);
+  const long nr = mls_num_particles(mls) * dim;
+  MlsApprox *wide = NULL;
+  double *radii = NULL;
+  int ierr = mls_create(dim, mls_num_particles(mls), mls_particles(mls), mls_options(mls), &wide);
+  if (!ierr) ierr = MICA_MALLOC(radii, nr + 1);
+  for (long i = 0; !ierr && i < nr; i++) radii[i] = factor * mls_radii(mls)[i];
+  if (!ierr) ierr = mls_set_radii(wide, radii);
+  if (!ierr) ierr = parallel_add_supports(wide, zone, n, x, set, nset);
+  free(radii);
+  mls_destroy(&wide);
+  return ierr;
+}
+
 /* ... and of the sets' points and vertices (collocation evaluates the fields at the vertices). */
 int parallel_add_set_supports(const MlsApprox *mls, const OwnedZone *zone, const MicaDiscretization *d, long **needed,
                               long *nneeded) {
@@ -423,18 +439,8 @@ static int add_nodal_supports(const Source *src, const MicaDiscretization *nodal
   if (spec->cell_boundaries)
     MICA_CALL(parallel_add_supports(src->mls, &src->zone, nodal->nodal->ptr[nodal->nodal->n], nodal->nodal->x, needed, nneeded));
   if (!(spec->wider_support > 1)) return MICA_SUCCESS;
-  const int dim = src->disc->dim;
-  const long n = mls_num_particles(src->mls) * dim;
-  MlsApprox *wide = NULL;
-  double *radii = NULL;
-  int ierr = mls_create(dim, mls_num_particles(src->mls), mls_particles(src->mls), mls_options(src->mls), &wide);
-  if (!ierr) ierr = MICA_MALLOC(radii, n + 1);
-  for (long i = 0; !ierr && i < n; i++) radii[i] = spec->wider_support * mls_radii(src->mls)[i];
-  if (!ierr) ierr = mls_set_radii(wide, radii);
-  if (!ierr) ierr = parallel_add_supports(wide, &src->zone, nodal->nquad, nodal->qx, needed, nneeded);
-  free(radii);
-  mls_destroy(&wide);
-  return ierr;
+  return parallel_add_wider_supports(src->mls, &src->zone, spec->wider_support, nodal->nquad, nodal->qx, needed,
+                                     nneeded);
 }
 
 /* The source's particles in the supports of its points: grown until they lie MARGIN layers inside it. nodal: the

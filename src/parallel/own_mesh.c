@@ -291,23 +291,6 @@ static int mesh_source_enough(const MeshSource *s, const MicaOwnedSpec *spec, in
   return 1;
 }
 
-/* ... and those within spec->wider_support times the supports' radii of the volume points (NSNI's Hessians of a
- * linear basis come from a quadratic fit on wider supports). */
-static int add_wider_supports(const MeshSource *s, double wider, long **needed, long *nneeded) {
-  const int dim = mls_dim(s->mls);
-  const long n = mls_num_particles(s->mls) * dim;
-  MlsApprox *wide = NULL;
-  double *radii = NULL;
-  int ierr = mls_create(dim, mls_num_particles(s->mls), mls_particles(s->mls), mls_options(s->mls), &wide);
-  if (!ierr) ierr = MICA_MALLOC(radii, n + 1);
-  for (long i = 0; !ierr && i < n; i++) radii[i] = wider * mls_radii(s->mls)[i];
-  if (!ierr) ierr = mls_set_radii(wide, radii);
-  if (!ierr) ierr = parallel_add_supports(wide, &s->zone, s->disc->nquad, s->disc->qx, needed, nneeded);
-  free(radii);
-  mls_destroy(&wide);
-  return ierr;
-}
-
 /* The needed particles (region indices): the owned ones first, then the supports of the rank's points. */
 static int mesh_needed(const MeshSource *s, const MicaOwnedSpec *spec, const MeshBoxes *boxes, int rank,
                        long **needed, long *nneeded) {
@@ -334,7 +317,8 @@ static int mesh_needed(const MeshSource *s, const MicaOwnedSpec *spec, const Mes
   MICA_CALL(parallel_add_set_supports(s->mls, &s->zone, d, needed, nneeded));
   if (s->error) MICA_CALL(parallel_add_supports(s->mls, &s->zone, s->error->nquad, s->error->qx, needed, nneeded));
   if (d->gauss_x) MICA_CALL(parallel_add_supports(s->mls, &s->zone, d->ngauss, d->gauss_x, needed, nneeded));
-  if (spec->wider_support > 1) MICA_CALL(add_wider_supports(s, spec->wider_support, needed, nneeded));
+  if (spec->wider_support > 1) /* NSNI's Hessians of a linear basis */
+    MICA_CALL(parallel_add_wider_supports(s->mls, &s->zone, spec->wider_support, d->nquad, d->qx, needed, nneeded));
   return MICA_SUCCESS;
 }
 

@@ -17,6 +17,9 @@ typedef struct {
  * holds the owned particles already (a point in the zone has only those). */
 int parallel_add_supports(const MlsApprox *mls, const OwnedZone *zone, long n, const double *x, long **set,
                           long *nset);
+/* ... within factor times the supports' radii (NSNI's Hessians of a linear basis: a quadratic fit on wider supports). */
+int parallel_add_wider_supports(const MlsApprox *mls, const OwnedZone *zone, double factor, long n, const double *x,
+                                long **set, long *nset);
 /* ... of a discretization's boundary points and vertices. */
 int parallel_add_set_supports(const MlsApprox *mls, const OwnedZone *zone, const MicaDiscretization *d, long **needed,
                               long *nneeded);
