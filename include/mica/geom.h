@@ -288,6 +288,14 @@ int mica_mesh_part(const MicaMesh *mesh, MicaMeshKeep keep, void *ctx, MicaMesh 
 /* Each particle's key: its node's position in the whole mesh (a region's particles keep the whole mesh's). */
 const long *mica_mesh_particle_keys(const MicaMesh *mesh);
 
+/* A .geo (shape->mesh_path, with its mesh size factor) meshed by the Gmsh library and written to msh (binary MSH 4.1),
+ * which mica reads as the .geo itself: so that one rank meshes and the others read their regions of the file. */
+int mica_mesh_geo_write(const MicaShapeSpec *shape, const char *msh);
+/* A name ending in .geo (any case): a script that mica has the Gmsh library mesh. */
+int mica_mesh_is_geo(const char *path);
+/* How many .geo files this process meshed with the Gmsh library. */
+long mica_mesh_geo_sessions(void);
+
 /* A Gmsh mesh read in parts: a .msh file in passes through a filter, never whole; a .geo meshed whole, once. Opening
  * reads the groups and the dimension (names: a mesh without elements, whose discretization names every set) and a
  * sample of at most 2^18 node coordinates, the same on every rank. */

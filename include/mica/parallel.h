@@ -100,6 +100,13 @@ int mica_parallel_broadcast(int ierr, double *v, long n, int root);
 /* Collective, after agreeing on ierr: the string *text of rank `root` to all (the others' *text, NULL or
  * allocated, is freed and replaced by a copy). */
 int mica_parallel_broadcast_text(int ierr, char **text, int root);
+/* Collective over the current communicator, after agreeing on ierr: rank 0's directory dir (ignored elsewhere),
+ * which every rank reads and writes (the command's staging directory, where the ranks write their VTU pieces), made
+ * known to all; mica_parallel_shared_dir gives it (NULL: none, e.g. a program that calls the library itself) until
+ * mica_parallel_unshare_dir (not collective). */
+int mica_parallel_share_dir(int ierr, const char *dir);
+const char *mica_parallel_shared_dir(void);
+void mica_parallel_unshare_dir(void);
 /* Collective: each rank's text appended, in rank order, to the file at path (given on rank 0, which has written its
  * part and flushed; ignored elsewhere) — one rank at a time, a token passed along the ranks, so that a table whose
  * rows are spread over the ranks is one file and no rank holds more than its own rows. */

@@ -247,6 +247,7 @@ void run_problem_free(RunProblem *rp) {
   mica_solid_destroy(&rp->solid);
   mica_distribution_destroy(&rp->dist);
   mica_mesh_source_close(&rp->mesh_source);
+  run_mesh_file_remove(rp);
   free(rp->near_null);
   rp->near_null = NULL;
   mica_shape_cache_destroy(&rp->at_particles);

@@ -85,6 +85,8 @@ typedef struct RunProblem {
   MicaDistribution *dist;       /* MPI: the partition and this rank's points (NULL: serial) */
   MicaMeshSource *mesh_source;  /* parallel.data = "distributed" with a Gmsh mesh: its reader (groups, sample),
                                    from the geometry until the distribution has read its part (run_parallel_distribute) */
+  char *mesh_file;              /* a .geo under MPI: the .msh rank 0 had Gmsh write for every rank to read, until
+                                   the distribution has read it (run_mesh_file_remove) */
   const char *integration;      /* quadrature.mode: "gauss", "nodal" or "scni" */
   MicaShapeCache *at_gauss;     /* nodal and scni: MLS shape functions at the background Gauss points, where the
                                    error norms are measured (NULL in gauss mode: the volume cache is there);
@@ -169,6 +171,8 @@ int run_read_layout(const MicaDeck *deck, int dim, int gmsh, MicaLayoutSpec *lay
 int run_guard_cost(const MicaDeck *deck, RunEstimate *est);
 /* The discretization (revolved for an axisymmetric section), with the finite elements or the MLS
  * approximation of problem.method, into rp. */
+/* Rank 0 removes the .msh written for a .geo under MPI (rp->mesh_file), once every rank has read its part. */
+void run_mesh_file_remove(RunProblem *rp);
 int run_build_geometry(const MicaDeck *deck, RunProblem *rp);
 
 /* Builds discretization, MLS, model, conditions and the solid from the deck; with reuse, takes what the

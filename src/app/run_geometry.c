@@ -10,6 +10,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "mica/files.h"
 #include "mica/timer.h"
 #include "run.h"
 #include "study_common.h"
@@ -207,11 +208,35 @@ static int names_only(const MicaDeck *deck, int fe, int *yes) {
   return MICA_SUCCESS;
 }
 
+/* A .geo under MPI is meshed once: rank 0 has Gmsh write it as a .msh file into the command's shared directory (rank
+ * 0's staging directory, which the ranks' VTU pieces need too), and every rank reads its regions of that file as of
+ * any mesh file (same particles, same answers); rank 0 removes it once the ranks hold their parts. Without a shared
+ * directory (a program calling the library itself) every rank meshes the .geo. */
+static int geo_meshed_once(const MicaShapeSpec *shape, RunProblem *rp, MicaShapeSpec *source) {
+  const char *dir = mica_parallel_shared_dir();
+  *source = *shape;
+  if (!mica_mesh_is_geo(shape->mesh_path) || !mica_parallel_active() || !dir) return MICA_SUCCESS;
+  char name[64];
+  snprintf(name, sizeof name, ".mesh-of-geo-%d.msh", mica_parallel_world_rank());
+  int ierr = mica_parallel_rank() == 0 ? mica_path_join(dir, name, &rp->mesh_file) : MICA_SUCCESS;
+  if (!ierr && mica_parallel_rank() == 0) ierr = mica_mesh_geo_write(shape, rp->mesh_file);
+  MICA_CALL(mica_parallel_broadcast_text(ierr, &rp->mesh_file, 0));
+  source->mesh_path = rp->mesh_file, source->mesh_size_factor = 0;
+  return MICA_SUCCESS;
+}
+
+void run_mesh_file_remove(RunProblem *rp) {
+  if (rp->mesh_file && mica_parallel_rank() == 0) remove(rp->mesh_file);
+  MICA_FREE(rp->mesh_file);
+}
+
 /* A Gmsh mesh: its reader's first pass (groups, dimension, sample), kept for the distribution (rp->mesh_source), and
  * the sets' names. */
 static int mesh_names_only(const MicaDeck *deck, const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
                            const MicaCellSpec *cells, RunProblem *rp) {
-  MICA_CALL(mica_mesh_source_open(shape, &rp->mesh_source));
+  MicaShapeSpec source;
+  MICA_CALL(geo_meshed_once(shape, rp, &source));
+  MICA_CALL(mica_mesh_source_open(&source, &rp->mesh_source));
   MICA_CALL(mica_discretization_create_mesh(mica_mesh_source_names(rp->mesh_source), cells, 0, &rp->disc));
   /* the cost guard from the first pass's counts: every node a particle, order^dim points per element */
   long nodes, volume, boundary;

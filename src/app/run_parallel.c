@@ -68,7 +68,8 @@ int run_parallel_distribute(const MicaDeck *deck, RunProblem *rp) {
       MICA_CHECK(rp->mesh_source, MICA_ERR_ARGUMENT, "run_parallel_distribute: the Gmsh mesh's reader was not kept");
       const int ierr = mica_distribution_create_owned_mesh(rp->mesh_source, &cells, &mls_opt, &spec, &rp->dist);
       mica_mesh_source_close(&rp->mesh_source); /* each rank keeps its part (dist->cells_mesh) */
-      MICA_CALL(ierr);
+      MICA_CALL(mica_parallel_agree(ierr));     /* every rank has read the file: a .geo's may go */
+      run_mesh_file_remove(rp);
     } else {
       MICA_CALL(mica_distribution_create_owned(&shape, &layout, &cells, &mls_opt, &spec, &rp->dist));
     }
@@ -131,7 +132,8 @@ int run_parallel_counts(const RunProblem *rp, MicaJson *summary) {
   MICA_CALL(mica_json_number(summary, "time_partition", d->stats.time_partition));
   const long local_nnz = mica_parallel_max_long(rp->solid->K->nnz);
   MICA_CALL(mica_json_int(summary, "nnz_local_max", local_nnz)); /* the largest rank's own contributions */
-  return MICA_SUCCESS;
+  /* how many times the ranks had Gmsh mesh a .geo in this process so far (one rank meshes it: geo_meshed_once) */
+  return mica_json_int(summary, "gmsh_meshings", mica_parallel_sum_long(mica_mesh_geo_sessions()));
 }
 
 int run_build_memory(const RunProblem *rp, MicaJson *summary) {

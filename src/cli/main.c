@@ -296,6 +296,7 @@ static int run_command(const Invocation *inv) {
   if (!ierr) ierr = mica_parallel_inject("deck");
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
   ierr = prepare_outdir(inv, deck, &outdir, &staging);
+  if (mica_parallel_active()) ierr = mica_parallel_share_dir(ierr, root && !ierr ? mica_staging_dir(staging) : NULL);
   if (!ierr) ierr = mica_json_create(&summary);
   if (!ierr) ierr = mica_json_string(summary, "status", "ok");
   if (!ierr) ierr = mica_json_string(summary, "command", inv->command->type.name);
@@ -310,6 +311,7 @@ static int run_command(const Invocation *inv) {
   if (root) ierr = publish(staging, outdir, summary, start, "results");
 cleanup:
   ierr = mica_parallel_agree(ierr); /* every rank passes here once more: a failure of rank 0's publishing */
+  mica_parallel_unshare_dir();
   mica_staging_destroy(&staging); /* the staging directory of a failed run, the old results of a good one */
   free(outdir);
   mica_json_destroy(&summary);

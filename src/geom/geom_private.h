@@ -180,6 +180,10 @@ int gmsh_read(const char *path, double size_factor, GmshMesh *mesh);
 /* The .geo path (gmsh_geo.c): checks the script (gmsh_geo_check), loads the library, meshes in the .geo's
  * dimension and copies nodes, elements and physical groups into mesh as a .msh file of it would hold them. */
 int gmsh_geo_mesh(const char *path, double size_factor, GmshMesh *mesh);
+/* The same mesh written by Gmsh to the file msh (binary MSH 4.1), which gmsh_read gives as gmsh_geo_mesh does. */
+int gmsh_geo_write(const char *path, double size_factor, const char *msh);
+/* How many Gmsh sessions this process ran (each meshes a .geo once). */
+long gmsh_geo_sessions(void);
 /* Refuses a .geo (or a file it includes or merges) that would run a program, end the process or write
  * files: MICA_ERR_INPUT "file:LINE: ..." (gmsh_geo_check.c). */
 int gmsh_geo_check(const char *path);

@@ -52,6 +52,7 @@ typedef struct {
   __typeof__(&gmshLoggerGet) logger_get;
   __typeof__(&gmshLoggerStop) logger_stop;
   __typeof__(&gmshFree) free;
+  __typeof__(&gmshWrite) write;
 } GmshApi;
 
 static GmshApi api; /* loaded once per process */
@@ -113,6 +114,7 @@ static int load_api(const char *geo) {
   LOAD(logger_get, gmshLoggerGet);
   LOAD(logger_stop, gmshLoggerStop);
   LOAD(free, gmshFree);
+  LOAD(write, gmshWrite);
   api = loaded;
   return MICA_SUCCESS;
 }
@@ -328,8 +330,16 @@ cleanup:
 
 /* ---- one session ---- */
 
-/* Opens and meshes the .geo in the current session, then copies the model. */
-static int mesh_model(const char *geo, double size_factor, GmshMesh *mesh, GmshRawTags *raw) {
+/* The meshed model as a binary MSH 4.1 file (Gmsh's own writer, with its rule of the saved entities). */
+static int write_model(const char *geo, const char *msh) {
+  GMSH_CALL(geo, "writing the mesh of", api.set_number("Mesh.MshFileVersion", 4.1, &gmsh_ierr_));
+  GMSH_CALL(geo, "writing the mesh of", api.set_number("Mesh.Binary", 1, &gmsh_ierr_));
+  GMSH_CALL(geo, "writing the mesh of", api.write(msh, &gmsh_ierr_));
+  return check_log(geo, "writing the mesh of");
+}
+
+/* Opens and meshes the .geo in the current session, then copies the model into mesh, or writes it to msh. */
+static int mesh_model(const char *geo, double size_factor, const char *msh, GmshMesh *mesh, GmshRawTags *raw) {
   int dim = 0;
   double factor = 1;
   GMSH_CALL(geo, "reading", api.open(geo, &gmsh_ierr_));
@@ -343,7 +353,7 @@ static int mesh_model(const char *geo, double size_factor, GmshMesh *mesh, GmshR
   }
   GMSH_CALL(geo, "meshing", api.generate(dim, &gmsh_ierr_));
   MICA_CALL(check_log(geo, "meshing"));
-  return copy_model(geo, mesh, raw);
+  return msh ? write_model(geo, msh) : copy_model(geo, mesh, raw);
 }
 
 typedef struct {
@@ -370,10 +380,13 @@ static void restore_state(ProcessState *st) {
   MICA_FREE(st->locale);
 }
 
-static int session(const char *geo, double size_factor, GmshMesh *mesh, GmshRawTags *raw) {
+static long sessions; /* of this process, for gmsh_geo_sessions */
+
+static int session(const char *geo, double size_factor, const char *msh, GmshMesh *mesh, GmshRawTags *raw) {
   int ierr = MICA_SUCCESS, gierr = 0;
   ProcessState st;
   MICA_CALL(save_state(&st));
+  sessions++;
   api.initialize(0, NULL, 0, &gierr); /* 0: not the user's gmshrc and gmsh-options files */
   if (gierr) {
     ierr = library_error(geo, "starting for");
@@ -384,7 +397,7 @@ static int session(const char *geo, double size_factor, GmshMesh *mesh, GmshRawT
   api.set_number("General.Verbosity", 2, &gierr); /* errors and warnings */
   api.set_number("General.AbortOnError", 0, &gierr);
   api.logger_start(&gierr);
-  ierr = gierr ? library_error(geo, "starting for") : mesh_model(geo, size_factor, mesh, raw);
+  ierr = gierr ? library_error(geo, "starting for") : mesh_model(geo, size_factor, msh, mesh, raw);
   api.logger_stop(&gierr);
   api.finalize(&gierr);
   restore_state(&st);
@@ -397,7 +410,7 @@ int gmsh_geo_mesh(const char *path, double size_factor, GmshMesh *mesh) {
   const GmshReader rd = {.path = path, .line = 0, .token_line = 0, .section = "Nodes"};
   MICA_CALL(gmsh_geo_check(path));
   MICA_CALL(load_api(path));
-  MICA_CALL_CLEANUP(session(path, size_factor, mesh, &raw));
+  MICA_CALL_CLEANUP(session(path, size_factor, NULL, mesh, &raw));
   MICA_CALL_CLEANUP(gmsh_resolve_nodes(&rd, mesh, &raw));
 cleanup:
   MICA_FREE(raw.tag);
@@ -405,3 +418,11 @@ cleanup:
   MICA_FREE(raw.elem_tag);
   return ierr;
 }
+
+int gmsh_geo_write(const char *path, double size_factor, const char *msh) {
+  MICA_CALL(gmsh_geo_check(path));
+  MICA_CALL(load_api(path));
+  return session(path, size_factor, msh, NULL, NULL);
+}
+
+long gmsh_geo_sessions(void) { return sessions; }

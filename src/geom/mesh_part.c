@@ -7,7 +7,8 @@
  * A source reads a .msh file in passes, through gmsh_read_filtered, never whole: the first pass keeps no node but
  * the groups, the dimension and a sample of the nodes' coordinates (every k-th, k doubling as the sample fills: the
  * same on every rank), later passes the nodes within a box and the elements whose nodes all lie in it. A .geo is
- * meshed whole by the Gmsh library (once) and its regions are cut from it in memory, with the same results. */
+ * meshed whole by the Gmsh library (once) and its regions are cut from it in memory, with the same results; under MPI
+ * one rank has Gmsh write it to a .msh file (mica_mesh_geo_write) which every rank then reads as above. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -372,6 +373,15 @@ int mica_mesh_source_open(const MicaShapeSpec *shape, MicaMeshSource **out) {
   *out = src;
   return ierr;
 }
+
+int mica_mesh_geo_write(const MicaShapeSpec *shape, const char *msh) {
+  MICA_CHECK(shape->kind == MICA_SHAPE_GMSH && shape->mesh_path && gmsh_is_geo(shape->mesh_path) && msh,
+             MICA_ERR_ARGUMENT, "mica_mesh_geo_write: no .geo given");
+  return gmsh_geo_write(shape->mesh_path, shape->mesh_size_factor, msh);
+}
+
+long mica_mesh_geo_sessions(void) { return gmsh_geo_sessions(); }
+int mica_mesh_is_geo(const char *path) { return path && gmsh_is_geo(path); }
 
 int mica_mesh_source_close(MicaMeshSource **src) {
   if (!src || !*src) return MICA_SUCCESS;

@@ -233,6 +233,23 @@ int mica_parallel_broadcast_text(int ierr, char **text, int root) {
   return MICA_SUCCESS;
 }
 
+static char *shared_dir_; /* mica_parallel_share_dir */
+
+int mica_parallel_share_dir(int ierr, const char *dir) {
+  char *copy = NULL;
+  MICA_FREE(shared_dir_);
+  if (!ierr && rank_ == 0) ierr = MICA_MALLOC(copy, strlen(dir) + 1);
+  if (!ierr && rank_ == 0) strcpy(copy, dir);
+  ierr = mica_parallel_broadcast_text(ierr, &copy, 0);
+  if (ierr) MICA_FREE(copy);
+  shared_dir_ = copy;
+  return ierr;
+}
+
+const char *mica_parallel_shared_dir(void) { return shared_dir_; }
+
+void mica_parallel_unshare_dir(void) { MICA_FREE(shared_dir_); }
+
 int mica_parallel_append_in_order(int ierr, const char *path, const char *text) {
   char *where = NULL;
   if (!ierr && rank_ == 0) ierr = MICA_MALLOC(where, strlen(path) + 1);

@@ -29,7 +29,7 @@
 #   - Gmsh meshes (coordinate boxes of equal particle counts, elements by their centroids): Kirsch's plate from
 #     plate_hole.msh (VCI on) at P = 1-4 within 1e-10 with MUMPS, its mesh pieces and SCF probe (a probe outside
 #     every rank's part refused as serially; the cost guard's estimate the serial one), with Lagrange
-#     multipliers at P = 2, 3; the cube of cube.geo (meshed on every rank) at P = 2-4 with MUMPS and 2, 4 with GAMG
+#     multipliers at P = 2, 3; the cube of cube.geo (meshed once, by rank 0) at P = 2-4 with MUMPS and 2, 4 with GAMG
 #     (1e-7), error norms on quadrature.error_order's points; the ranks' counts sum to the serial ones, each rank
 #     holds fewer than 0.6 of the particles at P = 4; the region reads of cube.msh and of a 2.2 file at P = 2-4;
 #     NSNI (cells from the Gauss points) on Kirsch (quadratic) at P = 2-4 and on the cube (linear: symmetric VCI);
@@ -430,8 +430,8 @@ rank_counts "$work/medium" "$work/medium-4" 1,2,2
 # ---- Gmsh meshes: coordinate boxes of equal particle counts, elements by their centroids ---------------------
 # Kirsch's plate from plate_hole.msh (VCI on: Gauss cells off a grid; MUMPS's LU) at P = 1-4, its output mesh in
 # pieces, the SCF probe; with Lagrange multipliers (named by their nodes' indices in the whole mesh) at P = 2, 3
-# against UMFPACK with the serial dofs and nnz; the 3-D cube of cube.geo (meshed by the Gmsh library on every rank)
-# at P = 2-4 with MUMPS and at P = 2, 4 with GAMG, with the error norms' own points (quadrature.error_order)
+# against UMFPACK with the serial dofs and nnz; the 3-D cube of cube.geo (meshed by the Gmsh library on rank 0 into a
+# .msh file, whose regions the ranks read) at P = 2-4 with MUMPS and at P = 2, 4 with GAMG, with the error norms' own points (quadrature.error_order)
 REFERENCE=cholmod-sym serial "$work/kirsch" input/plate_hole_gmsh.cfg --set output.mesh=true
 for np in 1 2 3 4; do
   distributed "$np" "$work/kirsch-$np" input/plate_hole_gmsh.cfg --set output.mesh=true --set solver.petsc=\"mumps\"
@@ -468,7 +468,20 @@ for np in 2 3 4; do
   distributed "$np" "$work/cube_gmsh-$np" tests/decks/parallel/cube_gmsh.cfg --set quadrature.error_order=3 \
     --set solver.petsc=\"mumps\"
   same "$work/cube_gmsh" "$work/cube_gmsh-$np" "$np" 1e-10
+  # one rank had Gmsh mesh the .geo (the others read their regions of the .msh it wrote), and the file is gone
+  [ "$(json_value gmsh_meshings "$work/cube_gmsh-$np/summary.json")" = 1 ] \
+    || fail "cube_gmsh-$np: the .geo meshed $(json_value gmsh_meshings "$work/cube_gmsh-$np/summary.json") times"
+  ! ls -A "$work/cube_gmsh-$np" | grep -q '\.msh$' || fail "cube_gmsh-$np: the .geo's .msh was left among the results"
 done
+ok "the .geo meshed once, by rank 0, at P = 2-4"
+# a .geo that Gmsh cannot mesh under mpirun: rank 0's error, reported once, exit 2, nothing left
+printf 'Point(1) = {0, 0, 0, 1};\nLine(1) = {1, 2};\n' > "$work/broken.geo"
+"${MPIRUN[@]}" -np 3 "$MICA" run tests/decks/parallel/cube_gmsh.cfg -o "$work/broken" "${Q[@]}" "${D[@]}" \
+  --set geometry.mesh=\"$work/broken.geo\" > "$work/broken.log" 2> "$work/broken.err"; rc=$?
+[ "$rc" = 2 ] || fail "a broken .geo under mpirun: exit $rc, expected 2: $(cat "$work/broken.err")"
+[ "$(grep -c 'broken.geo' "$work/broken.err")" = 1 ] || fail "a broken .geo: not reported once: $(cat "$work/broken.err")"
+[ ! -e "$work/broken" ] || fail "a broken .geo left $work/broken"
+ok "a broken .geo under mpirun: exit 2, reported once, nothing left"
 for np in 2 4; do
   distributed "$np" "$work/cube_gmsh-$np-gamg" tests/decks/parallel/cube_gmsh.cfg --set quadrature.error_order=3 \
     --set solver.petsc=\"gamg\" --set solver.linear_rtol=1e-12
