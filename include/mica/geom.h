@@ -207,11 +207,13 @@ int mica_discretization_create_block(const MicaShapeSpec *shape, const MicaLayou
 /* The grids' sizes alone: particles and cells per axis (1 beyond the dimension), Gauss points per cell. */
 int mica_discretization_grid(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                              long particles[3], long ncells[3], long *points_per_cell);
-/* An irregular layout's particles, the whole body's as mica_discretization_create lays them out (x[n·dim]), and each
- * one's nearest point of the regular grid of the same counts (grid_index[n], axis 0 fastest), whose spacing it
- * takes: what parallel.data = "distributed" splits by those grid points' blocks. */
-int mica_layout_irregular(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, long *n, double **x,
-                          long **grid_index);
+/* The particles of an irregular layout whose nearest point of the regular grid of the same counts lies in the grid
+ * box [lo, hi) (lo 0 and hi the counts: the whole body's, as mica_discretization_create lays them out), in the
+ * layout's order (x[n·dim]); each one's nearest grid point (grid_index[n], axis 0 fastest), whose spacing it takes,
+ * and its key (key[n], ascending: the same particle has the same key whatever the box). Drawn from the layout's
+ * tiles around the box only: what each rank of parallel.data = "distributed" draws of it. */
+int mica_layout_irregular_box(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const long lo[3],
+                              const long hi[3], long *n, double **x, long **grid_index, long **key);
 /* Nodal integration: builds a nodal cell around every particle, the dual cells of the particles' logical
  * grid (corners at the averages of the 2^dim surrounding particles in parameter space, so boundary particles
  * get half and quarter cells; mapped by the shape's X, so curved boundaries are followed; split where the map

@@ -257,20 +257,27 @@ void mica_discretization_set_names(const MicaDiscretization *disc, char *buf, in
   }
 }
 
-int mica_layout_irregular(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, long *n, double **x,
-                          long **grid_index) {
+int mica_layout_irregular_box(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const long lo[3],
+                              const long hi[3], long *n, double **x, long **grid_index, long **key) {
   GeomMap map;
   GeomAxes axes = {0};
-  *n = 0, *x = NULL, *grid_index = NULL;
+  double *xi = NULL;
+  *n = 0, *x = NULL, *grid_index = NULL, *key = NULL;
   MICA_CHECK(shape->kind != MICA_SHAPE_GMSH && layout->kind == MICA_LAYOUT_IRREGULAR, MICA_ERR_ARGUMENT,
-             "mica_layout_irregular: a built-in shape with an irregular layout");
+             "mica_layout_irregular_box: a built-in shape with an irregular layout");
   MICA_CALL(geom_map_init(shape, &map));
   int ierr = geom_axes_create(layout, map.dim, &axes);
-  if (!ierr) ierr = layout_mapped(&map, layout, &axes, n, x, grid_index);
+  if (!ierr) ierr = geom_layout_irregular_box(&axes, (uint64_t)layout->seed, lo, hi, n, &xi, key);
+  if (!ierr) ierr = MICA_MALLOC(*x, *n * map.dim + 1);
+  for (long p = 0; !ierr && p < *n; p++) geom_map_eval(&map, &xi[p * map.dim], &(*x)[p * map.dim], NULL);
+  if (!ierr) ierr = geom_layout_grid_index(&axes, *n, xi, grid_index);
   geom_axes_destroy(&axes);
+  MICA_FREE(xi);
   if (ierr) {
     MICA_FREE(*x);
     MICA_FREE(*grid_index);
+    MICA_FREE(*key);
+    *n = 0;
   }
   return ierr;
 }

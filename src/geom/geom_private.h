@@ -5,6 +5,8 @@
 #ifndef MICA_GEOM_PRIVATE_H
 #define MICA_GEOM_PRIVATE_H
 
+#include <stdint.h>
+
 #include "mica/geom.h"
 
 #define GEOM_PI 3.14159265358979323846
@@ -67,6 +69,12 @@ void geom_axes_destroy(GeomAxes *axes);
 /* Parameter coordinates of the particles ([*n × dim]) for any layout kind; allocates *xi. */
 int geom_layout_particles(const GeomMap *map, const MicaLayoutSpec *layout, const GeomAxes *axes, long *n,
                           double **xi);
+/* The particles of an irregular layout whose nearest grid point lies in the grid box [lo, hi), in the layout's order
+ * (parameter coordinates [*n × dim]), and their keys, ascending: a boundary particle's its grid point's index, a
+ * dart's above all of those, from its tile, its tile's colour and its place in the tile's draw (the same particle
+ * the same key whatever the box). Drawn from the tiles around the box only; allocates *xi and *key. */
+int geom_layout_irregular_box(const GeomAxes *axes, uint64_t seed, const long lo[3], const long hi[3], long *n,
+                              double **xi, long **key);
 /* For each of the n parameter points xi of an irregular layout, the index (axis 0 fastest) of the nearest point of
  * the regular layout of the same counts; allocates *index. */
 int geom_layout_grid_index(const GeomAxes *axes, long n, const double *xi, long **index);

@@ -9,9 +9,10 @@
  * approximation of that box; the supports of its points in it are its particles; the box grows until they lie
  * MARGIN layers inside it, so that their local spacings and radii are those of the whole layout. With nodal
  * quadrature (MicaOwnedSpec) the points are the nodal cells of the rank's particles instead of its cells' Gauss
- * points, which the error norms keep. Nothing of the whole layout's size is allocated on any rank, but for the
- * irregular layout, whose sequential Poisson-disk draw every rank makes whole (Irregular): its particles belong to the
- * blocks of their nearest grid points, and the rank keeps those whose grid points lie in its box. A Gmsh mesh has no
+ * points, which the error norms keep. Nothing of the whole layout's size is allocated on any rank. An irregular
+ * layout's particles belong to the blocks of their nearest grid points; a rank draws those whose grid points lie in
+ * its box from the layout's tiles around it (mica_layout_irregular_box: the whole layout's particles), numbers its
+ * own in the layout's order and asks the owners of its ghosts for theirs, by key. A Gmsh mesh has no
  * index grid: own_mesh.c. What the ranks exchange once a distribution is built (ghost plans, Lagrange multipliers'
  * nodes, owned norms): own_exchange.c. */
 #include <math.h>
@@ -97,12 +98,17 @@ static int in_box(const long idx[3], const long lo[3], const long hi[3]) {
 
 /* The owner of grid particle t and its number in the ranks' contiguous numbering (offsets[P]: the lower ranks'
  * particles before each rank). */
+/* The rank whose block holds grid point idx. */
+static int block_owner(const long idx[3], const long n[3], const int procs[3]) {
+  int b[3];
+  for (int d = 0; d < 3; d++) b[d] = block_of(idx[d], n[d], procs[d]);
+  return b[0] + procs[0] * (b[1] + procs[1] * b[2]);
+}
+
 static long global_number(long t, const long n[3], const int procs[3], const long *offsets, int *owner) {
   long idx[3], lo[3], hi[3];
-  int b[3];
   grid_index(t, n, idx);
-  for (int d = 0; d < 3; d++) b[d] = block_of(idx[d], n[d], procs[d]);
-  const int r = b[0] + procs[0] * (b[1] + procs[1] * b[2]);
+  const int r = block_owner(idx, n, procs);
   block_box(r, procs, n, lo, hi);
   *owner = r;
   return offsets[r] + (idx[0] - lo[0]) + (hi[0] - lo[0]) * ((idx[1] - lo[1]) + (hi[1] - lo[1]) * (idx[2] - lo[2]));
@@ -176,34 +182,17 @@ typedef struct {
   MicaDiscretization *disc;
   MlsApprox *mls;
   OwnedZone zone;
-  /* an irregular layout (Irregular): the source's particles are the whole layout's whose nearest grid point lies in
-   * the box, in the layout's order — their numbers there and their grid points (NULL: the box's grid particles) */
-  long *whole, *grid_of;
+  /* an irregular layout: the source's particles are the layout's whose nearest grid point lies in the box, in the
+   * layout's order — their keys and their grid points (NULL: the box's grid particles) */
+  long *key, *grid_of;
   long grid_n[3]; /* the particle grid's size */
 } Source;
-
-/* An irregular layout (parallel.data = "distributed"): its Poisson-disk draw is sequential over the whole body, so
- * every rank draws all its particles (mica_layout_irregular) and keeps those it needs; a particle belongs to the
- * block of its nearest grid point, whose spacing it takes (as serially), and is numbered in the layout's order
- * within its owner. NULL in Source's and build_owned's place for the grid layouts. */
-typedef struct {
-  long n;
-  double *x;      /* [n·dim] */
-  long *grid;     /* [n] the nearest grid point */
-  int *owner;     /* [n] */
-  long *position; /* [n] the particle's position among its owner's */
-} Irregular;
-
-static void irregular_free(Irregular *irr) {
-  free(irr->x), free(irr->grid), free(irr->owner), free(irr->position);
-  memset(irr, 0, sizeof *irr);
-}
 
 static void source_free(Source *src) {
   mls_destroy(&src->mls);
   mica_discretization_destroy(&src->disc);
-  free(src->whole), free(src->grid_of);
-  src->whole = src->grid_of = NULL;
+  free(src->key), free(src->grid_of);
+  src->key = src->grid_of = NULL;
 }
 
 static long source_index(const Source *src, const long idx[3]) {
@@ -264,34 +253,23 @@ static void owned_zone(Source *src, const long plo[3], const long phi[3]) {
  * (cell c of m along an axis lies between particle lines about c (n − 1)/m and (c + 1)(n − 1)/m). */
 /* The irregular layout's source: the box's cells and regular grid points (a regular layout's block: the spacing
  * points), and the layout's particles whose nearest grid point is in the box, each sized on that point's spacing. */
-static int source_build_irregular(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
+static int source_build_irregular(const MicaShapeSpec *shape, const MicaLayoutSpec *irregular,
                                   const MicaCellSpec *cells, const MlsOptions *mls_opt, const MicaGridBlock *block,
-                                  const Irregular *irr, const long plo[3], const long phi[3], Source *src) {
-  MicaLayoutSpec grid = *layout;
+                                  const long plo[3], const long phi[3], Source *src) {
+  MicaLayoutSpec grid = *irregular;
   grid.kind = MICA_LAYOUT_REGULAR;
   MICA_CALL(mica_discretization_create_block(shape, &grid, cells, block, &src->disc));
   MicaDiscretization *d = src->disc;
   const int dim = d->dim;
-  long count = 0, *spacing_index = NULL;
-  for (long i = 0; i < irr->n; i++) {
-    long idx[3];
-    grid_index(irr->grid[i], src->grid_n, idx);
-    count += in_box(idx, src->lo, src->hi);
-  }
+  long *spacing_index = NULL;
   d->x_grid = d->x, d->ngrid = d->nparticles; /* the box's grid points, in box order */
   d->x = NULL;
-  MICA_CALL(MICA_MALLOC(d->x, count * dim + 1));
-  MICA_CALL(MICA_MALLOC(src->whole, count + 1));
-  MICA_CALL(MICA_MALLOC(src->grid_of, count + 1));
-  MICA_CALL(MICA_MALLOC(spacing_index, count + 1));
-  d->nparticles = 0;
-  for (long i = 0; i < irr->n; i++) {
+  MICA_CALL(mica_layout_irregular_box(shape, irregular, src->lo, src->hi, &d->nparticles, &d->x, &src->grid_of,
+                                      &src->key));
+  MICA_CALL(MICA_MALLOC(spacing_index, d->nparticles + 1));
+  for (long k = 0; k < d->nparticles; k++) {
     long idx[3];
-    grid_index(irr->grid[i], src->grid_n, idx);
-    if (!in_box(idx, src->lo, src->hi)) continue;
-    const long k = d->nparticles++;
-    memcpy(d->x + k * dim, irr->x + i * dim, sizeof(double) * (size_t)dim);
-    src->whole[k] = i, src->grid_of[k] = irr->grid[i];
+    grid_index(src->grid_of[k], src->grid_n, idx);
     spacing_index[k] = source_index(src, idx);
   }
   owned_zone(src, plo, phi);
@@ -305,7 +283,7 @@ static int source_build_irregular(const MicaShapeSpec *shape, const MicaLayoutSp
 static int source_build(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                         const MlsOptions *mls_opt, const long n[3], const long m[3], const long plo[3],
                         const long phi[3], const long clo[3], const long chi[3], long layers, int mesh,
-                        const Irregular *irr, Source *src) {
+                        const MicaLayoutSpec *irregular, Source *src) {
   MicaGridBlock block;
   memset(&block, 0, sizeof block);
   block.mesh = mesh;
@@ -318,7 +296,7 @@ static int source_build(const MicaShapeSpec *shape, const MicaLayoutSpec *layout
     block.cell_hi[d] = block.boundary_hi[d] = chi[d];
   }
   memcpy(src->grid_n, n, sizeof src->grid_n);
-  if (irr) return source_build_irregular(shape, layout, cells, mls_opt, &block, irr, plo, phi, src);
+  if (irregular) return source_build_irregular(shape, irregular, cells, mls_opt, &block, plo, phi, src);
   MICA_CALL(mica_discretization_create_block(shape, layout, cells, &block, &src->disc));
   owned_zone(src, plo, phi);
   MlsOptions opt = *mls_opt;
@@ -448,13 +426,13 @@ static int add_nodal_supports(const Source *src, const MicaDiscretization *nodal
 static int source_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                          const MlsOptions *mls_opt, const long n[3], const long m[3], const long plo[3],
                          const long phi[3], const MicaDistribution *dist, const MicaOwnedSpec *spec,
-                         const MicaDiscretization *nodal, const Irregular *irr, Source *src, long **needed,
+                         const MicaDiscretization *nodal, const MicaLayoutSpec *irregular, Source *src, long **needed,
                          long *nneeded) {
   const long *clo = dist->cell_lo, *chi = dist->cell_hi;
   const double reach = (mls_opt->dilation > 0 ? mls_opt->dilation : 1.0) * (spec->wider_support > 1 ? spec->wider_support : 1);
   long layers = (long)ceil(reach) + source_margin(mls_opt);
   for (;;) {
-    MICA_CALL(source_build(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, layers, spec->mesh, irr, src));
+    MICA_CALL(source_build(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, layers, spec->mesh, irregular, src));
     const MicaDiscretization *d = src->disc;
     *nneeded = 0;
     MICA_CALL(add_owned_supports(src, plo, phi, needed, nneeded)); /* first: the zone's points are theirs */
@@ -472,10 +450,10 @@ static int source_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layou
 }
 
 /* The local particles: the owned block (grid order; an irregular layout's: its order), then the ghosts (ascending
- * source index); their owners and contiguous numbers. The volume and boundary points are the source's (its cells
- * are the rank's). */
+ * source index); their owners and contiguous numbers (an irregular layout's ghosts: irregular_ghost_numbers). The
+ * volume and boundary points are the source's (its cells are the rank's). */
 static int local_particles(const Source *src, MicaDistribution *dist, const long n[3], const long *needed,
-                           long nneeded, const long *offsets, const Irregular *irr, long **srcmap) {
+                           long nneeded, const long *offsets, long **srcmap) {
   const MicaDiscretization *sd = src->disc;
   const int dim = sd->dim, rank = mica_parallel_rank();
   long lo[3], hi[3], *map = NULL, nowned = 0;
@@ -507,9 +485,9 @@ static int local_particles(const Source *src, MicaDistribution *dist, const long
     long idx[3];
     source_grid(src, map[i], idx);
     memcpy(d->x + i * dim, sd->x + map[i] * dim, sizeof(double) * (size_t)dim);
-    if (irr) {
-      const long w = src->whole[map[i]];
-      p->part[i] = irr->owner[w], dist->global_node[i] = offsets[irr->owner[w]] + irr->position[w];
+    if (src->key) { /* the owned ones in the layout's order, a ghost's number from its owner */
+      p->part[i] = block_owner(idx, n, dist->procs);
+      dist->global_node[i] = i < nowned ? offsets[rank] + i : -1;
     } else {
       dist->global_node[i] = global_number(idx[0] + n[0] * (idx[1] + n[1] * idx[2]), n, dist->procs, offsets, &p->part[i]);
     }
@@ -577,25 +555,41 @@ static int owned_nodal(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
   return spec->centroids ? mica_discretization_nodal_centroids(*nodal) : MICA_SUCCESS;
 }
 
-/* The whole irregular layout, each particle's owner (the block of its nearest grid point) and position among the
- * owner's; the blocks' counts into p->part_size. */
-static int irregular_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const long n[3],
-                           const int procs[3], MicaPartition *p, Irregular *irr) {
-  MICA_CALL(mica_layout_irregular(shape, layout, &irr->n, &irr->x, &irr->grid));
-  MICA_CALL(MICA_MALLOC(irr->owner, irr->n + 1));
-  MICA_CALL(MICA_MALLOC(irr->position, irr->n + 1));
-  for (long i = 0; i < irr->n; i++) {
+/* An irregular layout's blocks' counts (p->part_size) and offsets: each rank's from its source. Collective. */
+static int irregular_offsets(int ierr, const Source *src, const long plo[3], const long phi[3], MicaPartition *p,
+                             long *offsets) {
+  long nowned = 0;
+  MICA_CALL(mica_parallel_agree(ierr));
+  for (long k = 0; k < src->disc->nparticles; k++) {
     long idx[3];
-    int b[3];
-    grid_index(irr->grid[i], n, idx);
-    for (int d = 0; d < 3; d++) b[d] = block_of(idx[d], n[d], procs[d]);
-    irr->owner[i] = b[0] + procs[0] * (b[1] + procs[1] * b[2]);
-    irr->position[i] = p->part_size[irr->owner[i]]++;
+    source_grid(src, k, idx);
+    nowned += in_box(idx, plo, phi);
   }
+  MPI_Allgather(&nowned, 1, MPI_LONG, p->part_size, 1, MPI_LONG, mica_parallel_comm());
+  for (int r = 0; r < p->nparts; r++) offsets[r + 1] = offsets[r] + p->part_size[r];
   for (int r = 0; r < p->nparts; r++)
     MICA_CHECK(p->part_size[r] > 0, MICA_ERR_INPUT, "parallel.data = \"distributed\": rank %d's block holds none of "
-               "the irregular layout's %ld particles; use fewer ranks", r, irr->n);
+               "the irregular layout's %ld particles; use fewer ranks", r, offsets[p->nparts]);
   return MICA_SUCCESS;
+}
+
+/* An irregular layout's ghosts' numbers: each one's position among its owner's particles, asked by key. Collective. */
+static int irregular_ghost_numbers(int ierr, const Source *src, const long *map, const long *offsets,
+                                   MicaDistribution *dist) {
+  long *key = NULL, *owned_key = NULL, *position = NULL;
+  int *owner = NULL;
+  const long ng = dist->nghost, no = dist->nowned;
+  if (!ierr) ierr = MICA_MALLOC(key, ng + 1);
+  if (!ierr) ierr = MICA_MALLOC(owner, ng + 1);
+  if (!ierr) ierr = MICA_MALLOC(position, ng + 1);
+  if (!ierr) ierr = MICA_MALLOC(owned_key, no + 1);
+  for (long i = 0; !ierr && i < no; i++) owned_key[i] = src->key[map[i]];
+  for (long g = 0; !ierr && g < ng; g++) key[g] = src->key[map[no + g]], owner[g] = dist->partition->part[no + g];
+  ierr = mica_parallel_agree(ierr);
+  if (!ierr) ierr = parallel_ghost_positions(ng, owner, key, no, owned_key, position);
+  for (long g = 0; !ierr && g < ng; g++) dist->global_node[no + g] = offsets[owner[g]] + position[g];
+  free(key), free(owned_key), free(position), free(owner);
+  return ierr;
 }
 
 static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
@@ -604,12 +598,10 @@ static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
   long n[3], m[3], per_cell, plo[3], phi[3], *offsets = NULL, *needed = NULL, nneeded = 0;
   long *map = NULL;
   Source src;
-  Irregular irr;
   MicaDiscretization *nodal = NULL;
   memset(&src, 0, sizeof src);
-  memset(&irr, 0, sizeof irr);
   int ierr = MICA_SUCCESS;
-  /* an irregular layout: its particles drawn whole, its grid (and cells) the regular layout's of the same counts */
+  /* an irregular layout: its particles drawn around the rank's box, its grid (and cells) the regular layout's */
   const MicaLayoutSpec *irregular = layout->kind == MICA_LAYOUT_IRREGULAR ? layout : NULL;
   MicaLayoutSpec grid = *layout;
   grid.kind = irregular ? MICA_LAYOUT_REGULAR : layout->kind;
@@ -626,29 +618,29 @@ static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
   p->nparts = P;
   MICA_CALL(MICA_CALLOC(p->part_size, P + 1));
   MICA_CALL(MICA_CALLOC(offsets, P + 1));
-  if (irregular) MICA_CALL_CLEANUP(irregular_create(shape, irregular, n, dist->procs, p, &irr));
-  for (int r = 0; r < P; r++) {
+  for (int r = 0; r < P && !irregular; r++) {
     block_box(r, dist->procs, n, plo, phi);
-    if (!irregular) p->part_size[r] = box_size(plo, phi);
+    p->part_size[r] = box_size(plo, phi);
     offsets[r + 1] = offsets[r] + p->part_size[r];
   }
-  for (int r = 0; r < P; r++)
-    if ((double)p->part_size[r] * P / (double)offsets[P] > p->imbalance)
-      p->imbalance = (double)p->part_size[r] * P / (double)offsets[P];
   block_box(rank, dist->procs, n, plo, phi);
   block_box(rank, dist->procs, m, dist->cell_lo, dist->cell_hi);
   ierr = owned_nodal(shape, layout, cells, spec, plo, phi, &nodal);
   if (!ierr)
-    ierr = source_create(shape, layout, cells, mls_opt, n, m, plo, phi, dist, spec, nodal, irregular ? &irr : NULL,
-                         &src, &needed, &nneeded);
+    ierr = source_create(shape, layout, cells, mls_opt, n, m, plo, phi, dist, spec, nodal, irregular, &src, &needed,
+                         &nneeded);
+  if (irregular) MICA_CALL_CLEANUP(irregular_offsets(ierr, &src, plo, phi, p, offsets));
+  for (int r = 0; r < P; r++)
+    if ((double)p->part_size[r] * P / (double)offsets[P] > p->imbalance)
+      p->imbalance = (double)p->part_size[r] * P / (double)offsets[P];
   if (!ierr) ierr = MICA_CALLOC(dist->local, 1);
   if (!ierr && nodal) take_nodal_points(&src, nodal, dist->local);
   else if (!ierr) take_points(&src, dist->local);
-  if (!ierr) ierr = local_particles(&src, dist, n, needed, nneeded, offsets, irregular ? &irr : NULL, &map);
+  if (!ierr) ierr = local_particles(&src, dist, n, needed, nneeded, offsets, &map);
+  if (irregular) ierr = irregular_ghost_numbers(ierr, &src, map, offsets, dist);
   ierr = parallel_owned_complete(ierr, src.mls, mls_opt, map, offsets, spec->revolve, dist);
 cleanup:
   source_free(&src);
-  irregular_free(&irr);
   mica_discretization_destroy(&nodal);
   free(offsets), free(needed), free(map);
   return ierr;

@@ -75,11 +75,6 @@ typedef struct {
   long index;
 } Keyed;
 
-static int compare_key(const void *a, const void *b) {
-  const long x = *(const long *)a, y = *(const long *)b;
-  return (x > y) - (x < y);
-}
-
 static int compare_keyed(const void *a, const void *b) {
   const Keyed *x = a, *y = b;
   if (x->key != y->key) return (x->key > y->key) - (x->key < y->key);
@@ -353,46 +348,6 @@ static int mesh_source_create(const MicaMeshSource *mesh, const MicaCellSpec *ce
 
 /* ---- numbers -------------------------------------------------------------------------------------------- */
 
-/* Each ghost's position among its owner's particles: its key sent to the owner, found among the owner's keys
- * (ascending), sent back. Collective. */
-static int ghost_positions(long n, const int *owner, const long *key, long nowned, const long *owned_key,
-                           long *position) {
-  const int P = mica_parallel_size();
-  int *sc = NULL, *sd = NULL, *rc = NULL, *rd = NULL;
-  long *send = NULL, *recv = NULL, *slot = NULL;
-  int ierr = MICA_CALLOC(sc, P + 1);
-  if (!ierr) ierr = MICA_CALLOC(sd, P + 1);
-  if (!ierr) ierr = MICA_CALLOC(rc, P + 1);
-  if (!ierr) ierr = MICA_CALLOC(rd, P + 1);
-  if (!ierr) ierr = MICA_MALLOC(send, n + 1);
-  if (!ierr) ierr = MICA_MALLOC(slot, n + 1);
-  for (long i = 0; !ierr && i < n; i++) sc[owner[i]]++;
-  for (int r = 0; !ierr && r < P; r++) sd[r + 1] = sd[r] + sc[r];
-  for (long i = 0; !ierr && i < n; i++) slot[i] = sd[owner[i]] + rd[owner[i]]++, send[slot[i]] = key[i]; /* rd: cursors */
-  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
-  MPI_Alltoall(sc, 1, MPI_INT, rc, 1, MPI_INT, mica_parallel_comm());
-  rd[0] = 0;
-  for (int r = 0; r < P; r++) rd[r + 1] = rd[r] + rc[r];
-  ierr = MICA_MALLOC(recv, (long)rd[P] + 1);
-  MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
-  MPI_Alltoallv(send, sc, sd, MPI_LONG, recv, rc, rd, MPI_LONG, mica_parallel_comm());
-  for (long k = 0; k < rd[P]; k++) { /* the owner's answer: the key's position, −1 if it is not an owned particle */
-    const long *hit = bsearch(&recv[k], owned_key, (size_t)nowned, sizeof(long), compare_key);
-    recv[k] = hit ? hit - owned_key : -1;
-  }
-  MPI_Alltoallv(recv, rc, rd, MPI_LONG, send, sc, sd, MPI_LONG, mica_parallel_comm());
-  for (long i = 0; i < n; i++) {
-    position[i] = send[slot[i]];
-    if (position[i] < 0 && !ierr)
-      ierr = mica_error_set(__FILE__, __LINE__, __func__, MICA_ERR_ARGUMENT, "ghost with key %ld: rank %d owns no "
-                            "such particle", key[i], owner[i]);
-  }
-  ierr = mica_parallel_agree(ierr); /* the ranks go on to collectives together, or stop together */
-cleanup:
-  free(sc), free(sd), free(rc), free(rd), free(send), free(recv), free(slot);
-  return ierr;
-}
-
 /* Local particles: the owned ones (ascending keys: the serial order), then the ghosts (ascending); their owners
  * and numbers. Collective (the offsets, the ghosts' positions). */
 static int mesh_local_particles(const MeshSource *s, const MeshBoxes *boxes, const long *needed, long nneeded,
@@ -432,7 +387,7 @@ static int mesh_local_particles(const MeshSource *s, const MeshBoxes *boxes, con
       p->imbalance = (double)p->part_size[r] * P / (double)(*offsets)[P];
   }
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
-  MICA_CALL_CLEANUP(ghost_positions(dist->nghost, ghost_owner, ghost_key, dist->nowned, owned_key, position));
+  MICA_CALL_CLEANUP(parallel_ghost_positions(dist->nghost, ghost_owner, ghost_key, dist->nowned, owned_key, position));
   MicaDiscretization *d = dist->local;
   free(d->x);
   d->x = NULL;

@@ -29,6 +29,10 @@ int parallel_local_mls(const MlsApprox *source, const MlsOptions *mls_opt, const
 /* own_exchange.c: the ghost particles' plan: each asked of its owner (partition->part) by its position there, global_node minus
  * offsets[owner] (offsets: the owners' first numbers). */
 int parallel_ghost_plan(MicaDistribution *dist, const long *offsets);
+/* Each of the n ghosts' position among its owner's particles: its key sent to the owner, found among the owner's
+ * nowned keys (ascending), sent back. Collective. */
+int parallel_ghost_positions(long n, const int *owner, const long *key, long nowned, const long *owned_key,
+                             long *position);
 /* Collective, after agreeing on ierr (the build so far): the local discretization revolved (an axisymmetric
  * section), its MLS approximation from `source` (parallel_local_mls), the ghost plan. */
 int parallel_owned_complete(int ierr, const MlsApprox *source, const MlsOptions *mls_opt, const long *map,

@@ -33,8 +33,9 @@
 #     (1e-7), error norms on quadrature.error_order's points; the ranks' counts sum to the serial ones, each rank
 #     holds fewer than 0.6 of the particles at P = 4; the region reads of cube.msh and of a 2.2 file at P = 2-4;
 #     NSNI (cells from the Gauss points) on Kirsch (quadratic) at P = 2-4 and on the cube (linear: symmetric VCI);
-#   - the irregular layout (drawn whole on every rank, each particle owned by the block of its nearest grid point):
-#     Cook at P = 1-4, the 3-D cube (error norms) and the plate with a hole at P = 2, 4, with VCI, within 1e-10;
+#   - the irregular layout (each rank draws the tiles around its box, each particle owned by the block of its nearest
+#     grid point): Cook at P = 1-4 and at 50² (several tiles) at P = 3, 4, the 3-D cube (error norms) and the plate
+#     with a hole at P = 2, 4, with VCI, within 1e-10;
 #   - what the distributed mode does not cover yet is refused: exit 2, the deck line named (the nodal modes on an
 #     irregular layout).
 # `timeout` only keeps a hang from blocking the suite: no check depends on time.
@@ -188,11 +189,20 @@ check_vci vci_cube "2 4" tests/decks/parallel/cube.cfg --set "particles.count=[6
   --set particles.layout=\"jittered\" --set particles.seed=3
 check_layout graded tests/decks/parallel/cube.cfg --set "particles.count=[7,6,6]" --set quadrature.order=3 \
   --set particles.layout=\"graded\" --set "particles.grading=[4.0]" --set mls.spacing=\"far\"
-# the irregular layout (VCI on): every rank draws the whole Poisson-disk layout, keeps the particles whose nearest grid
-# point lies in its block or within its source box, sized on those grid points as serially — Cook (with its output
-# mesh) at P = 1-4, the 3-D cube with the error norms' own points and the plate with a hole (a curved map) at P = 2, 4
+# the irregular layout (VCI on): every rank draws the Poisson-disk tiles around its source box (the particles whose
+# nearest grid point lies in the box, as the whole layout has them), sized on those grid points as serially, its
+# ghosts numbered by their owners — Cook (with its output mesh) at P = 1-4 and at 50 × 50 (3 × 3 tiles of 16: the
+# ranks draw different tiles; the serial count) at P = 3, 4, the 3-D cube with the error norms' own points and the
+# plate with a hole (a curved map) at P = 2, 4
 check_vci irregular "1 2 3 4" tests/decks/parallel/cook.cfg --set "particles.count=[9,9]" --set solver.steps=2 \
   --set particles.layout=\"irregular\" --set particles.seed=5 --set output.mesh=true
+tiles=(--set "particles.count=[50,50]" --set solver.steps=1 --set particles.layout=\"irregular\" --set particles.seed=2)
+REFERENCE=umfpack serial "$work/irregular_tiles" tests/decks/parallel/cook.cfg "${tiles[@]}" --set solver.linear=\"umfpack\"
+for np in 3 4; do
+  distributed "$np" "$work/irregular_tiles-$np" tests/decks/parallel/cook.cfg "${tiles[@]}" --set solver.petsc=\"mumps\"
+  same "$work/irregular_tiles" "$work/irregular_tiles-$np" "$np" 1e-10
+  equal_keys "$work/irregular_tiles" "$work/irregular_tiles-$np" particles dofs nnz
+done
 check_vci irregular_cube "2 4" tests/decks/parallel/cube.cfg --set "particles.count=[7,6,6]" --set quadrature.order=3 \
   --set particles.layout=\"irregular\" --set particles.seed=3 --set quadrature.error_order=3
 check_vci irregular_hole "2 4" input/plate_hole.cfg --set particles.layout=\"irregular\" --set particles.seed=2 \

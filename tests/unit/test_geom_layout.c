@@ -9,9 +9,10 @@
  *     particle stays put; same seed → the same particles, another seed → different ones;
  *   - irregular: the boundary particles of the regular layout, interior particles strictly inside and at
  *     least 0.8 regular spacings from every other particle (2-D and 3-D, anisotropic counts); the interior
- *     count reaches the regular one in these cases; deterministic per seed; the regular grid of the same counts
+ *     count is within 0.5 % of the regular one; deterministic per seed; the regular grid of the same counts
  *     (x_grid, ngrid points) and each particle's nearest grid point (grid_index: within half a spacing per
- *     axis, a boundary particle's own point), on which the supports are sized;
+ *     axis, a boundary particle's own point), on which the supports are sized; a box of it (corner, middle, strip;
+ *     2-D and 3-D) drawn from its tiles alone holds the whole layout's particles there, bit for bit, same keys;
  *   - errors: jitter outside [0, 0.5), grading ≤ 0.
  */
 #include <math.h>
@@ -244,7 +245,8 @@ static void irregular_box(const MicaShapeSpec *s, long n0, long n1, long n2, dou
   MicaDiscretization *disc = create(s, &l);
   const int dim = s->dim;
   const long regular = n0 * n1 * (dim == 3 ? n2 : 1);
-  assert_int_equal(disc->nparticles, regular); /* reached for these sizes (measured) */
+  /* a tile that jams below its quota leaves the layout short (docs/theory.md: 0–0.3 % measured in 2-D, none in 3-D) */
+  assert_true(disc->nparticles <= regular && disc->nparticles >= 0.995 * (double)regular);
   assert_true(min_distance(disc) >= 0.8 * h * (1 - 1e-12));
   /* boundary particles: the regular ones, on the box's faces; interior ones strictly inside */
   long on_boundary = 0;
@@ -314,6 +316,58 @@ static void test_irregular_plate(void **state) {
   mica_discretization_destroy(&disc);
 }
 
+/* A box of the irregular layout (drawn from the tiles around it alone, as a rank of a distributed run draws it) holds
+ * exactly the whole layout's particles whose nearest grid point lies in the box, in the same order, with the same
+ * keys (ascending), bit for bit; the whole layout by box is mica_discretization_create's. */
+static void irregular_parts(const MicaShapeSpec *s, const MicaLayoutSpec *l, const long boxes[][6], int nboxes) {
+  const int dim = s->dim;
+  const long lo0[3] = {0, 0, 0}, hi0[3] = {l->count[0], l->count[1], dim == 3 ? l->count[2] : 1};
+  long n = 0, *grid = NULL, *key = NULL;
+  double *x = NULL;
+  check_ok(mica_layout_irregular_box(s, l, lo0, hi0, &n, &x, &grid, &key));
+  MicaDiscretization *disc = create(s, l);
+  assert_int_equal(n, disc->nparticles);
+  assert_memory_equal(x, disc->x, sizeof(double) * (size_t)(n * dim));
+  for (long i = 1; i < n; i++) assert_true(key[i] > key[i - 1]);
+  for (int b = 0; b < nboxes; b++) {
+    const long *lo = boxes[b], *hi = boxes[b] + 3;
+    long m = 0, *bgrid = NULL, *bkey = NULL, k = 0;
+    double *bx = NULL;
+    check_ok(mica_layout_irregular_box(s, l, lo, hi, &m, &bx, &bgrid, &bkey));
+    assert_true(m > 0);
+    for (long i = 0; i < n; i++) {
+      const long g[3] = {grid[i] % hi0[0], (grid[i] / hi0[0]) % hi0[1], grid[i] / (hi0[0] * hi0[1])};
+      int in = 1;
+      for (int d = 0; d < 3; d++) in &= g[d] >= lo[d] && g[d] < hi[d];
+      if (!in) continue;
+      assert_true(k < m);
+      assert_int_equal(bkey[k], key[i]);
+      assert_int_equal(bgrid[k], grid[i]);
+      assert_memory_equal(&bx[k * dim], &x[i * dim], sizeof(double) * (size_t)dim);
+      k++;
+    }
+    assert_int_equal(k, m);
+    free(bx), free(bgrid), free(bkey);
+  }
+  mica_discretization_destroy(&disc);
+  free(x), free(grid), free(key);
+}
+
+static void test_irregular_parts(void **state) {
+  (void)state;
+  const MicaShapeSpec oblong = {.kind = MICA_SHAPE_BOX, .dim = 2, .lower = {-1, 0}, .upper = {1, 1}};
+  MicaLayoutSpec l = layout_of(MICA_LAYOUT_IRREGULAR, 61, 37, 0);
+  l.seed = 4;
+  /* a corner, the middle (far from every face: the tiles' dependencies reach it from all sides), a strip */
+  const long boxes2[][6] = {{0, 0, 0, 9, 7, 1}, {25, 14, 0, 33, 21, 1}, {40, 0, 0, 41, 37, 1}};
+  irregular_parts(&oblong, &l, boxes2, 3);
+  const MicaShapeSpec cube = {.kind = MICA_SHAPE_BOX, .dim = 3, .lower = {0, 0, 0}, .upper = {1, 1, 1}};
+  l = layout_of(MICA_LAYOUT_IRREGULAR, 41, 41, 41);
+  l.seed = 5;
+  const long boxes3[][6] = {{18, 18, 18, 23, 22, 21}, {0, 30, 5, 41, 41, 9}};
+  irregular_parts(&cube, &l, boxes3, 2);
+}
+
 /* ---- errors ---- */
 
 static void test_layout_errors(void **state) {
@@ -337,6 +391,7 @@ int main(void) {
       cmocka_unit_test(test_regular_inside), cmocka_unit_test(test_graded),
       cmocka_unit_test(test_jittered_box),   cmocka_unit_test(test_jittered_curved),
       cmocka_unit_test(test_irregular),      cmocka_unit_test(test_irregular_plate),
+      cmocka_unit_test(test_irregular_parts),
       cmocka_unit_test(test_layout_errors),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
