@@ -18,23 +18,14 @@ static int refuse_owned(const MicaDeck *deck, const char *path, const char *what
 }
 
 int run_parallel_owned_check(const MicaDeck *deck, const RunProblem *rp) {
-  const char *linear, *layout;
+  const char *linear;
   MICA_CALL(mica_deck_string(deck, "solver.linear", &linear));
   const MicaLinearSolverOps *ops = mica_linear_solver_find(linear); /* NULL: "auto", petsc under MPI */
   if (ops && !mica_linear_solver_has(ops, MICA_LINEAR_DISTRIBUTED))
     return refuse_owned(deck, "solver.linear", "set solver.linear = \"petsc\" or \"auto\" (the distributed matrix)");
-  /* FE first: its discretization (the elements') has no particle grid either */
+  /* (a Gmsh mesh and the irregular layout take NSNI, their cells from the Gauss points, as serially; the other nodal
+   * modes need the particle grid's dual cells and are refused serially) */
   if (rp->fe) return refuse_owned(deck, "problem.method", "use problem.method = \"efg\"");
-  /* a Gmsh mesh and the irregular layout: Gauss points in the elements or cells only (no nodal cells off a grid) */
-  const char *shape;
-  unsigned flags;
-  MICA_CALL(mica_deck_string(deck, "geometry.shape", &shape));
-  MICA_CALL(mica_deck_string(deck, "particles.layout", &layout));
-  MICA_CALL(run_integration_flags(deck, &flags));
-  /* a Gmsh mesh takes NSNI (its cells from the Gauss points), as serially; the irregular layout's cells stay serial */
-  if (!strcmp(layout, "irregular") && strcmp(shape, "gmsh") && (flags & RUN_INTEGRATION_NODAL))
-    return refuse_owned(deck, "quadrature.mode", "an irregular layout is distributed with Gauss points in its cells: "
-                        "use quadrature.mode = \"gauss\"");
   return MICA_SUCCESS;
 }
 

@@ -251,11 +251,46 @@ static void owned_zone(Source *src, const long plo[3], const long phi[3]) {
 
 /* The rank's source with `layers` layers of particles around its particle block and the particles of its cells
  * (cell c of m along an axis lies between particle lines about c (n − 1)/m and (c + 1)(n − 1)/m). */
+/* Cells around the rank's block whose Gauss points NSNI's cells are made of, on an irregular layout: a point nearer
+ * an owned particle than any other lies within about a spacing of the block (a particle within half a spacing of its
+ * grid point, the Poisson-disk holes smaller than a spacing), and cells are about a spacing wide. */
+enum { NSNI_CELLS = 3 };
+
+/* NSNI on an irregular layout (docs/theory.md §NSNI, cells from the Gauss points; as own_mesh.c's nsni_cells): each
+ * owned particle's cell is the set of Gauss points whose nearest particle it is, among the points of the cells within
+ * NSNI_CELLS of the rank's cell block (the source holds their nearest particles); the block's own Gauss points stay
+ * the error norms' (disc->gauss_x). */
+static int irregular_nsni_cells(const MicaShapeSpec *shape, const MicaLayoutSpec *grid, const MicaCellSpec *cells,
+                                const MicaGridBlock *block, const long ncells[3], const long plo[3], const long phi[3],
+                                Source *src) {
+  MicaGridBlock near;
+  MicaDiscretization *gauss = NULL;
+  char *mine = NULL;
+  memset(&near, 0, sizeof near);
+  for (int d = 0; d < 3; d++) {
+    near.cell_lo[d] = block->cell_lo[d] - NSNI_CELLS < 0 ? 0 : block->cell_lo[d] - NSNI_CELLS;
+    near.cell_hi[d] = block->cell_hi[d] + NSNI_CELLS > ncells[d] ? ncells[d] : block->cell_hi[d] + NSNI_CELLS;
+  }
+  const long n = src->disc->nparticles;
+  int ierr = mica_discretization_create_block(shape, grid, cells, &near, &gauss);
+  if (!ierr) ierr = MICA_MALLOC(mine, n + 1);
+  for (long k = 0; !ierr && k < n; k++) {
+    long idx[3];
+    grid_index(src->grid_of[k], src->grid_n, idx);
+    mine[k] = (char)in_box(idx, plo, phi);
+  }
+  if (!ierr) ierr = mica_discretization_nodal_points_from(src->disc, mine, gauss->nquad, gauss->qx, gauss->qw);
+  MICA_FREE(mine);
+  mica_discretization_destroy(&gauss);
+  return ierr;
+}
+
 /* The irregular layout's source: the box's cells and regular grid points (a regular layout's block: the spacing
- * points), and the layout's particles whose nearest grid point is in the box, each sized on that point's spacing. */
+ * points), and the layout's particles whose nearest grid point is in the box, each sized on that point's spacing;
+ * with NSNI (nsni) the owned particles' cells from the Gauss points. */
 static int source_build_irregular(const MicaShapeSpec *shape, const MicaLayoutSpec *irregular,
                                   const MicaCellSpec *cells, const MlsOptions *mls_opt, const MicaGridBlock *block,
-                                  const long plo[3], const long phi[3], Source *src) {
+                                  const long ncells[3], const long plo[3], const long phi[3], int nsni, Source *src) {
   MicaLayoutSpec grid = *irregular;
   grid.kind = MICA_LAYOUT_REGULAR;
   MICA_CALL(mica_discretization_create_block(shape, &grid, cells, block, &src->disc));
@@ -275,15 +310,16 @@ static int source_build_irregular(const MicaShapeSpec *shape, const MicaLayoutSp
   owned_zone(src, plo, phi);
   MlsOptions opt = *mls_opt;
   opt.spacing_points = d->x_grid, opt.spacing_count = d->ngrid, opt.spacing_index = spacing_index;
-  const int ierr = mls_create(dim, d->nparticles, d->x, &opt, &src->mls);
+  int ierr = mls_create(dim, d->nparticles, d->x, &opt, &src->mls);
   free(spacing_index);
+  if (!ierr && nsni) ierr = irregular_nsni_cells(shape, &grid, cells, block, ncells, plo, phi, src);
   return ierr;
 }
 
 static int source_build(const MicaShapeSpec *shape, const MicaLayoutSpec *layout, const MicaCellSpec *cells,
                         const MlsOptions *mls_opt, const long n[3], const long m[3], const long plo[3],
                         const long phi[3], const long clo[3], const long chi[3], long layers, int mesh,
-                        const MicaLayoutSpec *irregular, Source *src) {
+                        const MicaLayoutSpec *irregular, int nsni, Source *src) {
   MicaGridBlock block;
   memset(&block, 0, sizeof block);
   block.mesh = mesh;
@@ -296,7 +332,7 @@ static int source_build(const MicaShapeSpec *shape, const MicaLayoutSpec *layout
     block.cell_hi[d] = block.boundary_hi[d] = chi[d];
   }
   memcpy(src->grid_n, n, sizeof src->grid_n);
-  if (irregular) return source_build_irregular(shape, irregular, cells, mls_opt, &block, plo, phi, src);
+  if (irregular) return source_build_irregular(shape, irregular, cells, mls_opt, &block, m, plo, phi, nsni, src);
   MICA_CALL(mica_discretization_create_block(shape, layout, cells, &block, &src->disc));
   owned_zone(src, plo, phi);
   MlsOptions opt = *mls_opt;
@@ -432,7 +468,8 @@ static int source_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layou
   const double reach = (mls_opt->dilation > 0 ? mls_opt->dilation : 1.0) * (spec->wider_support > 1 ? spec->wider_support : 1);
   long layers = (long)ceil(reach) + source_margin(mls_opt);
   for (;;) {
-    MICA_CALL(source_build(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, layers, spec->mesh, irregular, src));
+    MICA_CALL(source_build(shape, layout, cells, mls_opt, n, m, plo, phi, clo, chi, layers, spec->mesh, irregular,
+                           irregular && spec->nodal, src));
     const MicaDiscretization *d = src->disc;
     *nneeded = 0;
     MICA_CALL(add_owned_supports(src, plo, phi, needed, nneeded)); /* first: the zone's points are theirs */
@@ -440,6 +477,12 @@ static int source_create(const MicaShapeSpec *shape, const MicaLayoutSpec *layou
     MICA_CALL(parallel_add_supports(src->mls, &src->zone, d->nquad, d->qx, needed, nneeded)); /* nodal: the error norms' points */
     if (nodal) MICA_CALL(add_nodal_supports(src, nodal, spec, needed, nneeded));
     else MICA_CALL(parallel_add_set_supports(src->mls, &src->zone, d, needed, nneeded));
+    if (d->nodal) { /* NSNI's cells from the Gauss points (irregular): the error norms' points, the Hessians' reach */
+      MICA_CALL(parallel_add_supports(src->mls, &src->zone, d->ngauss, d->gauss_x, needed, nneeded));
+      if (spec->wider_support > 1)
+        MICA_CALL(parallel_add_wider_supports(src->mls, &src->zone, spec->wider_support, d->nquad, d->qx, needed,
+                                              nneeded));
+    }
     MICA_CALL(add_error_supports(shape, layout, cells, dist, src, needed, nneeded));
     if (source_deep_enough(src, n, *needed, *nneeded, source_margin(mls_opt))) return MICA_SUCCESS;
     source_free(src);
@@ -503,6 +546,9 @@ static void take_points(Source *src, MicaDiscretization *d) {
   d->ncells = sd->ncells, d->nquad = sd->nquad, d->qx = sd->qx, d->qw = sd->qw;
   d->nsets = sd->nsets, d->sets = sd->sets;
   sd->qx = sd->qw = NULL, sd->sets = NULL, sd->nsets = 0, sd->nquad = 0;
+  /* NSNI's cells from the Gauss points (an irregular layout), the Gauss points kept for the error norms */
+  d->nodal = sd->nodal, d->ngauss = sd->ngauss, d->gauss_x = sd->gauss_x, d->gauss_w = sd->gauss_w;
+  sd->nodal = NULL, sd->gauss_x = sd->gauss_w = NULL, sd->ngauss = 0;
   d->volume = 0; /* this rank's part: summed once built */
   for (long q = 0; q < d->nquad; q++) d->volume += d->qw[q];
 }
@@ -606,7 +652,8 @@ static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
   MicaLayoutSpec grid = *layout;
   grid.kind = irregular ? MICA_LAYOUT_REGULAR : layout->kind;
   layout = &grid;
-  MICA_CHECK(!irregular || !spec->nodal, MICA_ERR_ARGUMENT, "build_owned: no nodal cells off a grid");
+  MICA_CHECK(!irregular || !spec->nodal || (spec->centroids && !spec->cell_boundaries), MICA_ERR_ARGUMENT,
+             "build_owned: off a grid only NSNI's cells (from the Gauss points)");
   MICA_CALL(mica_discretization_grid(shape, layout, cells, n, m, &per_cell));
   MICA_CALL(mica_block_split(P, shape->dim, m, dist->procs));
   for (int d = 0; d < shape->dim; d++)
@@ -625,7 +672,7 @@ static int build_owned(const MicaShapeSpec *shape, const MicaLayoutSpec *layout,
   }
   block_box(rank, dist->procs, n, plo, phi);
   block_box(rank, dist->procs, m, dist->cell_lo, dist->cell_hi);
-  ierr = owned_nodal(shape, layout, cells, spec, plo, phi, &nodal);
+  if (!irregular) ierr = owned_nodal(shape, layout, cells, spec, plo, phi, &nodal);
   if (!ierr)
     ierr = source_create(shape, layout, cells, mls_opt, n, m, plo, phi, dist, spec, nodal, irregular, &src, &needed,
                          &nneeded);

@@ -36,8 +36,8 @@
 #   - the irregular layout (each rank draws the tiles around its box, each particle owned by the block of its nearest
 #     grid point): Cook at P = 1-4 and at 50² (several tiles) at P = 3, 4, the 3-D cube (error norms) and the plate
 #     with a hole at P = 2, 4, with VCI, within 1e-10;
-#   - what the distributed mode does not cover yet is refused: exit 2, the deck line named (the nodal modes on an
-#     irregular layout).
+#   - NSNI on the irregular layout (cells from the Gauss points): Cook at finite strain at P = 2-4 and the 3-D cube
+#     (symmetric VCI) at P = 2, 4, within 1e-10; the other nodal modes refused there as serially (exit 2, the line).
 # `timeout` only keeps a hang from blocking the suite: no check depends on time.
 source "$(dirname "$0")/common.bash"
 work="$(cd "$(dirname "$OUT_DIR")" 2>/dev/null && pwd)/$(basename "$OUT_DIR")/mpi_distributed"
@@ -196,6 +196,26 @@ check_layout graded tests/decks/parallel/cube.cfg --set "particles.count=[7,6,6]
 # plate with a hole (a curved map) at P = 2, 4
 check_vci irregular "1 2 3 4" tests/decks/parallel/cook.cfg --set "particles.count=[9,9]" --set solver.steps=2 \
   --set particles.layout=\"irregular\" --set particles.seed=5 --set output.mesh=true
+# NSNI on the irregular layout (each owned particle's cell the Gauss points nearest to it, from the cells within 3 of
+# the rank's block): Cook at finite strain (the frame-invariant stabilization, Petrov–Galerkin VCI; serial UMFPACK)
+# at P = 2-4, and the 3-D cube (linear basis: symmetric VCI, the Hessians' wider supports; serial CHOLMOD) at P = 2, 4
+nsni_irregular=(--set "particles.count=[17,17]" --set solver.steps=2 --set particles.layout=\"irregular\"
+                --set particles.seed=3 --set quadrature.mode=\"nsni\")
+REFERENCE=umfpack serial "$work/irregular_nsni" tests/decks/parallel/cook.cfg "${nsni_irregular[@]}" \
+  --set solver.linear=\"umfpack\"
+for np in 2 3 4; do
+  distributed "$np" "$work/irregular_nsni-$np" tests/decks/parallel/cook.cfg "${nsni_irregular[@]}" --set solver.petsc=\"mumps\"
+  same "$work/irregular_nsni" "$work/irregular_nsni-$np" "$np" 1e-10
+  equal_keys "$work/irregular_nsni" "$work/irregular_nsni-$np" particles quadrature_points dofs nnz
+done
+nsni_cube=(--set "particles.count=[7,6,6]" --set particles.layout=\"irregular\" --set particles.seed=3
+           --set quadrature.mode=\"nsni\" --set quadrature.order=4)
+serial "$work/irregular_nsni_cube" tests/decks/parallel/cube.cfg "${nsni_cube[@]}"
+[ "$(json_value vci_symmetric "$work/irregular_nsni_cube/summary.json")" = true ] || fail "irregular_nsni_cube: not symmetric"
+for np in 2 4; do
+  distributed "$np" "$work/irregular_nsni_cube-$np" tests/decks/parallel/cube.cfg "${nsni_cube[@]}" --set solver.petsc=\"mumps\"
+  same "$work/irregular_nsni_cube" "$work/irregular_nsni_cube-$np" "$np" 1e-10
+done
 tiles=(--set "particles.count=[50,50]" --set solver.steps=1 --set particles.layout=\"irregular\" --set particles.seed=2)
 REFERENCE=umfpack serial "$work/irregular_tiles" tests/decks/parallel/cook.cfg "${tiles[@]}" --set solver.linear=\"umfpack\"
 for np in 3 4; do
@@ -554,8 +574,9 @@ refuse() { # refuse NAME PATTERN LINES...: exit 2 at -np 2 naming the deck's las
 pd='parallel = { data = "distributed"; };'
 refuse umfpack 'solver.linear is not available with parallel.data = "distributed"' "$pd" \
   'solver = { linear = "umfpack"; steps = 1; };'
-refuse irregular_nsni 'quadrature.mode is not available' "$pd" 'particles = { count = [9, 9]; layout = "irregular"; };' \
-  'quadrature = { mode = "nsni"; };'
+# the nodal modes other than NSNI need the grid's dual cells: refused as serially, at the mode's line
+refuse irregular_nodal 'quadrature.mode = "nodal" needs particles on a logical grid' "$pd" \
+  'particles = { count = [9, 9]; layout = "irregular"; };' 'quadrature = { mode = "nodal"; };'
 # ---- rigid motions: checked on the ranks' shares of the sets, the sums over all ranks --------------------------
 # Cook's membrane with ux alone on its left edge leaves the translation in y free. At P = 2, 3 some ranks hold none
 # of that edge's points and the others part of it (no rank builds a whole set); the message is the serial one,
