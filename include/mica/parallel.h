@@ -206,7 +206,7 @@ typedef struct MicaDistribution {
 
 /* Collective. parallel.data = "distributed": the particle and cell index grids of a built-in shape's layout split into one block per rank, P factored along the axes to keep the blocks'
  * interfaces small (as PETSc's DMDA does: no partitioner; an irregular layout: each particle in the block of its
- * nearest grid point, the layout drawn whole on every rank); this rank builds its particles, its cells' volume and
+ * nearest grid point, the rank drawing the layout's tiles around its box); this rank builds its particles, its cells' volume and
  * boundary points, and its ghosts from the supports of those points (a box of the grid around its block, with
  * its own MLS search), and the MLS approximation of its particles (mls_opt) with the whole layout's radii. */
 /* What a rank's points are, beyond its cells' Gauss points. */

@@ -166,7 +166,7 @@ const MicaDeckKey mica_run_schema[] = {
      "every rank; distributed — each rank owns a block of a built-in shape's particle and cell index grids, or a "
      "box of a Gmsh mesh's particles and the elements whose centroids it holds, and keeps only those, its points "
      "and a ghost layer (solver.linear = \"petsc\" or \"auto\"; every boundary method, background-cell quadrature "
-     "with or without VCI, the nodal modes with the rank's own nodal cells (a Gmsh mesh: NSNI), axisymmetric "
+     "with or without VCI, the nodal modes with the rank's own nodal cells (a Gmsh mesh or an irregular layout: NSNI), axisymmetric "
      "sections, probes, error norms and every output; no FE)"},
     {"solver.linear_rtol", MICA_KEY_FLOAT, "1e-10", 0, 1, NULL, 0, 0, "petsc (its Krylov methods), cholmod-sym: the iterations stop at |r| ≤ linear_rtol |b|"},
     {"solver.linear_max_iterations", MICA_KEY_INT, "2000", 1, 1000000, NULL, 0, 0, "petsc (its Krylov methods), cholmod-sym: iterations per solve"},
