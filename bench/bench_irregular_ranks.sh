@@ -18,11 +18,7 @@ N=${N:-41}
 REPEATS=${REPEATS:-3}
 out=${OUT_DIR:-build/bench-out}/irregular_ranks
 mkdir -p "$out"
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm_rsh_agent=false
-export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
-MPIRUN=(mpirun --oversubscribe)
-[ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
-v() { sed -n "s/^ *\"$1\": *\"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$2" | head -n 1; }
+source bench/mpi_common.bash
 min() { awk -v x="$1" -v y="${2:-1e30}" 'BEGIN { print (x < y ? x : y) }'; }
 SET=(--set "particles.count=[$N,$N,$N]" --set quadrature.order=1 --set quadrature.vci=false --set output.monitor=false
      --set solver.linear=\"petsc\" --set solver.petsc=\"gmg\")

@@ -23,11 +23,7 @@ OPTIONS=${MEMORY_PETSC_OPTIONS:-}
 PETSC=${MEMORY_PETSC:-gamg}
 out=${OUT_DIR:-build/bench-out}/memory_ranks
 mkdir -p "$out"
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm_rsh_agent=false
-export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
-MPIRUN=(mpirun --oversubscribe)
-[ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
-v() { sed -n "s/^ *\"$1\": *\"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$2" | head -n 1; }
+source bench/mpi_common.bash
 deck="$out/cube.cfg"
 { grep -v '^output\|^solver\|^                                  {' input/cube3d_million.cfg
   echo "solver = { linear = \"petsc\"; petsc = \"$PETSC\"; linear_rtol = 1e-10; linear_max_iterations = 2000; rtol = 1e-8; };"

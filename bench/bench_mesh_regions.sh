@@ -18,15 +18,12 @@ N=${N:-40}
 REPEATS=${REPEATS:-3}
 out=${OUT_DIR:-build/bench-out}/mesh_regions
 mkdir -p "$out"
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm_rsh_agent=false
-export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
-MPIRUN=(mpirun --oversubscribe)
-[ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
-v() { sed -n "s/^ *\"$1\": *\"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$2" | head -n 1; }
+source bench/mpi_common.bash
 mesh="$out/cube$N.msh"
 [ -s "$mesh" ] || python3 bench/gmsh_cube_mesh.py "$N" > "$mesh" || { echo "cannot write $mesh"; exit 1; }
 deck="$out/cube.cfg"
-sed "s|\"../../../input/meshes/cube.geo\"; mesh_size_factor = 0.5;|\"$PWD/$mesh\";|" tests/decks/parallel/cube_gmsh.cfg \
+abs_mesh=$mesh; [ "${mesh#/}" != "$mesh" ] || abs_mesh=$PWD/$mesh # OUT_DIR may be absolute
+sed "s|\"../../../input/meshes/cube.geo\"; mesh_size_factor = 0.5;|\"$abs_mesh\";|" tests/decks/parallel/cube_gmsh.cfg \
   > "$deck"
 grep -q "cube$N.msh" "$deck" || { echo "$deck: the mesh path was not rewritten"; exit 1; }
 SET=(--set quadrature.order=1 --set quadrature.vci=false --set output.monitor=false --set solver.linear=\"petsc\"

@@ -20,15 +20,11 @@ PETSC=${SCALING_PETSC:-gmg}
 SIZES=${SCALING_SIZES:-17 25 37}
 out=${OUT_DIR:-build/bench-out}/scaling
 mkdir -p "$out"
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm_rsh_agent=false
-export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
-MPIRUN=(mpirun --oversubscribe)
-[ "$(id -u)" = 0 ] && MPIRUN+=(--allow-run-as-root)
+source bench/mpi_common.bash
 if ! "${MPIRUN[@]}" -np 2 "$MICA" --version > /dev/null 2>&1; then
   echo "bench_scaling: mpirun cannot start processes here; no figures"
   exit 0
 fi
-v() { sed -n "s/^ *\"$1\": *\"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$2" | head -n 1; }
 # arr KEY FILE: a summary array's numbers, one per line
 arr() { sed -n "/\"$1\"/,/]/p" "$2" | sed 1d | grep -o '[-0-9.e+]*[0-9]'; }
 deck="$out/cube.cfg"
