@@ -340,11 +340,17 @@ static void draw_region(const GeomAxes *axes, const Tiling *T, uint64_t seed, co
   }
 }
 
+/* The index along axis d of the regular grid point nearest to parameter coordinate xi (t_i = i / (n_d − 1)): the one
+ * rule by which an irregular particle belongs to a grid point, for a box's draw and for grid_index alike. */
+static long nearest_grid_index(const GeomAxes *axes, int d, double xi) {
+  const long i = lround(xi * (double)(axes->n[d] - 1));
+  return i < 0 ? 0 : i > axes->n[d] - 1 ? axes->n[d] - 1 : i;
+}
+
 /* Whether scaled point s has its nearest grid point in [lo, hi) (as geom_layout_grid_index rounds it). */
 static int nearest_in_box(const GeomAxes *axes, const double *s, const long lo[3], const long hi[3]) {
   for (int d = 0; d < axes->dim; d++) {
-    long i = lround(s[d] / (double)(axes->n[d] - 1) * (double)(axes->n[d] - 1));
-    i = i < 0 ? 0 : i > axes->n[d] - 1 ? axes->n[d] - 1 : i;
+    const long i = nearest_grid_index(axes, d, s[d] / (double)(axes->n[d] - 1));
     if (i < lo[d] || i >= hi[d]) return 0;
   }
   return 1;
@@ -438,11 +444,7 @@ int geom_layout_grid_index(const GeomAxes *axes, long n, const double *xi, long 
   MICA_CALL(MICA_MALLOC(*index, n + 1));
   for (long p = 0; p < n; p++) {
     long k = 0;
-    for (int d = axes->dim - 1; d >= 0; d--) { /* regular axes: t_i = i / (n_d − 1) */
-      long i = lround(xi[p * axes->dim + d] * (double)(axes->n[d] - 1));
-      i = i < 0 ? 0 : i > axes->n[d] - 1 ? axes->n[d] - 1 : i;
-      k = k * axes->n[d] + i;
-    }
+    for (int d = axes->dim - 1; d >= 0; d--) k = k * axes->n[d] + nearest_grid_index(axes, d, xi[p * axes->dim + d]);
     (*index)[p] = k;
   }
   return MICA_SUCCESS;
