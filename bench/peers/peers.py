@@ -126,9 +126,13 @@ PROBLEMS = [
          mica={"linear": (["bench/peers/block3d.cfg", "mls.order=1", "mls.dilation=2.0", "quadrature.order=4"],
                           lambda k: "particles.count=[%d,%d,%d]" % (4 * k + 1, k + 1, k + 1), [2, 3, 4, 5]),
                "quadratic": (["bench/peers/block3d.cfg", "mls.order=2", "mls.dilation=3.0", "quadrature.order=5"],
-                             lambda k: "particles.count=[%d,%d,%d]" % (4 * k + 1, k + 1, k + 1), [2, 3])},
+                             lambda k: "particles.count=[%d,%d,%d]" % (4 * k + 1, k + 1, k + 1), [2, 3]),
+               # bench/peers/mica_settings.py block3d quadratic --grid quadrature.order=2 --grid mls.dilation=...
+               "quadratic-q2d4": (["bench/peers/block3d.cfg", "mls.order=2", "mls.dilation=4.0", "quadrature.order=2"],
+                                  lambda k: "particles.count=[%d,%d,%d]" % (4 * k + 1, k + 1, k + 1), [2, 3, 4])},
          fenics={"P1": [2, 4, 8, 12, 16], "P2": [1, 2, 3, 4, 5], "P3": [1, 2, 3, 4]}, reference=("P3", [4, 6, 8]),
-         pairs=["linear:P1", "quadratic:P2", "quadratic:P3", "*:*"], levels=[1.5e-1, 1e-1, 7e-2]),
+         pairs=["linear:P1", "quadratic:P2", "quadratic:P3", "quadratic-q2d4:P3", "*:*"],
+         levels=[1.5e-1, 1e-1, 7e-2]),
     # smooth fields with no polynomial part (fenics_peer.manufactured): mica's error_energy against the exact
     # field on its own error points; mica's k: particles per side; FEniCS's k: cells per side
     dict(name="manufactured2d", title="manufactured 2-D field, sin cos on [-1, 1]^2, plane strain",
@@ -155,9 +159,13 @@ PROBLEMS = [
                              lambda k: "particles.count=[%d,%d,%d]" % (k, k, k), [7, 9, 11, 13, 15]),
                "nsni-quadratic": (["input/manufactured3d.cfg", "quadrature.mode=nsni", "mls.order=2",
                                    "mls.dilation=3.0"], lambda k: "particles.count=[%d,%d,%d]" % (k, k, k),
-                                  [9, 13, 17])},
+                                  [9, 13, 17]),
+               # mica_settings.py manufactured3d quadratic --grid quadrature.order=2 --grid quadrature.vci=true ...
+               "quadratic-ball-q2v": (["input/manufactured3d.cfg", "mls.order=2", "mls.dilation=3.0",
+                                       "mls.support=ball", "quadrature.order=2", "quadrature.vci=true"],
+                                      lambda k: "particles.count=[%d,%d,%d]" % (k, k, k), [7, 9, 11, 13, 15])},
          fenics={"P1": [4, 8, 16, 24], "P2": [2, 4, 8, 12, 16], "P3": [2, 3, 4, 6, 8, 10]},
-         pairs=["linear:P1", "quadratic:P2", "quadratic:P3", "nsni-quadratic:P3", "*:*"],
+         pairs=["linear:P1", "quadratic:P2", "quadratic:P3", "nsni-quadratic:P3", "quadratic-ball-q2v:P3", "*:*"],
          levels=[3e-2, 1e-2, 3e-3, 1e-3]),
 ]
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The time-to-error interpolation and the ratios of `make bench-peers` (bench/peers/peers_tools.py) on a
-# synthetic CSV with hand-computed answers. Fast; needs no DOLFIN and runs no solver.
+# synthetic CSV with hand-computed answers; then the settings scan (bench/peers/mica_settings.py) on two small
+# runs of the 2-D manufactured field against a direct mica run. Fast; needs no DOLFIN.
 source "$(dirname "$0")/common.bash"
 PY=/usr/bin/python3
 [ -x "$PY" ] || PY=python3
@@ -39,4 +40,21 @@ ok "no ratio without both times"
 # best of the FEniCS variants at 5e-3: P1 between (1e-1, 0.01) and (4e-3, 0.05): 0.01 * 5^(log 20 / log 25)
 best=$(grep '^beam (best vs best),0.005,' "$dir/ratio.csv" | cut -d, -f4)
 within "$best" "$(awk 'BEGIN { print 0.01 * exp(log(5) * log(20) / log(25)) }')" 1e-3 "fastest variant"
+
+# mica_settings.py: a grid setting overrides the variant's own (quadratic-d4 has quadrature.order = 4), and each
+# row's error is the run's error_energy, as a direct run of the same settings gives it
+scan="$dir/scan.csv"
+MICA_BIN="$MICA" "$PY" bench/peers/mica_settings.py manufactured2d quadratic-d4 --grid quadrature.order=3 \
+  --grid mls.support=box,ball --ks 6,8 --out "$scan" > "$dir/scan.log" 2>&1 || fail "mica_settings.py: $(tail -3 "$dir/scan.log")"
+[ "$(grep -c '^quadrature.order=3 mls.support=' "$scan")" = 4 ] || fail "scan rows: $(cat "$scan")"
+row=$(grep '^quadrature.order=3 mls.support=ball,8,' "$scan") || fail "no row for ball, k = 8"
+# (k − 1)^2 background cells of 3 x 3 points
+[ "$(cut -d, -f6 <<<"$row")" = 441 ] || fail "quadrature points $(cut -d, -f6 <<<"$row"), expected 7^2 * 9 = 441"
+ok "the grid's quadrature.order replaced the variant's"
+run_deck "$dir/direct" input/manufactured.cfg --set mls.order=2 --set mls.dilation=4.0 --set quadrature.order=3 \
+  --set mls.support=ball --set "particles.count=[8,8]"
+within "$(cut -d, -f4 <<<"$row")" "$(json_value error_energy "$dir/direct/summary.json")" 1e-12 "scan error = direct run's"
+grep -q '^quadrature.order=3 mls.support=ball -> 0.01: ' "$dir/scan.log" || fail "no time-to-error line: $(cat "$dir/scan.log")"
+ok "time to the problem's error levels printed"
+expect_failure 1 "expected KEY=V1,V2" -- "$PY" bench/peers/mica_settings.py manufactured2d quadratic-d4 --grid quadrature.order
 echo "peers_tools: all checks passed"
