@@ -82,6 +82,8 @@ typedef struct MicaLinearSolverStats {
    * product receives from other ranks, the halo of one Krylov iteration; 0 in one process */
   long halo_dofs;
   int multigrid_levels; /* petsc's gmg: the levels of its hierarchy, the particles' included; 0 for other methods */
+  const char *ordering; /* cholmod, cholmod-sym: the fill-reducing ordering of the last analysis (a static name);
+                         * NULL for the other methods */
 } MicaLinearSolverStats;
 
 /* Settings of the iterative solvers (petsc, cholmod-sym; zero members take the defaults). */

@@ -323,6 +323,7 @@ static int add_newton_stats(const MicaNewtonStats *st, MicaJson *summary) {
   MICA_CALL(mica_json_string(summary, "linear_solver", st->linear_name ? st->linear_name : "none"));
   MICA_CALL(mica_json_int(summary, "nnz_factor", st->linear.nnz_factor));
   MICA_CALL(mica_json_number(summary, "factor_flops", st->linear.flops));
+  if (st->linear.ordering) MICA_CALL(mica_json_string(summary, "factor_ordering", st->linear.ordering));
   MICA_CALL(mica_json_int(summary, "symbolic_analyses", st->linear.analyses));
   MICA_CALL(mica_json_int(summary, "factorizations", st->linear.factorizations));
   MICA_CALL(mica_json_number(summary, "time_assemble", st->time_assemble));

@@ -95,6 +95,7 @@ static int sym_factor(MicaLinearSolver *solver, const MicaSparse *A) {
   solver->stats.flops = data->cholesky.stats.flops;
   solver->stats.analyses = data->cholesky.stats.analyses;
   solver->stats.time_analyze = data->cholesky.stats.time_analyze;
+  solver->stats.ordering = data->cholesky.stats.ordering;
   data->A = A;
   return MICA_SUCCESS;
 }
