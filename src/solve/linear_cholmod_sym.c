@@ -6,8 +6,8 @@
  * when max θ < 1, at the rate max θ per iteration (docs/theory.md §VCI, "A CHOLMOD solve"). One CHOLMOD
  * factorization (about a third of UMFPACK's LU time on these matrices, half its entries) and a few triangular
  * solves and matrix–vector products per solve. The pattern must be symmetric (the solid's is); S shares A's
- * pattern, its values are refreshed at each factorization through the transposed positions, found once per
- * pattern. Refines until |b − A x| ≤ rtol |b| (solver.linear_rtol) and then on while the residual still halves,
+ * pattern, the values of its upper triangle (all CHOLMOD reads) are refreshed at each factorization through the
+ * transposed positions, found once per pattern. Refines until |b − A x| ≤ rtol |b| (solver.linear_rtol) and then on while the residual still halves,
  * to round-off as a direct solver would (the patch tests ask 1e-10 of the solution); a solve that does not get
  * to rtol in solver.linear_max_iterations iterations, or stops contracting before, is an error naming UMFPACK. The iterations are
  * reported as krylov_iterations (flag MICA_LINEAR_REFINES). */
@@ -24,7 +24,7 @@ static const double SYM_DEFAULT_RTOL = 1e-12;
 typedef struct {
   MicaLinearSolver cholesky; /* CHOLMOD on S */
   MicaSparse S;              /* A's pattern (borrowed), its own values */
-  long *transposed;          /* [nnz] position of A_ji for the entry A_ij */
+  long *transposed;          /* [nnz] position of A_ji for the entry A_ij, i ≤ j (the rest unset) */
   MicaPatternKey pattern;    /* of the A `transposed` belongs to */
   const MicaSparse *A;       /* the matrix last factored (the caller keeps it until the solves) */
   double *r, *dx;            /* [n] residual and correction */
@@ -43,21 +43,24 @@ static int sym_create(MicaLinearSolver *solver) {
   return MICA_SUCCESS;
 }
 
-/* transposed[e] for every entry, by binary search in the other column; an entry without its mirror is an error. */
+/* transposed[e] for every entry e of the upper triangle: walking the columns in order, the entries (j, i) of
+ * column i are met in ascending j, which is the order of column i's rows, so a cursor per column finds each
+ * mirror in one pass (O(nnz); the binary search per entry it replaced took 0.5 s on a 6591-unknown cube's
+ * 8.9·10⁶ entries). An entry whose mirror is not where the cursor stands has none: the pattern is not symmetric. */
 static int find_transposed(const MicaSparse *A, long *transposed) {
+  long *cursor = NULL;
+  MICA_CALL(MICA_MALLOC(cursor, A->n));
+  memcpy(cursor, A->colptr, (size_t)A->n * sizeof *cursor);
   for (long j = 0; j < A->n; j++)
     for (long e = A->colptr[j]; e < A->colptr[j + 1]; e++) {
-      const long i = A->rowind[e];
-      long lo = A->colptr[i], hi = A->colptr[i + 1] - 1;
-      while (lo < hi) {
-        const long mid = (lo + hi) / 2;
-        if (A->rowind[mid] < j) lo = mid + 1;
-        else hi = mid;
+      const long i = A->rowind[e], mirror = cursor[i]++;
+      if (mirror >= A->colptr[i + 1] || A->rowind[mirror] != j) {
+        free(cursor);
+        MICA_ERROR(MICA_ERR_ARGUMENT, "cholmod-sym: the pattern is not symmetric (entry %ld, %ld has no mirror)", i, j);
       }
-      MICA_CHECK(lo <= hi && A->rowind[lo] == j, MICA_ERR_ARGUMENT,
-                 "cholmod-sym: the pattern is not symmetric (entry %ld, %ld has no mirror)", i, j);
-      transposed[e] = lo;
+      if (i <= j) transposed[e] = mirror; /* sym_factor reads the upper triangle's only */
     }
+  free(cursor);
   return MICA_SUCCESS;
 }
 
@@ -85,7 +88,11 @@ static int sym_factor(MicaLinearSolver *solver, const MicaSparse *A) {
   double *val = data->S.val;
   data->S.n = A->n, data->S.nnz = A->nnz, data->S.ndof = A->ndof;
   data->S.colptr = A->colptr, data->S.rowind = A->rowind;
-  for (long e = 0; e < A->nnz; e++) val[e] = 0.5 * (A->val[e] + A->val[data->transposed[e]]);
+  /* the upper triangle only: CHOLMOD reads no other entry of S (stype = 1), and the lower half of S.val is never
+   * touched (half the gathers, half the fresh pages) */
+  for (long j = 0; j < A->n; j++)
+    for (long e = A->colptr[j]; e < A->colptr[j + 1] && A->rowind[e] <= j; e++)
+      val[e] = 0.5 * (A->val[e] + A->val[data->transposed[e]]);
   int ierr = mica_linear_cholmod.factor(&data->cholesky, &data->S);
   if (ierr) {
     mica_error_prefix("cholmod-sym: the symmetric part of the matrix");

@@ -410,9 +410,17 @@ static void test_cholmod_sym(void **state) {
   MicaLinearSolver *sym = NULL, *lu = NULL;
   assert_int_equal(mica_linear_solver_create(&mica_linear_cholmod_sym, &sym), MICA_SUCCESS);
   assert_int_equal(mica_linear_solver_create(&mica_linear_umfpack, &lu), MICA_SUCCESS);
+  /* a symmetric A is its own symmetric part: S⁻¹ b is the answer, and the refinement has nothing left to do
+   * (a wrong mirror position in S would leave it iterating, or failing) */
+  grid_values(A, 1.0, 0.01);
+  factor_solve_check(sym, A, b, x);
+  print_message("  cholmod-sym on a symmetric matrix: %ld iterations\n", sym->stats.krylov_iterations);
+  assert_true(sym->stats.krylov_iterations <= 1);
+  const long iterations_before = sym->stats.krylov_iterations;
   grid_skew_values(A, 0.05);
   assert_true(mica_sparse_asymmetry(A) > 1e-2);
   factor_solve_check(sym, A, b, x);
+  assert_true(sym->stats.krylov_iterations > iterations_before);
   factor_solve_check(lu, A, b, y);
   double d = 0, n = 0;
   for (long i = 0; i < A->n; i++) d = fmax(d, fabs(x[i] - y[i])), n = fmax(n, fabs(y[i]));
@@ -427,6 +435,13 @@ static void test_cholmod_sym(void **state) {
   mica_error_clear();
   grid_values(A, 1.0, -0.5);
   assert_int_equal(mica_linear_solver_factor(sym, A), MICA_ERR_NUMERIC);
+  mica_error_clear();
+  /* a pattern without the mirror of (0, 1) */
+  long colptr[3] = {0, 1, 3}, rowind[3] = {0, 0, 1};
+  double val[3] = {2.0, 0.5, 2.0};
+  MicaSparse lopsided = {.n = 2, .nnz = 3, .ndof = 1, .colptr = colptr, .rowind = rowind, .val = val};
+  assert_int_equal(mica_linear_solver_factor(sym, &lopsided), MICA_ERR_ARGUMENT);
+  assert_non_null(strstr(mica_error_message(), "not symmetric"));
   mica_error_clear();
   assert_int_equal(mica_linear_solver_destroy(&sym), MICA_SUCCESS);
   assert_int_equal(mica_linear_solver_destroy(&lu), MICA_SUCCESS);
