@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "mica/solid.h"
+#include "mica/sort.h"
 
 /* One cell's union of supports, accumulated: slot[J] is J's position in the list or −1. */
 typedef struct {
@@ -52,11 +53,6 @@ static int union_add(Union *u, int dim, const MlsShape *sh, const double *wn) {
   return MICA_SUCCESS;
 }
 
-static int compare_long(const void *a, const void *b) {
-  const long x = *(const long *)a, y = *(const long *)b;
-  return (x > y) - (x < y);
-}
-
 /* Appends the union as point I of the cache (ascending particle indices), scaled by 1/|Ω_I|, and clears the
  * slots for the next cell. */
 static int append_cell(MicaShapeCache *c, Union *u, long I, double volume, long *cap) {
@@ -71,7 +67,7 @@ static int append_cell(MicaShapeCache *c, Union *u, long I, double volume, long 
     *cap = grown;
   }
   memcpy(c->index + start, u->index, sizeof(long) * (size_t)u->n);
-  qsort(c->index + start, (size_t)u->n, sizeof(long), compare_long);
+  qsort(c->index + start, (size_t)u->n, sizeof(long), mica_compare_long);
   for (long k = 0; k < u->n; k++) {
     const long e = u->slot[c->index[start + k]];
     c->N[start + k] = u->N[e];

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "mica/fe.h"
+#include "mica/sort.h"
 
 /* ---- the mesh ---- */
 
@@ -356,11 +357,6 @@ cleanup:
   return ierr;
 }
 
-static int compare_long(const void *a, const void *b) {
-  const long x = *(const long *)a, y = *(const long *)b;
-  return (x > y) - (x < y);
-}
-
 /* Corner k of a face (2-D: (0), (1) along t0; 3-D: (0,0), (1,0), (1,1), (0,1) in (t0, t1)): its global node. */
 static long face_corner(const MicaFe *fe, const Face *f, int k) {
   static const int di[4] = {0, 1, 1, 0}, dj[4] = {0, 0, 1, 1};
@@ -426,7 +422,7 @@ static int build_set(const MicaFe *fe, const Face *faces, long nfaces, int which
   for (long f = 0; f < nfaces; f++)
     if (faces[f].set == which)
       for (int k = 0; k < esize; k++) keys[nkeys++] = face_corner(fe, &faces[f], k);
-  qsort(keys, (size_t)nkeys, sizeof *keys, compare_long);
+  qsort(keys, (size_t)nkeys, sizeof *keys, mica_compare_long);
   long nv = 0;
   for (long i = 0; i < nkeys; i++)
     if (nv == 0 || keys[i] != keys[nv - 1]) keys[nv++] = keys[i];
@@ -439,7 +435,7 @@ static int build_set(const MicaFe *fe, const Face *faces, long nfaces, int which
     if (faces[f].set != which) continue;
     for (int k = 0; k < esize; k++) {
       const long key = face_corner(fe, &faces[f], k);
-      const long *hit = bsearch(&key, keys, (size_t)nv, sizeof *keys, compare_long);
+      const long *hit = bsearch(&key, keys, (size_t)nv, sizeof *keys, mica_compare_long);
       set->element_vertices[element * esize + k] = hit - keys;
     }
     face_points(fe, &faces[f], element, order, g, gw, orientation, set, &q);

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "geom_private.h"
+#include "mica/sort.h"
 
 /* ---- storage ---- */
 
@@ -118,11 +119,6 @@ static void key_to_parameter(const GeomGrid *grid, long key, double *xi) {
   }
 }
 
-static int compare_long(const void *a, const void *b) {
-  const long x = *(const long *)a, y = *(const long *)b;
-  return (x > y) - (x < y);
-}
-
 /* ---- one set ---- */
 
 /* Corner order of an element: (0,0), (1,0) in 2-D; (0,0), (1,0), (1,1), (0,1) in 3-D. */
@@ -208,7 +204,7 @@ static int set_vertices(const GeomGrid *grid, const FaceRef *faces, long nfaces,
   for (long e = 0; e < nfaces; e++)
     for (int k = 0; k < esize; k++)
       (*keys)[e * esize + k] = corner_key(grid, &faces[e], corner_di[k], corner_dj[k]);
-  qsort(*keys, (size_t)(nfaces * esize), sizeof **keys, compare_long);
+  qsort(*keys, (size_t)(nfaces * esize), sizeof **keys, mica_compare_long);
   long n = 0;
   for (long i = 0; i < nfaces * esize; i++)
     if (n == 0 || (*keys)[i] != (*keys)[n - 1]) (*keys)[n++] = (*keys)[i];
@@ -236,7 +232,7 @@ static int build_set(const GeomMap *map, const GeomGrid *grid, const GeomSetSpec
   for (long e = 0; e < nfaces; e++) {
     for (int k = 0; k < esize; k++) {
       const long key = corner_key(grid, &faces[e], corner_di[k], corner_dj[k]);
-      const long *hit = bsearch(&key, keys, (size_t)nkeys, sizeof *keys, compare_long);
+      const long *hit = bsearch(&key, keys, (size_t)nkeys, sizeof *keys, mica_compare_long);
       set->element_vertices[e * esize + k] = hit - keys;
     }
     MICA_CALL_CLEANUP(face_points(map, grid, &faces[e], order, u, wu, e, set, &q));

@@ -22,6 +22,7 @@
 #include <unistd.h>
 
 #include "gmsh_reader.h"
+#include "mica/sort.h"
 
 enum { DETAIL_MAX = 768 };
 
@@ -488,18 +489,13 @@ int gmsh_element_reserve(GmshMesh *mesh, GmshRawTags *raw) {
   return grow_elements(mesh, raw, 2 * raw->elements_capacity + 1024);
 }
 
-static int compare_long_value(const void *a, const void *b) {
-  const long x = *(const long *)a, y = *(const long *)b;
-  return (x > y) - (x < y);
-}
-
 int gmsh_element_kept(GmshReader *rd, GmshRawTags *raw, int type, const long *tags, int k) {
   raw->elements_read++;
   if (!rd->filter) return 1;
   if (gmsh_element_dim(type) > rd->filter->max_dim) rd->filter->max_dim = gmsh_element_dim(type);
   rd->filter->elements_of_dim[gmsh_element_dim(type) & 3]++;
   for (int j = 0; j < k; j++)
-    if (!bsearch(&tags[j], raw->kept_tags, (size_t)raw->nkept_tags, sizeof(long), compare_long_value)) return 0;
+    if (!bsearch(&tags[j], raw->kept_tags, (size_t)raw->nkept_tags, sizeof(long), mica_compare_long)) return 0;
   return 1;
 }
 
@@ -658,7 +654,7 @@ static int kept_tags(const GmshReader *rd, const GmshMesh *mesh, GmshRawTags *ra
   MICA_FREE(raw->kept_tags);
   MICA_CALL(MICA_MALLOC(raw->kept_tags, mesh->nnodes + 1));
   memcpy(raw->kept_tags, raw->tag, sizeof(long) * (size_t)mesh->nnodes);
-  qsort(raw->kept_tags, (size_t)mesh->nnodes, sizeof(long), compare_long_value);
+  qsort(raw->kept_tags, (size_t)mesh->nnodes, sizeof(long), mica_compare_long);
   raw->nkept_tags = mesh->nnodes;
   return MICA_SUCCESS;
 }

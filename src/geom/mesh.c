@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "geom_private.h"
+#include "mica/sort.h"
 
 enum { TYPE_MAX = 16, NODES_MAX = 8 };
 
@@ -259,15 +260,10 @@ static int compare_face(const void *a, const void *b) {
   return 0;
 }
 
-static int compare_long(const void *a, const void *b) {
-  const long x = *(const long *)a, y = *(const long *)b;
-  return (x > y) - (x < y);
-}
-
 static FaceKey make_key(const long *nodes, int n, long element) {
   FaceKey f = {.key = {-1, -1, -1, -1}, .element = element};
   for (int i = 0; i < n; i++) f.key[i] = nodes[i];
-  qsort(f.key, (size_t)n, sizeof f.key[0], compare_long);
+  qsort(f.key, (size_t)n, sizeof f.key[0], mica_compare_long);
   return f;
 }
 
@@ -375,7 +371,7 @@ static int set_vertices(const MeshContext *ctx, int phys, MicaBoundarySet *set, 
   for (long e = 0; e < mesh->nelements; e++)
     if (in_set(ctx, e, phys))
       for (long j = mesh->node_start[e]; j < mesh->node_start[e + 1]; j++) (*nodes)[n++] = mesh->node[j];
-  qsort(*nodes, (size_t)n, sizeof **nodes, compare_long);
+  qsort(*nodes, (size_t)n, sizeof **nodes, mica_compare_long);
   long unique = 0;
   for (long i = 0; i < n; i++)
     if (unique == 0 || (*nodes)[i] != (*nodes)[unique - 1]) (*nodes)[unique++] = (*nodes)[i];
@@ -453,7 +449,7 @@ static int build_set(const MeshContext *ctx, int phys, const char *name, MicaBou
     if (!in_set(ctx, e, phys)) continue;
     for (int a = 0; a < size; a++) {
       const long node = mesh->node[mesh->node_start[e] + a];
-      const long *hit = bsearch(&node, nodes, (size_t)set->nvertices, sizeof node, compare_long);
+      const long *hit = bsearch(&node, nodes, (size_t)set->nvertices, sizeof node, mica_compare_long);
       set->element_vertices[k * size + a] = hit - nodes;
     }
     MICA_CALL_CLEANUP(element_points(ctx, e, k, set, &q));

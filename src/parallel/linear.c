@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "parallel_private.h"
+#include "mica/sort.h"
 
 /* The ranks' solver: a distributed one (petsc) whose every factorization starts and whose every factorization and
  * solve ends with the ranks agreeing on their state, so that an error one rank meets outside PETSc's collectives
@@ -89,13 +90,8 @@ int mica_parallel_linear_create(MicaDistribution *dist, const MicaLinearSolverOp
 /* nnz of Σ_r L_r without gathering the pattern anywhere: the upper-triangle entries (i ≤ j) go to the rank
  * that counts column j (node of j modulo the ranks: balanced), which sorts them and counts the distinct ones;
  * the tangent's pattern is symmetric, so nnz = 2 · upper − diagonal. One all-to-all of 8 bytes per entry. */
-static int compare_long(const void *a, const void *b) {
-  const long x = *(const long *)a, y = *(const long *)b;
-  return (x > y) - (x < y);
-}
-
 static int count_distinct(long *keys, long count, long n, long *upper, long *diagonal) {
-  qsort(keys, (size_t)count, sizeof *keys, compare_long);
+  qsort(keys, (size_t)count, sizeof *keys, mica_compare_long);
   *upper = *diagonal = 0;
   for (long k = 0; k < count; k++) {
     if (k > 0 && keys[k] == keys[k - 1]) continue;

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "mica/parallel.h"
+#include "mica/sort.h"
 #include "parallel_private.h"
 
 /* ---- the ghost plan --------------------------------------------------------------------------------------- */
@@ -342,11 +343,6 @@ int mica_owned_point_rank(const MicaDistribution *dist, const double *x, int *ro
   return MICA_SUCCESS;
 }
 
-static int compare_long(const void *a, const void *b) {
-  const long x = *(const long *)a, y = *(const long *)b;
-  return (x > y) - (x < y);
-}
-
 /* Each ghost's position among its owner's particles: its key sent to the owner, found among the owner's keys
  * (ascending), sent back. Collective. */
 int parallel_ghost_positions(long n, const int *owner, const long *key, long nowned, const long *owned_key,
@@ -371,7 +367,7 @@ int parallel_ghost_positions(long n, const int *owner, const long *key, long now
   MICA_CALL_CLEANUP(mica_parallel_agree(ierr));
   MPI_Alltoallv(send, sc, sd, MPI_LONG, recv, rc, rd, MPI_LONG, mica_parallel_comm());
   for (long k = 0; k < rd[P]; k++) { /* the owner's answer: the key's position, −1 if it is not an owned particle */
-    const long *hit = bsearch(&recv[k], owned_key, (size_t)nowned, sizeof(long), compare_long);
+    const long *hit = bsearch(&recv[k], owned_key, (size_t)nowned, sizeof(long), mica_compare_long);
     recv[k] = hit ? hit - owned_key : -1;
   }
   MPI_Alltoallv(recv, rc, rd, MPI_LONG, send, sc, sd, MPI_LONG, mica_parallel_comm());

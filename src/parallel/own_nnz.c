@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "mica/parallel.h"
+#include "mica/sort.h"
 #include "parallel_private.h"
 
 typedef struct {
@@ -14,11 +15,6 @@ typedef struct {
 static int compare_entry(const void *a, const void *b) {
   const Entry *x = a, *y = b;
   return x->row != y->row ? (x->row > y->row) - (x->row < y->row) : (x->col > y->col) - (x->col < y->col);
-}
-
-static int compare_long(const void *a, const void *b) {
-  const long x = *(const long *)a, y = *(const long *)b;
-  return (x > y) - (x < y);
 }
 
 static int node_owner(const MicaDistribution *dist, long k) {
@@ -45,7 +41,7 @@ static long node_neighbors(const MicaSparse *K, long k, const long *global_node,
 static long union_count(const MicaSparse *K, const long *global_node, long k, const Entry *got, long ngot,
                         long *scratch) {
   const long len = node_neighbors(K, k, global_node, scratch);
-  qsort(scratch, (size_t)len, sizeof *scratch, compare_long);
+  qsort(scratch, (size_t)len, sizeof *scratch, mica_compare_long);
   long count = len, a = 0;
   for (long e = 0; e < ngot; e++) {
     if (e > 0 && got[e].col == got[e - 1].col) continue;
@@ -96,7 +92,7 @@ int mica_owned_matrix_nnz(const MicaDistribution *dist, const MicaSparse *K, lon
   for (int r = 0; r <= P; r++) counts[r] *= 2, displs[r] *= 2, rcounts[r] *= 2, rdispls[r] *= 2; /* longs */
   MPI_Alltoallv(send, counts, displs, MPI_LONG, got, rcounts, rdispls, MPI_LONG, mica_parallel_comm());
   qsort(got, (size_t)ngot, sizeof *got, compare_entry);
-  qsort(owned, (size_t)nowned, 2 * sizeof *owned, compare_long); /* by global node */
+  qsort(owned, (size_t)nowned, 2 * sizeof *owned, mica_compare_long); /* by global node */
   /* the owned nodes: their own neighbors, and the received ones merged in */
   for (long o = 0; o < nowned; o++) mine += node_neighbors(K, owned[2 * o + 1], NULL, NULL);
   for (long e = 0; e < ngot;) {

@@ -13,6 +13,7 @@
 #include <cholmod.h>
 
 #include "linear_private.h"
+#include "mica/sort.h"
 #include "mica/timer.h"
 
 typedef struct {
@@ -23,11 +24,6 @@ typedef struct {
   int factored;           /* L holds a complete factorization that solve may use */
   const char *ordering;   /* the fill-reducing ordering of that analysis: node_orderings' names, or "cholmod" */
 } CholmodData;
-
-static int compare_long(const void *a, const void *b) {
-  const long x = *(const long *)a, y = *(const long *)b;
-  return (x > y) - (x < y);
-}
 
 /* The caller's matrix as a cholmod_sparse that borrows its arrays (CHOLMOD only reads them). */
 static cholmod_sparse borrow_matrix(const MicaSparse *A) {
@@ -114,7 +110,7 @@ static int node_graph(const MicaSparse *A, cholmod_common *common, cholmod_spars
           if (rowind) rowind[count] = I;
           count++;
         }
-      if (rowind) qsort(rowind + colptr[J], (size_t)(count - colptr[J]), sizeof *rowind, compare_long);
+      if (rowind) qsort(rowind + colptr[J], (size_t)(count - colptr[J]), sizeof *rowind, mica_compare_long);
     }
     if (colptr) colptr[nodes] = count;
     if (pass == 0) {

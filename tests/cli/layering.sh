@@ -14,7 +14,7 @@ STAGES=(util mls io geom models solve parallel assemble bc fe app cli)
 # The stage of each public header: the folder that defines what it declares (a header of inline functions and
 # types only: the folder of the code it serves). A new header must be added here.
 declare -A HEADER_STAGE=(
-  [error]=util [registry]=util [schema]=util [text]=util [timer]=util [random]=util
+  [error]=util [registry]=util [sort]=util [schema]=util [text]=util [timer]=util [random]=util
   [mls]=mls
   [deck]=io [expr]=io [files]=io [json]=io [plot]=io [publish]=io [vtk]=io
   [geom]=geom
