@@ -133,11 +133,21 @@ typedef struct MicaNsni {
   double *w;             /* [npoints] */
   double *dir;           /* [npoints × dim] */
   double *grad;          /* [entries × dim]: ∇N_J(x_I) of each entry (with_gradients), else NULL */
+  MicaShapeCache *pairs; /* the paired rule (mica_nsni_pairs_create), else NULL */
+  double *pair_w;        /* [pairs->npoints] */
 } MicaNsni;
 /* One stabilization point set per nodal cell (disc->nodal->n = disc->nquad points; with distributed data a rank's
  * cells, fewer than its particles, which include the ghosts). */
 int mica_nsni_create(const MicaDiscretization *disc, const MlsApprox *mls, int with_gradients, MicaNsni **nsni);
 int mica_nsni_destroy(MicaNsni **nsni);
+/* NSNI's paired rule for a model without a quadratic energy (docs/theory.md §NSNI, "the paired rule"): for each
+ * stabilization point p = I·dim + k, two points whose shape functions are the nodal point's moved along the
+ * expansion, N ± h ∂_g N and ∇N ± h H g (and VCI's test gradients ∇̃N ± h H g), each of weight |Ω_I| / (2 dim),
+ * h² = dim w_p / |Ω_I|. With them in place of the nodal points and the stabilization points, the model's own energy
+ * integrated over the 2 dim points equals NSNI's |Ω_I| W(q_I) + ½ Σ_k w_k q̇_kᵀ D q̇_k exactly for a quadratic W, and
+ * extends it to any W. volume: the nodal points' cache after VCI, volume_w their weights |Ω_I|; the supports are the
+ * stabilization points' (which hold the nodal ones). */
+int mica_nsni_pairs_create(MicaNsni *nsni, const MicaShapeCache *volume, const double *volume_w);
 /* The Hessians' support radii over the MLS ones for a basis of this order (3/2 for a linear basis, whose Hessians
  * come from a quadratic fit; 1 otherwise): how far from its points a rank's particles must reach (own.c). */
 double mica_nsni_hessian_reach(int basis_order);
@@ -244,6 +254,8 @@ typedef struct MicaSolid {
   MicaFieldModel stab_model;      /* the quadratic energy of those points (opt.nsni): the model, or its linear form */
   int stab_green;                 /* 1: stab_model is applied to Ė = sym(Fᵀ ∂_g F), frame-invariant (a finite-strain
                                      model; mica_nsni_green_assemble); 0: to ∂_g ∇u (a quadratic model) */
+  int stab_pairs;                 /* 1: the paired rule (a finite model other than a classical one: nsni->pairs in
+                                     place of the nodal and stabilization points); stab_model unused */
   MicaShapeCache **boundary;      /* [nsets], at each set's boundary quadrature points (NULL if unused) */
   double **boundary_h;            /* [nsets][n]: local particle spacing at each boundary point */
   int ndirichlet, ntraction;

@@ -107,7 +107,10 @@ static void print_counts(const RunProblem *rp, const RunTotals *c) {
     printf("finite elements: %ld %s elements on the particles\n", rp->fe->nelements,
            mica_fe_element_name(rp->fe->dim, rp->fe->order));
   if (s->opt.scni) printf("SCNI: smoothed gradients on the nodal cells\n");
-  if (s->nsni)
+  if (s->nsni && s->stab_pairs)
+    printf("NSNI: the paired rule, %ld points (%d per particle) moved along the MLS Hessians, energy of model '%s'\n",
+           s->nsni->pairs->npoints, 2 * s->dim, s->opt.field.ops->type.name);
+  else if (s->nsni)
     printf("NSNI: %ld stabilization points (%d per particle) from the MLS Hessians, energy of model '%s'\n",
            s->nsni->cache->npoints, s->dim, s->stab_model.ops->type.name);
   fflush(stdout);

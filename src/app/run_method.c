@@ -205,8 +205,8 @@ int run_read_integration(const MicaDeck *deck, const MicaShapeSpec *shape, const
 }
 
 /* NSNI (docs/theory.md §NSNI) expands first-order kinematics over the nodal cells: a second-order model would
- * need third derivatives of the shape functions, and a finite model other than a classical one (whose
- * stabilization is its linear form) has no quadratic form to stabilize with. Refused with the deck line. */
+ * need third derivatives of the shape functions. Refused with the deck line. (A finite model other than a
+ * classical one takes the paired rule, src/assemble/nsni_pairs.c.) */
 static int check_nsni(const MicaDeck *deck, const MicaSolidOptions *opt) {
   char where[256];
   const MicaFieldModel *m = &opt->field;
@@ -215,10 +215,6 @@ static int check_nsni(const MicaDeck *deck, const MicaSolidOptions *opt) {
              "%s: quadrature.mode = \"nsni\" expands the kinematics to first order over each nodal cell, and model "
              "'%s' uses second derivatives: its expansion needs third derivatives of the MLS shape functions, which "
              "mica does not compute; use quadrature.mode = \"gauss\" (or \"nodal\")", where, m->ops->type.name);
-  MICA_CHECK(mica_field_model_quadratic(m) || mica_type_has(&m->ops->type, MICA_FIELD_CLASSICAL), MICA_ERR_INPUT,
-             "%s: quadrature.mode = \"nsni\" stabilizes with a quadratic energy (the model's own, or a finite-strain "
-             "classical model's linear form), and model '%s' has none here; use quadrature.mode = \"gauss\"", where,
-             m->ops->type.name);
   return MICA_SUCCESS;
 }
 

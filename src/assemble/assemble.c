@@ -507,6 +507,14 @@ static int assemble_volume(MicaSolid *s, double t, const double *u, double *R, M
   VolumeTerms v = {&L, t, load_scale(s, t), 0, s->volume, s->disc->qw, &s->opt.field};
   for (int a = 0; a < s->ncomp; a++) v.has_body |= s->opt.body[a] != NULL;
   if (mica_solid_pressure_cells(s)) return assemble_volume_cells(s, &v, u, R, K);
+  if (s->nsni && s->stab_pairs) { /* the paired rule's points replace the nodal ones; the body load as NSNI's */
+    const VolumeTerms pairs = {&L, t, v.scale, 0, s->nsni->pairs, s->nsni->pair_w, &s->opt.field};
+    MICA_CALL(assemble_point_set(s, &pairs, u, R, K));
+    for (long p = 0; v.has_body && p < s->volume->npoints; p++) MICA_CALL(add_body_force(s, p, t, v.scale, R));
+    for (long p = 0; v.has_body && p < s->nsni->cache->npoints; p++)
+      MICA_CALL(add_body_derivative(s, p, t, v.scale, R));
+    return MICA_SUCCESS;
+  }
   if (s->nsni && s->stab_green) { /* first: it mirrors K's upper half, as the grouped path below does */
     MICA_CALL(mica_nsni_green_assemble(s, u, R, K));
     for (long p = 0; v.has_body && p < s->nsni->cache->npoints; p++)

@@ -139,6 +139,8 @@ int mica_nsni_destroy(MicaNsni **nsni) {
   MICA_FREE((*nsni)->w);
   MICA_FREE((*nsni)->dir);
   MICA_FREE((*nsni)->grad);
+  mica_shape_cache_destroy(&(*nsni)->pairs);
+  MICA_FREE((*nsni)->pair_w);
   MICA_FREE(*nsni);
   return MICA_SUCCESS;
 }

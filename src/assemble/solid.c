@@ -362,18 +362,18 @@ int mica_solid_nearly_symmetric(const MicaSolid *s) {
 
 /* The energy of NSNI's stabilization points (docs/theory.md §NSNI): a quadratic model's own; for a
  * finite-strain classical model the linear model of the same E, ν (its tangent at F = I), so that the
- * stabilization stays a fixed quadratic form whose tangent is exact. Other finite models have no such form
- * here. */
+ * stabilization stays a fixed quadratic form whose tangent is exact. Other finite models (finite-rotation
+ * Cosserat) have no such form: the paired rule (nsni_pairs.c) integrates their own energy instead. */
 static int stabilization_model(MicaSolid *s) {
   const MicaFieldModel *m = &s->opt.field;
   if (mica_field_model_quadratic(m)) {
     s->stab_model = *m;
     return MICA_SUCCESS;
   }
-  MICA_CHECK(mica_type_has(&m->ops->type, MICA_FIELD_CLASSICAL), MICA_ERR_INPUT,
-             "NSNI stabilizes a quadratic energy, or a finite-strain classical model with its linear form; model "
-             "'%s' has neither (no linearized form of its energy is available for the stabilization terms)",
-             m->ops->type.name);
+  if (!mica_type_has(&m->ops->type, MICA_FIELD_CLASSICAL)) {
+    s->stab_pairs = 1;
+    return MICA_SUCCESS;
+  }
   MicaMaterial linear;
   s->stab_green = 1; /* a finite-strain model: the linear form of the Green strain's rate (nsni_green.c) */
   MICA_CALL(mica_material_set(&mica_model_linear, m->material.E, m->material.nu, m->material.plane, &linear));
@@ -524,6 +524,8 @@ int mica_solid_create_sharing(const MicaDiscretization *disc, const MicaApprox *
     if (mica_bc_method_has(opt->bc_method, MICA_BC_MULTIPLIERS)) MICA_CALL_CLEANUP(owned_multipliers(s));
     if (mica_bc_method_has(opt->bc_method, MICA_BC_COLLOCATION)) MICA_CALL_CLEANUP(owned_collocation(s));
   }
+  /* NSNI's paired rule moves the nodal points' shape functions, VCI's corrected ones: after VCI */
+  if (s->stab_pairs) MICA_CALL_CLEANUP(mica_nsni_pairs_create(s->nsni, s->volume, s->disc->qw));
   *out = s;
   return MICA_SUCCESS;
 cleanup:

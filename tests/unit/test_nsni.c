@@ -9,13 +9,16 @@
  *   jittered particles in 2-D and 3-D.
  * - The tangent against central differences of the residual, K v vs (R(u + εv) − R(u − εv))/2ε, three random
  *   v at a random state of amplitude 0.05, for every classical model of the registry (finite strain: the
- *   stabilization is the linear model's) and small-strain Cosserat, 2-D and 3-D, with and without VCI:
+ *   stabilization is the linear model's), small-strain Cosserat and finite-rotation Cosserat (the paired rule),
+ *   2-D and 3-D, with and without VCI:
  *   1e-6 relative (ε = 1e-6: truncation ~1e-12, round-off ~1e-10). Without VCI the tangent is symmetric
  *   (1e-12).
  * - Frame invariance at finite strain: R(Qφ) = Q R(φ) for a rotation of 1 rad, 2-D and 3-D, with and without VCI,
  *   1e-10 relative (the stabilization of the Green strain's rate, nsni_green.c).
- * - Refusals: a second-order model (strain gradient), and a finite model with no linear form (cosserat-finite),
- *   are MICA_ERR_INPUT.
+ * - The paired rule (nsni_pairs.c, finite-rotation Cosserat's): on a quadratic energy it is NSNI itself — the
+ *   same solid's residual and K v both ways, 1e-12 relative, linear classical and Cosserat, 2-D and 3-D, with and
+ *   without VCI; finite-rotation Cosserat's tangent is in the central-difference check above.
+ * - Refusals: a second-order model (strain gradient) is MICA_ERR_INPUT; cosserat-finite takes the paired rule.
  */
 #include <math.h>
 #include <setjmp.h>
@@ -246,6 +249,8 @@ static void test_tangent(void **state) {
     MicaFieldModel cosserat;
     check_ok(mica_cosserat_set_technical(&cosserat, dim, 1.0, 0.3, 0.5, 0.2, 0.2, 1.0));
     check_tangent("cosserat", shape, &cosserat);
+    check_ok(mica_cosserat_finite_set(&cosserat)); /* the paired rule (nsni_pairs.c) */
+    check_tangent("cosserat-finite", shape, &cosserat);
   }
 }
 
@@ -357,6 +362,55 @@ static void test_frame_invariance(void **state) {
     }
 }
 
+/* The paired rule (nsni_pairs.c) on a quadratic energy is NSNI's own: the same solid assembled both ways (the pairs
+ * switched on by hand after creation) gives the same residual and K v at a random state, 1e-12 relative, for the
+ * linear classical model and small-strain Cosserat, 2-D and 3-D, with and without VCI. */
+static void check_pairs_equal(const char *name, const MicaShapeSpec *shape, const MicaFieldModel *model) {
+  for (int vci = 0; vci < 2; vci++) {
+    Fixture f = {0};
+    discretize(&f, shape, MICA_LAYOUT_JITTERED, 2);
+    check_ok(build_solid(&f, model, vci));
+    MicaSolid *s = f.solid;
+    assert_false(s->stab_pairs);
+    const long n = s->ndof;
+    double *u = calloc((size_t)n, sizeof(double)), *v = calloc((size_t)n, sizeof(double)),
+           *R[2] = {calloc((size_t)n, sizeof(double)), calloc((size_t)n, sizeof(double))},
+           *Kv[2] = {calloc((size_t)n, sizeof(double)), calloc((size_t)n, sizeof(double))};
+    assert_true(u && v && R[0] && R[1] && Kv[0] && Kv[1]);
+    uint64_t seed = 3;
+    for (long i = 0; i < n; i++) u[i] = 0.05 * rnd(&seed), v[i] = rnd(&seed);
+    for (int pairs = 0; pairs < 2; pairs++) {
+      if (pairs) {
+        check_ok(mica_nsni_pairs_create(s->nsni, s->volume, s->disc->qw));
+        s->stab_pairs = 1;
+      }
+      check_ok(mica_solid_assemble(s, 0.0, u, R[pairs], s->K));
+      mica_sparse_matvec(s->K, v, Kv[pairs]);
+    }
+    double dR = 0, dK = 0;
+    for (long i = 0; i < n; i++) dR = fmax(dR, fabs(R[1][i] - R[0][i])), dK = fmax(dK, fabs(Kv[1][i] - Kv[0][i]));
+    dR /= norm_inf(n, R[0]), dK /= norm_inf(n, Kv[0]);
+    print_message("%-10s %d-D, vci %d: paired rule vs NSNI: residual %.2e, K v %.2e\n", name, shape->dim, vci, dR, dK);
+    assert_true(dR <= 1e-12 && dK <= 1e-12);
+    free(u), free(v), free(R[0]), free(R[1]), free(Kv[0]), free(Kv[1]);
+    release(&f);
+  }
+}
+
+static void test_pairs(void **state) {
+  (void)state;
+  for (int dim = 2; dim <= 3; dim++) {
+    const MicaShapeSpec *shape = dim == 2 ? &box2 : &box3;
+    MicaMaterial mat;
+    MicaFieldModel linear, cosserat;
+    check_ok(mica_material_set(&mica_model_linear, 1.0, 0.3, dim == 2 ? MICA_PLANE_STRAIN : MICA_PLANE_NONE, &mat));
+    check_ok(mica_field_classical_set(&linear, &mica_model_linear, &mat));
+    check_pairs_equal("linear", shape, &linear);
+    check_ok(mica_cosserat_set_technical(&cosserat, dim, 1.0, 0.3, 0.5, 0.2, 0.2, 1.0));
+    check_pairs_equal("cosserat", shape, &cosserat);
+  }
+}
+
 static void test_refused(void **state) {
   (void)state;
   Fixture f = {0};
@@ -366,9 +420,11 @@ static void test_refused(void **state) {
   MicaFieldModel gradient, finite;
   check_ok(mica_strain_gradient_set(&gradient, &mat, 0.1, 0));
   assert_int_equal(build_solid(&f, &gradient, 0), MICA_ERR_INPUT);
+  /* finite-rotation Cosserat has no quadratic form: it takes the paired rule */
   check_ok(mica_cosserat_set_technical(&finite, 2, 1.0, 0.3, 0.5, 0.2, 0.2, 1.0));
   check_ok(mica_cosserat_finite_set(&finite));
-  assert_int_equal(build_solid(&f, &finite, 0), MICA_ERR_INPUT);
+  check_ok(build_solid(&f, &finite, 0));
+  assert_true(f.solid->stab_pairs && f.solid->nsni->pairs && f.solid->nsni->pairs->npoints == 4 * f.disc->nquad);
   release(&f);
 }
 
@@ -377,7 +433,7 @@ int main(void) {
       cmocka_unit_test(test_moments_regular), cmocka_unit_test(test_moments_factor),
       cmocka_unit_test(test_directional),     cmocka_unit_test(test_tangent),
       cmocka_unit_test(test_symmetric_vci),   cmocka_unit_test(test_frame_invariance),
-      cmocka_unit_test(test_refused),
+      cmocka_unit_test(test_pairs),           cmocka_unit_test(test_refused),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
