@@ -79,6 +79,10 @@ static inline int mica_approx_has(const MicaApproxOps *ops, unsigned flag) { ret
  * x[npoints*dim]; an MLS failure names the point (label and number). */
 int mica_shape_cache_create(const MlsApprox *mls, long npoints, const double *x, int order, const char *label,
                             MicaShapeCache **cache);
+/* An empty order-1 cache for npoints points and nnz entries in all (ptr zeroed; x, index, N, dN, and dN_test when
+ * with_test, uninitialized), for code that fills its own points: NSNI's, finite elements'. On failure *cache holds
+ * what was allocated, for mica_shape_cache_destroy. */
+int mica_shape_cache_alloc(int dim, long npoints, long nnz, int with_test, MicaShapeCache **cache);
 /* Releases the caller's hold (NULLs *cache); the cache is freed when its last holder releases it. */
 int mica_shape_cache_destroy(MicaShapeCache **cache);
 /* Adds a holder and returns the cache: shape functions are read-only once built, so solids on the same

@@ -68,6 +68,20 @@ MicaShapeCache *mica_shape_cache_share(MicaShapeCache *cache) {
   return cache;
 }
 
+int mica_shape_cache_alloc(int dim, long npoints, long nnz, int with_test, MicaShapeCache **cache) {
+  MicaShapeCache *c = NULL;
+  MICA_CALL(MICA_CALLOC(c, 1));
+  *cache = c;
+  c->dim = dim, c->order = 1, c->npoints = npoints;
+  MICA_CALL(MICA_CALLOC(c->ptr, npoints + 1));
+  MICA_CALL(MICA_MALLOC(c->x, npoints * dim + 1));
+  MICA_CALL(MICA_MALLOC(c->index, nnz + 1));
+  MICA_CALL(MICA_MALLOC(c->N, nnz + 1));
+  MICA_CALL(MICA_MALLOC(c->dN, nnz * dim + 1));
+  if (with_test) MICA_CALL(MICA_MALLOC(c->dN_test, nnz * dim + 1));
+  return MICA_SUCCESS;
+}
+
 int mica_shape_cache_destroy(MicaShapeCache **cache) {
   if (!*cache) return MICA_SUCCESS;
   if ((*cache)->shares > 0) { /* another holder still uses it */

@@ -41,15 +41,7 @@ static int particle_directions(const MicaNodalCells *cells, int dim, long part, 
 }
 
 static int nsni_alloc(MicaNsni *n, int dim, long np, long nnz, int with_gradients) {
-  MicaShapeCache *c = NULL;
-  MICA_CALL(MICA_CALLOC(c, 1));
-  n->cache = c;
-  c->dim = dim, c->order = 1, c->npoints = np * dim;
-  MICA_CALL(MICA_CALLOC(c->ptr, np * dim + 1));
-  MICA_CALL(MICA_MALLOC(c->x, np * dim * dim + 1));
-  MICA_CALL(MICA_MALLOC(c->index, nnz * dim + 1));
-  MICA_CALL(MICA_MALLOC(c->N, nnz * dim + 1));
-  MICA_CALL(MICA_MALLOC(c->dN, nnz * dim * dim + 1));
+  MICA_CALL(mica_shape_cache_alloc(dim, np * dim, nnz * dim, 0, &n->cache));
   MICA_CALL(MICA_MALLOC(n->w, np * dim));
   MICA_CALL(MICA_MALLOC(n->dir, np * dim * dim));
   if (with_gradients) MICA_CALL(MICA_MALLOC(n->grad, nnz * dim * dim + 1));

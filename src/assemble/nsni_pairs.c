@@ -15,20 +15,6 @@
 
 #include "mica/solid.h"
 
-static int pairs_alloc(MicaShapeCache **out, int dim, long npoints, long nnz, int with_test) {
-  MicaShapeCache *c = NULL;
-  MICA_CALL(MICA_CALLOC(c, 1));
-  *out = c;
-  c->dim = dim, c->order = 1, c->npoints = npoints;
-  MICA_CALL(MICA_CALLOC(c->ptr, npoints + 1));
-  MICA_CALL(MICA_MALLOC(c->x, npoints * dim + 1));
-  MICA_CALL(MICA_MALLOC(c->index, nnz + 1));
-  MICA_CALL(MICA_MALLOC(c->N, nnz + 1));
-  MICA_CALL(MICA_MALLOC(c->dN, nnz * dim + 1));
-  if (with_test) MICA_CALL(MICA_MALLOC(c->dN_test, nnz * dim + 1));
-  return MICA_SUCCESS;
-}
-
 /* Points 2p (+) and 2p + 1 (−) from stabilization point p of cell I: the stabilization point's supports, with the
  * nodal point's entries found by merging the two ascending index lists (a particle outside the nodal support has
  * N_J(x_I) = 0 and ∇N_J(x_I) = 0 there). */
@@ -80,7 +66,7 @@ int mica_nsni_pairs_create(MicaNsni *n, const MicaShapeCache *volume, const doub
   const int dim = st->dim;
   MICA_CHECK(volume->npoints * dim == st->npoints && volume->dim == dim, MICA_ERR_ARGUMENT,
              "mica_nsni_pairs_create: %ld nodal points for %ld stabilization points", volume->npoints, st->npoints);
-  MICA_CALL(pairs_alloc(&n->pairs, dim, 2 * st->npoints, 2 * st->ptr[st->npoints], volume->dN_test != NULL));
+  MICA_CALL(mica_shape_cache_alloc(dim, 2 * st->npoints, 2 * st->ptr[st->npoints], volume->dN_test != NULL, &n->pairs));
   MICA_CALL(MICA_MALLOC(n->pair_w, 2 * st->npoints));
   for (long p = 0; p < st->npoints; p++) {
     const long I = p / dim;

@@ -8,20 +8,14 @@
 
 static int cache_alloc(int dim, long npoints, long nnz, const double *x, MicaShapeCache **out) {
   MicaShapeCache *c = NULL;
-  int ierr = MICA_SUCCESS;
-  MICA_CALL(MICA_CALLOC(c, 1));
-  c->dim = dim, c->order = 1, c->npoints = npoints;
-  MICA_CALL_CLEANUP(MICA_CALLOC(c->ptr, npoints + 1));
-  MICA_CALL_CLEANUP(MICA_MALLOC(c->x, npoints * dim + 1));
-  MICA_CALL_CLEANUP(MICA_MALLOC(c->index, nnz + 1));
-  MICA_CALL_CLEANUP(MICA_MALLOC(c->N, nnz + 1));
-  MICA_CALL_CLEANUP(MICA_MALLOC(c->dN, nnz * dim + 1));
+  const int ierr = mica_shape_cache_alloc(dim, npoints, nnz, 0, &c);
+  if (ierr) {
+    mica_shape_cache_destroy(&c);
+    return ierr;
+  }
   memcpy(c->x, x, sizeof(double) * (size_t)(npoints * dim));
   *out = c;
   return MICA_SUCCESS;
-cleanup:
-  mica_shape_cache_destroy(&c);
-  return ierr;
 }
 
 static int check_order(int order) {
