@@ -151,7 +151,7 @@ expect_failure 2 "quadrature.mode = \"nsni\" expands the kinematics" -- "$MICA" 
 # Finite-rotation Cosserat takes the paired rule (src/assemble/nsni_pairs.c): the free block and cube turned
 # rigidly (2π in 2-D, 3π/2 about a skew axis in 3-D) against their decks' references, 1e-8; the strip rolled into a
 # circle (input/cosserat_roll.cfg, 10 steps) within the deck's own tolerances (0.5 % of L; φ 1 %). VCI is off for
-# the roll: with it NSNI's Cosserat strip is 3.3× too flexible already at small strain (docs/verification.md §NSNI,
+# the roll: with it NSNI's Cosserat strip is 2.0× too flexible already at small strain (docs/verification.md §NSNI,
 # "what remains"), the paired rule adds nothing to that.
 run_deck "$work/rotate" input/cosserat_rotate.cfg --set quadrature.mode=nsni
 grep -q 'NSNI: the paired rule' "$work/rotate.log" || fail "rotate: not the paired rule: $(grep NSNI "$work/rotate.log")"
