@@ -26,7 +26,7 @@ mkdir -p "$OUT_DIR"
 # The longest first (minutes on the 2-core machine, 2026-12-07: vci_rates 6.5, mpi_distributed 5, nsni 2, petsc,
 # publish and incompressible 1.2 each), so that no core is left alone with one of them at the end. Only the order:
 # every test runs; the closing lines name the slowest, to keep this list right.
-first="vci_rates mpi_distributed nsni petsc publish incompressible mpi mpi_groups deck_references"
+first="vci_rates mpi_distributed vci_rates_cosserat3d nsni petsc publish incompressible mpi mpi_groups deck_references"
 
 # run_test PATH: runs one unit executable (build/tests/test_*) or script (tests/cli/*.sh), its output into
 # $OUT_DIR/NAME.log; writes "STATUS SECONDS" to $OUT_DIR/NAME.status
